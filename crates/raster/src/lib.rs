@@ -1,0 +1,51 @@
+//! # shadelab-raster
+//!
+//! A multithreaded CPU tile rasterizer with a z-buffer and flat, Gouraud and Phong shading of
+//! the classic local illumination model. Pure Rust; the Python bindings live in another crate.
+//!
+//! Conventions: right-handed world with y up; the camera looks down −z (OpenGL); image row 0
+//! is the top and pixel `(x, y)` has its centre at `(x + 0.5, y + 0.5)`; counter-clockwise
+//! faces are front faces; `DirectionalLight::direction` is where the light travels.
+//!
+//! ```
+//! use std::sync::Arc;
+//! use glam::{DVec3, Mat4, Vec3};
+//! use shadelab_raster::*;
+//!
+//! let mesh = Arc::new(primitives::uv_sphere(16, 32));
+//! let mut scene = Scene::new(Vec3::splat(0.2)).unwrap();
+//! scene.add(mesh, Material::preset("gold").unwrap(), Mat4::IDENTITY).unwrap();
+//! scene.add_light(DirectionalLight::new(Vec3::new(-1.0, -1.0, -1.0), Vec3::ONE, 1.0).unwrap());
+//! let camera = Camera::look_at(DVec3::new(0.0, 0.0, 3.0), DVec3::ZERO, DVec3::Y, 45.0, 0.1, 100.0).unwrap();
+//! let frame = render(&scene, &camera, &RenderOptions::new(64, 48), ColorFormat::U8, false).unwrap();
+//! assert_eq!(frame.width, 64);
+//! ```
+#![warn(missing_docs)]
+
+mod camera;
+mod error;
+mod light;
+mod material;
+mod mesh;
+mod obj;
+mod pipeline;
+mod pool;
+pub mod primitives;
+mod render;
+mod scene;
+mod shading;
+
+pub use camera::{Camera, Projection};
+pub use error::{RasterError, Result};
+pub use light::{DirectionalLight, Light, PointLight};
+pub use material::{preset_names, Material, Preset, PRESETS};
+pub use mesh::{face_normal, generate_vertex_normals, Mesh};
+pub use obj::{load_obj, load_obj_parts, ObjPart};
+pub use pipeline::shade::Pixel;
+pub use pool::{default_threads, MAX_THREADS};
+pub use render::{
+    coverage_counts, render, render_into, ColorBuffer, ColorFormat, Frame, RenderOptions,
+    RenderStats, StageTimings, MAX_IMAGE_SIZE,
+};
+pub use scene::{Object, Scene};
+pub use shading::{PreparedMaterial, ShadingMode, SpecularModel};

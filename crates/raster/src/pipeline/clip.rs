@@ -1,0 +1,121 @@
+//! Homogeneous clipping (Sutherland–Hodgman) before the perspective divide.
+//!
+//! Triangles are always clipped against the near and far planes (`0 ≤ z ≤ w` with the
+//! reversed-Z [0, 1] range), and against x/y only when a vertex leaves the guard band, a
+//! rectangle reaching [`GUARD_PX`] pixels beyond each image border. Inside the guard band,
+//! 16.8 fixed-point coordinates stay below 2^23 and the i64 edge functions are exact.
+
+use glam::{DVec4, Vec4};
+
+/// How far beyond the image border (in pixels) vertices are kept unclipped.
+pub(crate) const GUARD_PX: f64 = 16384.0;
+
+/// The six clip planes as `dot(plane, p) >= 0` tests, plus the guard-band extents.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ClipPlanes {
+    planes: [DVec4; 6],
+}
+
+impl ClipPlanes {
+    pub fn new(width: u32, height: u32) -> Self {
+        let gx = 1.0 + 2.0 * GUARD_PX / width as f64;
+        let gy = 1.0 + 2.0 * GUARD_PX / height as f64;
+        ClipPlanes {
+            planes: [
+                DVec4::new(0.0, 0.0, -1.0, 1.0), // near: z <= w
+                DVec4::new(0.0, 0.0, 1.0, 0.0),  // far: z >= 0
+                DVec4::new(-1.0, 0.0, 0.0, gx),  // x <= gx w
+                DVec4::new(1.0, 0.0, 0.0, gx),   // x >= -gx w
+                DVec4::new(0.0, -1.0, 0.0, gy),  // y <= gy w
+                DVec4::new(0.0, 1.0, 0.0, gy),   // y >= -gy w
+            ],
+        }
+    }
+
+    /// Bit `i` set when `p` is outside plane `i`.
+    #[inline]
+    pub fn outcode(&self, p: Vec4) -> u8 {
+        let p = p.as_dvec4();
+        let mut code = 0;
+        for (i, plane) in self.planes.iter().enumerate() {
+            if plane.dot(p) < 0.0 {
+                code |= 1 << i;
+            }
+        }
+        code
+    }
+
+    /// Clips the triangle `tri` against the planes in `mask`. Each output vertex carries its
+    /// clip position and its barycentric weights with respect to `tri`. Returns the convex
+    /// polygon (empty when nothing remains).
+    pub fn clip(&self, tri: [Vec4; 3], mask: u8) -> Vec<(DVec4, [f64; 3])> {
+        let mut poly: Vec<(DVec4, [f64; 3])> = vec![
+            (tri[0].as_dvec4(), [1.0, 0.0, 0.0]),
+            (tri[1].as_dvec4(), [0.0, 1.0, 0.0]),
+            (tri[2].as_dvec4(), [0.0, 0.0, 1.0]),
+        ];
+        for (i, plane) in self.planes.iter().enumerate() {
+            if mask & (1 << i) == 0 {
+                continue;
+            }
+            let mut out = Vec::with_capacity(poly.len() + 1);
+            for k in 0..poly.len() {
+                let a = poly[k];
+                let b = poly[(k + 1) % poly.len()];
+                let (da, db) = (plane.dot(a.0), plane.dot(b.0));
+                if da >= 0.0 {
+                    out.push(a);
+                }
+                if (da >= 0.0) != (db >= 0.0) {
+                    // Interpolate from the inside end so an edge shared by two triangles is
+                    // split at bit-identical points whichever way round they walk it.
+                    let ((pi, di), (po, dout)) = if da >= 0.0 {
+                        ((a, da), (b, db))
+                    } else {
+                        ((b, db), (a, da))
+                    };
+                    let t = di / (di - dout);
+                    let pos = pi.0 + (po.0 - pi.0) * t;
+                    let w = [0, 1, 2].map(|j| pi.1[j] + (po.1[j] - pi.1[j]) * t);
+                    out.push((pos, w));
+                }
+            }
+            poly = out;
+            if poly.len() < 3 {
+                return Vec::new();
+            }
+        }
+        poly
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn near_clip_cuts_at_the_plane() {
+        let planes = ClipPlanes::new(100, 100);
+        // One vertex behind the near plane (z > w).
+        let tri = [
+            Vec4::new(0.0, 0.0, 0.5, 1.0),
+            Vec4::new(1.0, 0.0, 0.5, 1.0),
+            Vec4::new(0.0, 1.0, 2.0, 1.0),
+        ];
+        let mask = tri.iter().fold(0, |m, p| m | planes.outcode(*p));
+        assert_eq!(mask, 1);
+        let poly = planes.clip(tri, mask);
+        assert_eq!(poly.len(), 4);
+        for (p, w) in &poly {
+            assert!(p.z <= p.w + 1e-12);
+            assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn fully_outside_is_empty() {
+        let planes = ClipPlanes::new(10, 10);
+        let tri = [Vec4::new(0.0, 0.0, 2.0, 1.0); 3];
+        assert!(planes.clip(tri, 1).is_empty());
+    }
+}

@@ -1,0 +1,312 @@
+//! The render pipeline, one file per stage:
+//!
+//! 1. [`vertex`]: object → world → clip space (parallel over vertices);
+//! 2. primitive stage (here): assemble, clip ([`clip`]), snap and set up ([`setup`]) triangles
+//!    (parallel over fixed-size triangle chunks, results kept in submission order);
+//! 3. [`bin`]: sort triangle ids into 64×64 screen tiles;
+//! 4. per tile, in parallel: [`raster`] (visibility: depth + triangle id) then [`shade`]
+//!    (each visible pixel shaded once, written straight into the output rows of [`tiles`]).
+
+pub(crate) mod bin;
+pub(crate) mod clip;
+pub(crate) mod raster;
+pub(crate) mod setup;
+pub mod shade;
+pub(crate) mod tiles;
+pub(crate) mod vertex;
+
+use std::time::Instant;
+
+use glam::{Vec3, Vec4};
+use rayon::prelude::*;
+
+use crate::camera::Camera;
+use crate::error::{RasterError, Result};
+use crate::render::{RenderOptions, RenderStats};
+use crate::scene::Scene;
+use crate::shading::{PreparedMaterial, ShadingMode};
+use clip::ClipPlanes;
+use raster::TileBuffers;
+use setup::{Setup, SetupTri};
+use shade::{Pixel, ShadeContext};
+use vertex::Vertices;
+
+/// Marks a vertex index that refers to a chunk's clip-generated vertices (fixed up on merge).
+const EXTRA_BIT: u32 = 1 << 31;
+/// Triangles per primitive-stage work item (fixed, so results never depend on threads).
+const TRI_CHUNK: usize = 8192;
+
+struct ChunkOut {
+    tris: Vec<SetupTri>,
+    extra: Vertices,
+    clipped: usize,
+    culled: usize,
+    dropped: usize,
+}
+
+struct PrimitiveContext<'a> {
+    verts: &'a Vertices,
+    materials: &'a [PreparedMaterial],
+    planes: ClipPlanes,
+    eye: Vec3,
+    options: &'a RenderOptions,
+}
+
+impl PrimitiveContext<'_> {
+    fn flat_color(&self, v: [u32; 3], object: u32) -> Vec3 {
+        if self.options.shading != ShadingMode::Flat {
+            return Vec3::ZERO;
+        }
+        let [a, b, c] = v.map(|i| self.verts.world[i as usize]);
+        let n = (b - a).cross(c - a).normalize_or_zero();
+        let centroid = (a + b + c) / 3.0;
+        self.materials[object as usize].shade(n, centroid, self.eye)
+    }
+
+    fn assemble(&self, object: u32, first_vertex: u32, indices: &[[u32; 3]]) -> ChunkOut {
+        let (w, h) = (self.options.width, self.options.height);
+        let (wf, hf) = (w as f64, h as f64);
+        let mut out = ChunkOut {
+            tris: Vec::with_capacity(indices.len()),
+            extra: Vertices::default(),
+            clipped: 0,
+            culled: 0,
+            dropped: 0,
+        };
+        let cull = self.options.cull_backfaces;
+        for idx in indices {
+            let v = idx.map(|i| i + first_vertex);
+            let c: [Vec4; 3] = v.map(|i| self.verts.clip[i as usize]);
+            if !c.iter().all(|p| p.is_finite()) {
+                out.dropped += 1;
+                continue;
+            }
+            let codes = c.map(|p| self.planes.outcode(p));
+            if codes[0] & codes[1] & codes[2] != 0 {
+                continue; // entirely outside one plane
+            }
+            let flat = self.flat_color(v, object);
+            let push = |s: [(i32, i32, f32, f32); 3], vv: [u32; 3], out: &mut ChunkOut| {
+                match setup::setup(s, vv, object, w, h, cull, flat) {
+                    Setup::Draw(t) => out.tris.push(t),
+                    Setup::Culled => out.culled += 1,
+                    Setup::Skip => {}
+                }
+            };
+            let mask = codes[0] | codes[1] | codes[2];
+            if mask == 0 {
+                let s = c.map(|p| setup::snap(p.as_dvec4(), wf, hf));
+                match s {
+                    [Some(a), Some(b), Some(cc)] => push([a, b, cc], v, &mut out),
+                    _ => out.dropped += 1,
+                }
+                continue;
+            }
+            let poly = self.planes.clip(c, mask);
+            if poly.len() < 3 {
+                continue;
+            }
+            out.clipped += 1;
+            let mut ids = Vec::with_capacity(poly.len());
+            let mut snapped = Vec::with_capacity(poly.len());
+            for (pos, wts) in &poly {
+                let id = match wts.iter().position(|&x| x == 1.0) {
+                    Some(k) if wts.iter().filter(|&&x| x == 0.0).count() == 2 => v[k],
+                    _ => {
+                        let local = out.extra.clip.len() as u32;
+                        out.extra
+                            .push_blend(self.verts, v, wts.map(|x| x as f32), pos.as_vec4());
+                        local | EXTRA_BIT
+                    }
+                };
+                ids.push(id);
+                snapped.push(setup::snap(*pos, wf, hf));
+            }
+            if snapped.iter().any(|s| s.is_none()) {
+                out.dropped += 1;
+                continue;
+            }
+            let s: Vec<_> = snapped.into_iter().flatten().collect();
+            for k in 1..poly.len() - 1 {
+                push(
+                    [s[0], s[k], s[k + 1]],
+                    [ids[0], ids[k], ids[k + 1]],
+                    &mut out,
+                );
+            }
+        }
+        out
+    }
+}
+
+/// Geometry ready for the tile stage: transformed vertices, set-up triangles and bins.
+pub(crate) struct Prepared {
+    pub verts: Vertices,
+    pub tris: Vec<SetupTri>,
+    pub bins: bin::Bins,
+    pub materials: Vec<PreparedMaterial>,
+    pub eye: Vec3,
+    pub stats: RenderStats,
+    t_start: Instant,
+}
+
+/// Vertex, primitive and binning stages.
+pub(crate) fn prepare(scene: &Scene, camera: &Camera, options: &RenderOptions) -> Result<Prepared> {
+    let t_start = Instant::now();
+    let (w, h) = (options.width as usize, options.height as usize);
+    let mut stats = RenderStats {
+        triangles_in: scene.triangle_count(),
+        ..RenderStats::default()
+    };
+    let total_vertices: usize = scene
+        .objects()
+        .iter()
+        .map(|o| o.mesh().positions().len())
+        .sum();
+    if total_vertices >= EXTRA_BIT as usize {
+        return Err(RasterError::invalid(format!(
+            "the scene has {total_vertices} vertices; at most 2^31 - 1 are supported"
+        )));
+    }
+    let eye = camera.eye().as_vec3();
+    let view_proj = camera.projection_matrix(w as f64 / h as f64) * camera.view_matrix();
+    let materials: Vec<PreparedMaterial> = scene
+        .objects()
+        .iter()
+        .map(|o| {
+            PreparedMaterial::new(
+                o.material(),
+                scene.ambient(),
+                scene.lights(),
+                options.specular,
+            )
+        })
+        .collect();
+
+    let mut verts = vertex::transform(scene, view_proj, options.shading, &materials, eye);
+    let t_vertex = Instant::now();
+
+    // Primitive stage over fixed chunks of each object's triangles.
+    let mut work = Vec::new();
+    let mut first_vertex = 0u32;
+    for (oi, obj) in scene.objects().iter().enumerate() {
+        for chunk in obj.mesh().indices().chunks(TRI_CHUNK) {
+            work.push((oi as u32, first_vertex, chunk));
+        }
+        first_vertex += obj.mesh().positions().len() as u32;
+    }
+    let ctx = PrimitiveContext {
+        verts: &verts,
+        materials: &materials,
+        planes: ClipPlanes::new(options.width, options.height),
+        eye,
+        options,
+    };
+    let chunks: Vec<ChunkOut> = work
+        .par_iter()
+        .map(|&(oi, fv, idx)| ctx.assemble(oi, fv, idx))
+        .collect();
+    let mut tris = Vec::with_capacity(chunks.iter().map(|c| c.tris.len()).sum());
+    let mut extras = Vertices::default();
+    let base = verts.clip.len() as u32;
+    for mut c in chunks {
+        let offset = base + extras.clip.len() as u32;
+        for t in &mut c.tris {
+            for v in &mut t.v {
+                if *v & EXTRA_BIT != 0 {
+                    *v = offset + (*v & !EXTRA_BIT);
+                }
+            }
+        }
+        stats.triangles_clipped += c.clipped;
+        stats.triangles_culled += c.culled;
+        stats.triangles_dropped += c.dropped;
+        tris.append(&mut c.tris);
+        extras.append(&mut c.extra);
+    }
+    verts.append(&mut extras);
+    stats.triangles_setup = tris.len();
+    let t_setup = Instant::now();
+
+    let (tiles_x, tiles_y) = tiles::tile_counts(w, h);
+    let bins = bin::bin(&tris, tiles_x, tiles_y);
+    let t_bin = Instant::now();
+    stats.timings.vertex = t_vertex - t_start;
+    stats.timings.setup = t_setup - t_vertex;
+    stats.timings.binning = t_bin - t_setup;
+    Ok(Prepared {
+        verts,
+        tris,
+        bins,
+        materials,
+        eye,
+        stats,
+        t_start: t_bin,
+    })
+}
+
+/// Runs the whole pipeline into caller-provided row-major buffers.
+pub(crate) fn run<P: Pixel>(
+    scene: &Scene,
+    camera: &Camera,
+    options: &RenderOptions,
+    color: &mut [P],
+    depth: Option<&mut [f32]>,
+) -> Result<RenderStats> {
+    let prep = prepare(scene, camera, options)?;
+    let (w, h) = (options.width as usize, options.height as usize);
+    let rects = tiles::tile_rects(w, h);
+    let mut color_rows = tiles::split_rows(color, w, h, 3);
+    let mut depth_rows: Vec<Option<Vec<&mut [f32]>>> = match depth {
+        Some(d) => tiles::split_rows(d, w, h, 1)
+            .into_iter()
+            .map(Some)
+            .collect(),
+        None => (0..rects.len()).map(|_| None).collect(),
+    };
+    let shade_ctx = ShadeContext {
+        tris: &prep.tris,
+        verts: &prep.verts,
+        materials: &prep.materials,
+        camera,
+        eye: prep.eye,
+        background: options.background,
+    };
+    rects
+        .par_iter()
+        .zip(color_rows.par_iter_mut())
+        .zip(depth_rows.par_iter_mut())
+        .enumerate()
+        .for_each_init(TileBuffers::new, |buf, (i, ((rect, crows), drows))| {
+            raster::rasterize_tile(&prep.tris, prep.bins.tile(i), *rect, buf);
+            shade::shade_tile(
+                &shade_ctx,
+                options.shading,
+                *rect,
+                buf,
+                crows,
+                drows.as_deref_mut(),
+            );
+        });
+    let mut stats = prep.stats;
+    stats.timings.raster_shade = prep.t_start.elapsed();
+    Ok(stats)
+}
+
+/// Test hook: how many triangles cover each pixel centre (no depth test), row-major.
+pub(crate) fn coverage_counts(
+    scene: &Scene,
+    camera: &Camera,
+    options: &RenderOptions,
+) -> Result<Vec<u32>> {
+    let prep = prepare(scene, camera, options)?;
+    let (w, h) = (options.width as usize, options.height as usize);
+    let mut counts = vec![0u32; w * h];
+    for (i, rect) in tiles::tile_rects(w, h).into_iter().enumerate() {
+        raster::for_each_covered(&prep.tris, prep.bins.tile(i), rect, |slot, _, _| {
+            let (x, y) = (rect.x0 + slot % tiles::TILE, rect.y0 + slot / tiles::TILE);
+            counts[y * w + x] += 1;
+        });
+    }
+    Ok(counts)
+}

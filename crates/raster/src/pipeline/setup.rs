@@ -1,0 +1,191 @@
+//! Triangle setup: viewport transform, 16.8 fixed-point snapping, exact orientation and
+//! culling from the integer doubled area, and the pixel bounding box.
+
+use glam::{DVec4, Vec3};
+
+/// Sub-pixel bits of the fixed-point screen coordinates.
+pub(crate) const SUBPIXEL_BITS: u32 = 8;
+/// One pixel in fixed-point units.
+pub(crate) const ONE: i64 = 1 << SUBPIXEL_BITS;
+/// Half a pixel: pixel `x` has its centre at `x·ONE + HALF`.
+pub(crate) const HALF: i64 = ONE / 2;
+
+/// A triangle ready for rasterization. Vertices are ordered so the doubled area is positive
+/// in y-down screen space; `v` indexes the post-transform vertex arrays in the same order.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct SetupTri {
+    pub x: [i32; 3],
+    pub y: [i32; 3],
+    pub v: [u32; 3],
+    pub z: [f32; 3],
+    pub inv_w: [f32; 3],
+    /// Inclusive pixel bounds, already clipped to the image: x0, y0, x1, y1.
+    pub bbox: [u16; 4],
+    pub area2: i64,
+    pub object: u32,
+    /// Counter-clockwise on screen (front facing); the vertex order was swapped to make
+    /// `area2` positive.
+    pub front: bool,
+    /// The flat-shaded colour (flat mode only).
+    pub flat: Vec3,
+}
+
+/// Integer edge-function coefficients of one triangle: `E_k(P) = a_k·Px + b_k·Py + c_k` over
+/// fixed-point `P`, for the edge opposite vertex k, so `E_k / area2` is barycentric λ_k.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Edges {
+    pub a: [i64; 3],
+    pub b: [i64; 3],
+    pub c: [i64; 3],
+    /// 0 on top-left edges, −1 elsewhere: `E_k + bias_k >= 0` is the top-left fill rule.
+    pub bias: [i64; 3],
+}
+
+impl SetupTri {
+    pub fn edges(&self) -> Edges {
+        let mut e = Edges {
+            a: [0; 3],
+            b: [0; 3],
+            c: [0; 3],
+            bias: [0; 3],
+        };
+        for k in 0..3 {
+            let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+            let (ax, ay) = (self.x[i] as i64, self.y[i] as i64);
+            let (bx, by) = (self.x[j] as i64, self.y[j] as i64);
+            let (dx, dy) = (bx - ax, by - ay);
+            e.a[k] = -dy;
+            e.b[k] = dx;
+            e.c[k] = dy * ax - dx * ay;
+            // Positive area in y-down space: a top edge runs in +x, a left edge runs up.
+            let top_left = (dy == 0 && dx > 0) || dy < 0;
+            e.bias[k] = if top_left { 0 } else { -1 };
+        }
+        e
+    }
+}
+
+/// Viewport transform and snapping of one clip-space vertex; `None` if not finite.
+#[inline]
+pub(crate) fn snap(clip: DVec4, width: f64, height: f64) -> Option<(i32, i32, f32, f32)> {
+    let inv_w = 1.0 / clip.w;
+    let sx = (clip.x * inv_w + 1.0) * 0.5 * width;
+    let sy = (1.0 - clip.y * inv_w) * 0.5 * height;
+    let fx = (sx * ONE as f64).round();
+    let fy = (sy * ONE as f64).round();
+    // Inside the guard band |fx|, |fy| < 2^23; anything else is a non-finite input.
+    let lim = (1u64 << 24) as f64;
+    if !(fx.abs() < lim && fy.abs() < lim && inv_w.is_finite()) {
+        return None;
+    }
+    Some((fx as i32, fy as i32, (clip.z * inv_w) as f32, inv_w as f32))
+}
+
+/// What setup decided about a triangle.
+pub(crate) enum Setup {
+    Draw(SetupTri),
+    /// Zero area after snapping, entirely outside the image, or culled.
+    Skip,
+    /// Back facing and culling is on.
+    Culled,
+}
+
+/// Sets up one (already clipped) triangle of snapped vertices.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn setup(
+    s: [(i32, i32, f32, f32); 3],
+    v: [u32; 3],
+    object: u32,
+    width: u32,
+    height: u32,
+    cull_backfaces: bool,
+    flat: Vec3,
+) -> Setup {
+    let (x0, y0) = (s[0].0 as i64, s[0].1 as i64);
+    let area2 =
+        (s[1].0 as i64 - x0) * (s[2].1 as i64 - y0) - (s[1].1 as i64 - y0) * (s[2].0 as i64 - x0);
+    if area2 == 0 {
+        return Setup::Skip;
+    }
+    // y-down screen: counter-clockwise as seen (the front) has negative area here.
+    let front = area2 < 0;
+    if cull_backfaces && !front {
+        return Setup::Culled;
+    }
+    let (order, area2) = if front {
+        ([0, 2, 1], -area2)
+    } else {
+        ([0, 1, 2], area2)
+    };
+    let s = order.map(|k| s[k]);
+    let xs = s.map(|p| p.0 as i64);
+    let ys = s.map(|p| p.1 as i64);
+    // Pixel x is covered only if its centre x·ONE + HALF lies within the bounds.
+    let first = |lo: i64| (lo - HALF + ONE - 1).div_euclid(ONE);
+    let last = |hi: i64| (hi - HALF).div_euclid(ONE);
+    let px0 = first(*xs.iter().min().unwrap()).max(0);
+    let py0 = first(*ys.iter().min().unwrap()).max(0);
+    let px1 = last(*xs.iter().max().unwrap()).min(width as i64 - 1);
+    let py1 = last(*ys.iter().max().unwrap()).min(height as i64 - 1);
+    if px0 > px1 || py0 > py1 {
+        return Setup::Skip;
+    }
+    Setup::Draw(SetupTri {
+        x: s.map(|p| p.0),
+        y: s.map(|p| p.1),
+        v: order.map(|k| v[k]),
+        z: s.map(|p| p.2),
+        inv_w: s.map(|p| p.3),
+        bbox: [px0 as u16, py0 as u16, px1 as u16, py1 as u16],
+        area2,
+        object,
+        front,
+        flat,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tri(pts: [(i32, i32); 3]) -> SetupTri {
+        let s = pts.map(|(x, y)| (x * ONE as i32, y * ONE as i32, 0.5, 1.0));
+        match setup(s, [0, 1, 2], 0, 100, 100, false, Vec3::ZERO) {
+            Setup::Draw(t) => t,
+            _ => panic!("skipped"),
+        }
+    }
+
+    #[test]
+    fn orientation_and_barycentrics() {
+        // Counter-clockwise as seen on a y-down screen: (0,0) → (0,10) → (10,0).
+        let t = tri([(0, 0), (0, 10), (10, 0)]);
+        assert!(t.front);
+        assert!(t.area2 > 0);
+        let e = t.edges();
+        // At each vertex its own λ is 1, the others 0.
+        for k in 0..3 {
+            let (px, py) = (t.x[k] as i64, t.y[k] as i64);
+            for j in 0..3 {
+                let val = e.a[j] * px + e.b[j] * py + e.c[j];
+                assert_eq!(val, if j == k { t.area2 } else { 0 });
+            }
+        }
+        let back = tri([(0, 0), (10, 0), (0, 10)]);
+        assert!(!back.front);
+    }
+
+    #[test]
+    fn bbox_uses_pixel_centres() {
+        // x from 0.5 to 2.5 px: centres 0.5, 1.5, 2.5 → pixels 0..=2.
+        let s = [
+            (128, 0, 0.0, 1.0),
+            (640, 0, 0.0, 1.0),
+            (128, 2560, 0.0, 1.0),
+        ];
+        let Setup::Draw(t) = setup(s, [0, 1, 2], 0, 100, 100, false, Vec3::ZERO) else {
+            panic!()
+        };
+        assert_eq!(t.bbox, [0, 0, 2, 9]);
+    }
+}

@@ -1,0 +1,119 @@
+//! Vertex stage: object → world → clip space, and per-vertex lighting for Gouraud.
+//!
+//! Only the attributes the shading mode reads are produced: flat needs world positions,
+//! Gouraud lit colours, Phong world positions and normals.
+
+use glam::{DMat4, Vec3, Vec4};
+use rayon::prelude::*;
+
+use crate::scene::Scene;
+use crate::shading::{PreparedMaterial, ShadingMode};
+
+/// Post-transform vertices of every object, concatenated in submission order.
+#[derive(Debug, Default)]
+pub(crate) struct Vertices {
+    pub clip: Vec<Vec4>,
+    pub world: Vec<Vec3>,
+    pub normal: Vec<Vec3>,
+    pub color: Vec<Vec3>,
+}
+
+impl Vertices {
+    /// Appends a vertex blended from three existing ones with weights `w` (clip-space linear,
+    /// which is exact for every attribute before the perspective divide).
+    pub fn push_blend(&mut self, from: &Vertices, v: [u32; 3], w: [f32; 3], clip: Vec4) {
+        fn blend(a: &[Vec3], v: [u32; 3], w: [f32; 3]) -> Vec3 {
+            a[v[0] as usize] * w[0] + a[v[1] as usize] * w[1] + a[v[2] as usize] * w[2]
+        }
+        self.clip.push(clip);
+        if !from.world.is_empty() {
+            self.world.push(blend(&from.world, v, w));
+        }
+        if !from.normal.is_empty() {
+            self.normal.push(blend(&from.normal, v, w));
+        }
+        if !from.color.is_empty() {
+            self.color.push(blend(&from.color, v, w));
+        }
+    }
+
+    /// Appends all of `other`.
+    pub fn append(&mut self, other: &mut Vertices) {
+        self.clip.append(&mut other.clip);
+        self.world.append(&mut other.world);
+        self.normal.append(&mut other.normal);
+        self.color.append(&mut other.color);
+    }
+}
+
+const CHUNK: usize = 4096;
+
+/// Transforms every object's vertices. `view_proj` is world → clip in f64; each object's
+/// full matrix is composed in f64 and rounded once to f32.
+pub(crate) fn transform(
+    scene: &Scene,
+    view_proj: DMat4,
+    mode: ShadingMode,
+    materials: &[PreparedMaterial],
+    eye: Vec3,
+) -> Vertices {
+    let mut out = Vertices::default();
+    let total: usize = scene
+        .objects()
+        .iter()
+        .map(|o| o.mesh().positions().len())
+        .sum();
+    out.clip.reserve_exact(total);
+    let need_world = matches!(mode, ShadingMode::Flat | ShadingMode::Phong);
+    if need_world {
+        out.world.reserve_exact(total);
+    }
+    for (obj, pm) in scene.objects().iter().zip(materials) {
+        let mesh = obj.mesh();
+        let pos = mesh.positions();
+        let model = obj.transform();
+        let mvp = (view_proj * model.as_dmat4()).as_mat4();
+        out.clip.par_extend(
+            pos.par_iter()
+                .with_min_len(CHUNK)
+                .map(|p| mvp * p.extend(1.0)),
+        );
+        if need_world {
+            out.world.par_extend(
+                pos.par_iter()
+                    .with_min_len(CHUNK)
+                    .map(|p| model.transform_point3(*p)),
+            );
+        }
+        match mode {
+            ShadingMode::Flat => {}
+            ShadingMode::Phong => {
+                let nm = obj.normal_matrix();
+                let normals = mesh.vertex_normals();
+                out.normal.par_extend(
+                    normals
+                        .par_iter()
+                        .with_min_len(CHUNK)
+                        .map(|n| (nm * *n).normalize_or_zero()),
+                );
+            }
+            ShadingMode::Gouraud => {
+                let nm = obj.normal_matrix();
+                let normals = mesh.vertex_normals();
+                out.color.par_extend(
+                    pos.par_iter()
+                        .zip(normals.par_iter())
+                        .with_min_len(CHUNK)
+                        .map(|(p, n)| {
+                            pm.shade(
+                                (nm * *n).normalize_or_zero(),
+                                model.transform_point3(*p),
+                                eye,
+                            )
+                        }),
+                );
+            }
+        }
+    }
+    out
+}

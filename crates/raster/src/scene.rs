@@ -1,0 +1,130 @@
+//! A scene: objects (mesh + material + transform), lights and the global ambient.
+
+use std::sync::Arc;
+
+use glam::{DMat3, Mat3, Mat4, Vec3};
+
+use crate::error::{RasterError, Result};
+use crate::light::Light;
+use crate::material::Material;
+use crate::mesh::Mesh;
+
+/// A mesh placed in the world with a material.
+#[derive(Debug, Clone)]
+pub struct Object {
+    mesh: Arc<Mesh>,
+    material: Material,
+    transform: Mat4,
+    normal_matrix: Mat3,
+}
+
+impl Object {
+    /// Places `mesh` with the model matrix `transform` (column vectors, `p_world = T·p`).
+    ///
+    /// Errors when the matrix is non-finite, singular, or not affine (last row ≠ 0 0 0 1):
+    /// normals go through the inverse transpose, which needs an invertible matrix.
+    pub fn new(mesh: Arc<Mesh>, material: Material, transform: Mat4) -> Result<Self> {
+        if !transform.is_finite() {
+            return Err(RasterError::invalid("transform must be finite"));
+        }
+        let t = transform.as_dmat4();
+        if t.row(3) != glam::DVec4::new(0.0, 0.0, 0.0, 1.0) {
+            return Err(RasterError::invalid(format!(
+                "transform must be affine (last row 0 0 0 1), got last row {:?}",
+                t.row(3).to_array()
+            )));
+        }
+        let linear = DMat3::from_mat4(t);
+        let det = linear.determinant();
+        let scale = linear.x_axis.length() * linear.y_axis.length() * linear.z_axis.length();
+        if !(det.abs() > 1e-12 * scale) || scale == 0.0 {
+            return Err(RasterError::invalid(
+                "transform is singular (its 3x3 part has no inverse), so normals are undefined",
+            ));
+        }
+        let normal_matrix = linear.inverse().transpose().as_mat3();
+        Ok(Object {
+            mesh,
+            material,
+            transform,
+            normal_matrix,
+        })
+    }
+
+    /// The mesh.
+    pub fn mesh(&self) -> &Arc<Mesh> {
+        &self.mesh
+    }
+
+    /// The material.
+    pub fn material(&self) -> &Material {
+        &self.material
+    }
+
+    /// The model matrix.
+    pub fn transform(&self) -> Mat4 {
+        self.transform
+    }
+
+    /// Inverse transpose of the transform's 3x3 part (normals are renormalised after it).
+    pub fn normal_matrix(&self) -> Mat3 {
+        self.normal_matrix
+    }
+}
+
+/// Everything that is drawn, and the light it is drawn in.
+#[derive(Debug, Clone, Default)]
+pub struct Scene {
+    /// Global ambient light `Ia` (RGB).
+    ambient: Vec3,
+    objects: Vec<Object>,
+    lights: Vec<Light>,
+}
+
+impl Scene {
+    /// An empty scene with global ambient `ambient` (finite, ≥ 0).
+    pub fn new(ambient: Vec3) -> Result<Self> {
+        if !ambient.is_finite() || ambient.min_element() < 0.0 {
+            return Err(RasterError::invalid(format!(
+                "scene ambient must be finite and >= 0, got {:?}",
+                ambient.to_array()
+            )));
+        }
+        Ok(Scene {
+            ambient,
+            objects: Vec::new(),
+            lights: Vec::new(),
+        })
+    }
+
+    /// Adds an object; see [`Object::new`].
+    pub fn add(&mut self, mesh: Arc<Mesh>, material: Material, transform: Mat4) -> Result<()> {
+        self.objects.push(Object::new(mesh, material, transform)?);
+        Ok(())
+    }
+
+    /// Adds a light.
+    pub fn add_light(&mut self, light: impl Into<Light>) {
+        self.lights.push(light.into());
+    }
+
+    /// The global ambient.
+    pub fn ambient(&self) -> Vec3 {
+        self.ambient
+    }
+
+    /// The objects, in submission order.
+    pub fn objects(&self) -> &[Object] {
+        &self.objects
+    }
+
+    /// The lights.
+    pub fn lights(&self) -> &[Light] {
+        &self.lights
+    }
+
+    /// Total triangle count over all objects.
+    pub fn triangle_count(&self) -> usize {
+        self.objects.iter().map(|o| o.mesh.triangle_count()).sum()
+    }
+}
