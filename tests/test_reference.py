@@ -345,6 +345,7 @@ def _two_layers(near_first):
     return verts, np.array([[0, 1, 2], [3, 4, 5]])
 
 
+@pytest.mark.usefixtures("chunking")
 @pytest.mark.parametrize("near_first", [True, False])
 def test_nearer_triangle_wins(near_first):
     verts, faces = _two_layers(near_first)
@@ -358,6 +359,15 @@ def test_nearer_triangle_wins(near_first):
     assert img.depth[18, 2] == pytest.approx(5.0, abs=1e-12)
 
 
+@pytest.fixture(params=["one_chunk", "chunk_per_triangle"])
+def chunking(request, monkeypatch):
+    """Run a test with all triangles in one chunk and with one chunk each."""
+    if request.param == "chunk_per_triangle":
+        monkeypatch.setattr(ref, "_CHUNK_PAIRS", 1)
+    return request.param
+
+
+@pytest.mark.usefixtures("chunking")
 def test_equal_depth_lowest_index_wins():
     # Two coplanar overlapping triangles with integer coordinates: the ray
     # depths are exactly equal (d = 5) so the lower index must win.
@@ -594,3 +604,46 @@ def test_empty_mesh_gives_background():
     assert img.color.shape == (33, 33, 3)
     np.testing.assert_array_equal(img.color[5, 7], [0.1, 0.2, 0.3])
     assert np.all(img.tri == -1)
+
+
+@pytest.mark.usefixtures("chunking")
+def test_ray_casting_matches_screen_space_zbuffer():
+    # Independent formulation for triangles fully inside [near, far]: screen
+    # edge functions, perspective-correct barycentrics b_i ~ lambda_i / d_i,
+    # depth d = 1 / sum(lambda_i / d_i), strict "<" z-test in index order.
+    rng = np.random.default_rng(1234)
+    n_tri, w, h = 25, 40, 30
+    verts = rng.uniform([-2, -1.5, -2], [2, 1.5, 2], size=(n_tri * 3, 3))
+    faces = np.arange(n_tri * 3).reshape(-1, 3)
+    cam = ref.Camera(eye=(0.5, 1.0, 6.0), target=(0, 0, 0), up=(0, 1, 0), fov_y=45.0)
+    img = render(verts, faces, camera=cam, width=w, height=h, shading="phong")
+
+    pe = ref._world_to_eye(cam, verts)
+    scr = ref.project_to_screen(pe, cam, w, h)
+    dep = -pe[:, 2]
+    assert dep.min() > cam.near
+    xs, ys = np.meshgrid(np.arange(w) + 0.5, np.arange(h) + 0.5)
+    zbuf = np.full((h, w), np.inf)
+    tbuf = np.full((h, w), -1)
+    bbuf = np.zeros((h, w, 3))
+    for i, (a, b, c) in enumerate(faces):
+        pa, pb, pc = scr[a], scr[b], scr[c]
+
+        def edge(p, q):
+            return (q[0] - p[0]) * (ys - p[1]) - (q[1] - p[1]) * (xs - p[0])
+
+        area = (pb[0] - pa[0]) * (pc[1] - pa[1]) - (pb[1] - pa[1]) * (pc[0] - pa[0])
+        lam = np.stack([edge(pb, pc), edge(pc, pa), edge(pa, pb)], axis=-1) / area
+        inside = np.all(lam >= 0, axis=-1)
+        q = lam / dep[[a, b, c]]
+        d = 1.0 / q.sum(axis=-1)
+        upd = inside & (d < zbuf)
+        zbuf[upd] = d[upd]
+        tbuf[upd] = i
+        bbuf[upd] = (q * d[..., None])[upd]
+    ok = img.edge_dist > 1e-6
+    assert ok.sum() > 300
+    np.testing.assert_array_equal(img.tri[ok], tbuf[ok])
+    np.testing.assert_allclose(img.depth[ok], zbuf[ok], rtol=1e-12)
+    hit = ok & img.mask
+    np.testing.assert_allclose(img.bary[hit], bbuf[hit], atol=1e-11)

@@ -1,1 +1,31 @@
+//! Python bindings of shadelab_rs: conversion of arguments and mapping of errors only; all
+//! rendering lives in the `shadelab-raster` crate.
 
+mod camera;
+mod convert;
+mod errors;
+mod light;
+mod material;
+mod mesh;
+mod render;
+mod scene;
+
+use pyo3::prelude::*;
+
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("MAX_IMAGE_SIZE", shadelab_raster::MAX_IMAGE_SIZE)?;
+    m.add("ObjParseError", m.py().get_type::<errors::ObjParseError>())?;
+    m.add_class::<mesh::PyMesh>()?;
+    m.add_class::<material::PyMaterial>()?;
+    m.add_class::<light::PyDirectionalLight>()?;
+    m.add_class::<light::PyPointLight>()?;
+    m.add_class::<scene::PyScene>()?;
+    m.add_class::<camera::PyCamera>()?;
+    m.add_function(wrap_pyfunction!(mesh::load_obj, m)?)?;
+    m.add_function(wrap_pyfunction!(mesh::load_obj_parts, m)?)?;
+    m.add_function(wrap_pyfunction!(render::render, m)?)?;
+    m.add_function(wrap_pyfunction!(render::render_frame, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,45 @@
+# Every target sets itself up on a fresh machine: a local .venv with the Python tools, and
+# the extension built in release mode. `make help` lists the targets.
+
+PYTHON ?= python3
+VENV := .venv
+PY := $(VENV)/bin/python
+DEPS := $(VENV)/.deps-stamp
+ENVS := VIRTUAL_ENV=$(abspath $(VENV)) PATH="$(abspath $(VENV))/bin:$$PATH"
+
+.PHONY: help demo test lint build bench wheel clean
+
+help:  ## list targets
+	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
+
+$(DEPS): pyproject.toml requirements-dev.txt
+	$(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q -r requirements-dev.txt
+	touch $@
+
+build: $(DEPS)  ## build the extension (release) into .venv
+	$(ENVS) $(PY) -m maturin develop --release -q
+
+demo: build  ## render the built-in demo scene to demo.png
+	$(PY) -m shadelab_rs demo -o demo.png
+
+lint: $(DEPS)  ## rustfmt, clippy (warnings are errors), ruff
+	cargo fmt --all -- --check
+	PYO3_PYTHON=$(abspath $(PY)) cargo clippy --workspace --all-targets -- -D warnings
+	$(VENV)/bin/ruff check python tests bench
+	$(VENV)/bin/ruff format --check python tests bench
+
+test: lint build  ## lint, cargo test, pytest
+	cargo test
+	$(PY) -m pytest -q
+
+bench: build  ## benchmarks -> docs/BENCHMARKS.md
+	$(PY) bench/bench_render.py --write docs/BENCHMARKS.md
+
+wheel: $(DEPS)  ## build a release wheel into dist/
+	$(ENVS) $(PY) -m maturin build --release -o dist
+
+clean:  ## remove build products and the venv
+	cargo clean
+	rm -rf $(VENV) dist demo.png

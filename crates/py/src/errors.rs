@@ -1,0 +1,43 @@
+//! Mapping of core errors to Python exceptions.
+
+use pyo3::create_exception;
+use pyo3::exceptions::{
+    PyFileNotFoundError, PyMemoryError, PyOSError, PyRuntimeError, PyValueError,
+};
+use pyo3::PyErr;
+use shadelab_raster::RasterError;
+
+create_exception!(
+    shadelab_rs,
+    ObjParseError,
+    PyValueError,
+    "A mesh file was read but its content is malformed (a ValueError)."
+);
+
+/// The Python exception for a core error: `FileNotFoundError`, `OSError`, `ObjParseError`
+/// (a `ValueError`), `MemoryError` or `ValueError`, with the core's message.
+pub fn to_py(e: RasterError) -> PyErr {
+    let msg = e.to_string();
+    match e {
+        RasterError::InvalidInput(_) => PyValueError::new_err(msg),
+        RasterError::NotFound(_) => PyFileNotFoundError::new_err(msg),
+        RasterError::Io { .. } => PyOSError::new_err(msg),
+        RasterError::Parse { .. } => ObjParseError::new_err(msg),
+        RasterError::OutOfMemory { .. } => PyMemoryError::new_err(msg),
+    }
+}
+
+/// Runs `f`, turning a Rust panic into a `RuntimeError` so none can reach Python as
+/// `PanicException` (which `except Exception` does not catch).
+pub fn no_panic<T>(what: &str, f: impl FnOnce() -> T) -> Result<T, PyErr> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).map_err(|p| {
+        let detail = p
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| p.downcast_ref::<String>().cloned())
+            .unwrap_or_default();
+        PyRuntimeError::new_err(format!(
+            "internal error in {what} (please report it): {detail}"
+        ))
+    })
+}

@@ -1,0 +1,88 @@
+//! `Material` and its presets.
+
+use pyo3::prelude::*;
+use shadelab_raster as core;
+
+use crate::convert;
+use crate::errors::to_py;
+
+/// OpenGL-style material: ambient, diffuse, specular RGB and shininess.
+#[pyclass(name = "Material", module = "shadelab_rs._core", frozen, eq)]
+#[derive(Clone, PartialEq)]
+pub struct PyMaterial {
+    pub inner: core::Material,
+}
+
+#[pymethods]
+impl PyMaterial {
+    #[new]
+    #[pyo3(signature = (ambient=None, diffuse=None, specular=None, shininess=None))]
+    fn new(
+        ambient: Option<&Bound<'_, PyAny>>,
+        diffuse: Option<&Bound<'_, PyAny>>,
+        specular: Option<&Bound<'_, PyAny>>,
+        shininess: Option<f64>,
+    ) -> PyResult<Self> {
+        let d = core::Material::default();
+        let pick = |v: Option<&Bound<'_, PyAny>>, name: &str, dflt| -> PyResult<glam::Vec3> {
+            v.map_or(Ok(dflt), |v| convert::vec3(v, name))
+        };
+        let inner = core::Material::new(
+            pick(ambient, "ambient", d.ambient)?,
+            pick(diffuse, "diffuse", d.diffuse)?,
+            pick(specular, "specular", d.specular)?,
+            shininess.map_or(d.shininess, |s| s as f32),
+        )
+        .map_err(to_py)?;
+        Ok(PyMaterial { inner })
+    }
+
+    /// The named classic preset (case-insensitive; "polished_silver" = "polished silver").
+    #[staticmethod]
+    fn preset(name: &str) -> PyResult<Self> {
+        Ok(PyMaterial {
+            inner: core::Material::preset(name).map_err(to_py)?,
+        })
+    }
+
+    /// Names of all presets.
+    #[staticmethod]
+    fn preset_names() -> Vec<&'static str> {
+        core::preset_names()
+    }
+
+    /// Ambient reflectance (r, g, b).
+    #[getter]
+    fn ambient(&self) -> (f32, f32, f32) {
+        self.inner.ambient.into()
+    }
+
+    /// Diffuse reflectance (r, g, b).
+    #[getter]
+    fn diffuse(&self) -> (f32, f32, f32) {
+        self.inner.diffuse.into()
+    }
+
+    /// Specular reflectance (r, g, b).
+    #[getter]
+    fn specular(&self) -> (f32, f32, f32) {
+        self.inner.specular.into()
+    }
+
+    /// Specular exponent.
+    #[getter]
+    fn shininess(&self) -> f32 {
+        self.inner.shininess
+    }
+
+    fn __repr__(&self) -> String {
+        let m = &self.inner;
+        format!(
+            "Material(ambient={:?}, diffuse={:?}, specular={:?}, shininess={})",
+            m.ambient.to_array(),
+            m.diffuse.to_array(),
+            m.specular.to_array(),
+            m.shininess
+        )
+    }
+}

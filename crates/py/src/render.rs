@@ -1,0 +1,205 @@
+//! `render` and `render_frame`: argument conversion, GIL release, array hand-off.
+
+use numpy::ndarray::{Array2, Array3};
+use numpy::IntoPyArray;
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
+use shadelab_raster as core;
+
+use crate::camera::PyCamera;
+use crate::convert;
+use crate::errors::{no_panic, to_py};
+use crate::scene::PyScene;
+
+fn size(v: i64, name: &str) -> PyResult<u32> {
+    if v < 1 || v > core::MAX_IMAGE_SIZE as i64 {
+        return Err(PyValueError::new_err(format!(
+            "{name} must be between 1 and {}, got {v}",
+            core::MAX_IMAGE_SIZE
+        )));
+    }
+    Ok(v as u32)
+}
+
+fn format_of(dtype: &Bound<'_, PyAny>) -> PyResult<core::ColorFormat> {
+    let np = dtype.py().import("numpy")?;
+    let name: String = np
+        .call_method1("dtype", (dtype,))
+        .and_then(|d| d.getattr("name"))
+        .and_then(|n| n.extract())
+        .map_err(|_| PyTypeError::new_err(format!("dtype must be 'uint8' or 'float32', got {dtype}")))?;
+    match name.as_str() {
+        "uint8" => Ok(core::ColorFormat::U8),
+        "float32" => Ok(core::ColorFormat::F32),
+        _ => Err(PyValueError::new_err(format!(
+            "dtype must be 'uint8' or 'float32', got '{name}'"
+        ))),
+    }
+}
+
+struct Rendered<'py> {
+    image: Bound<'py, PyAny>,
+    depth: Option<Bound<'py, PyAny>>,
+    stats: core::RenderStats,
+}
+
+#[allow(clippy::too_many_arguments)]
+fn render_impl<'py>(
+    py: Python<'py>,
+    scene: &PyScene,
+    camera: &PyCamera,
+    width: i64,
+    height: i64,
+    shading: &str,
+    specular: &str,
+    background: Option<&Bound<'py, PyAny>>,
+    dtype: &Bound<'py, PyAny>,
+    return_depth: bool,
+    cull_backfaces: bool,
+    threads: Option<i64>,
+) -> PyResult<Rendered<'py>> {
+    let mut options = core::RenderOptions::new(size(width, "width")?, size(height, "height")?);
+    options.shading = shading.parse().map_err(to_py)?;
+    options.specular = specular.parse().map_err(to_py)?;
+    if let Some(bg) = background {
+        options.background = convert::vec3(bg, "background")?;
+    }
+    options.cull_backfaces = cull_backfaces;
+    options.threads = match threads {
+        None => None,
+        Some(n) if n < 1 => {
+            return Err(PyValueError::new_err(format!(
+                "threads must be >= 1 (or None for all cores), got {n}"
+            )))
+        }
+        Some(n) => Some(usize::try_from(n).unwrap_or(usize::MAX)),
+    };
+    let format = format_of(dtype)?;
+    let scene_copy = scene.inner.clone();
+    let cam = camera.inner;
+    let frame = py
+        .detach(|| {
+            no_panic("render", || {
+                core::render(&scene_copy, &cam, &options, format, return_depth)
+            })
+        })?
+        .map_err(to_py)?;
+    let (h, w) = (frame.height as usize, frame.width as usize);
+    let image = match frame.color {
+        core::ColorBuffer::U8(v) => Array3::from_shape_vec((h, w, 3), v)
+            .expect("size checked")
+            .into_pyarray(py)
+            .into_any(),
+        core::ColorBuffer::F32(v) => Array3::from_shape_vec((h, w, 3), v)
+            .expect("size checked")
+            .into_pyarray(py)
+            .into_any(),
+    };
+    let depth = frame.depth.map(|d| {
+        Array2::from_shape_vec((h, w), d)
+            .expect("size checked")
+            .into_pyarray(py)
+            .into_any()
+    });
+    Ok(Rendered {
+        image,
+        depth,
+        stats: frame.stats,
+    })
+}
+
+/// Renders `scene` through `camera` into a C-contiguous (height, width, 3) array, or a
+/// tuple (image, depth) with `return_depth=True`. The GIL is released while rendering.
+#[pyfunction]
+#[pyo3(signature = (scene, camera, width=800, height=600, shading="phong", specular="blinn",
+                    background=None, dtype=None, return_depth=false, cull_backfaces=false, threads=None))]
+#[allow(clippy::too_many_arguments)]
+pub fn render<'py>(
+    py: Python<'py>,
+    scene: &PyScene,
+    camera: &PyCamera,
+    width: i64,
+    height: i64,
+    shading: &str,
+    specular: &str,
+    background: Option<&Bound<'py, PyAny>>,
+    dtype: Option<&Bound<'py, PyAny>>,
+    return_depth: bool,
+    cull_backfaces: bool,
+    threads: Option<i64>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let default_dtype = "uint8".into_pyobject(py)?.into_any();
+    let r = render_impl(
+        py,
+        scene,
+        camera,
+        width,
+        height,
+        shading,
+        specular,
+        background,
+        dtype.unwrap_or(&default_dtype),
+        return_depth,
+        cull_backfaces,
+        threads,
+    )?;
+    match r.depth {
+        Some(d) => Ok(PyTuple::new(py, [r.image, d])?.into_any()),
+        None => Ok(r.image),
+    }
+}
+
+/// Like `render`, returning a dict with "image", "depth" (or None) and "stats" (triangle
+/// counters and per-stage times in milliseconds).
+#[pyfunction]
+#[pyo3(signature = (scene, camera, width=800, height=600, shading="phong", specular="blinn",
+                    background=None, dtype=None, return_depth=false, cull_backfaces=false, threads=None))]
+#[allow(clippy::too_many_arguments)]
+pub fn render_frame<'py>(
+    py: Python<'py>,
+    scene: &PyScene,
+    camera: &PyCamera,
+    width: i64,
+    height: i64,
+    shading: &str,
+    specular: &str,
+    background: Option<&Bound<'py, PyAny>>,
+    dtype: Option<&Bound<'py, PyAny>>,
+    return_depth: bool,
+    cull_backfaces: bool,
+    threads: Option<i64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let default_dtype = "uint8".into_pyobject(py)?.into_any();
+    let r = render_impl(
+        py,
+        scene,
+        camera,
+        width,
+        height,
+        shading,
+        specular,
+        background,
+        dtype.unwrap_or(&default_dtype),
+        return_depth,
+        cull_backfaces,
+        threads,
+    )?;
+    let s = r.stats;
+    let stats = PyDict::new(py);
+    stats.set_item("triangles_in", s.triangles_in)?;
+    stats.set_item("triangles_setup", s.triangles_setup)?;
+    stats.set_item("triangles_clipped", s.triangles_clipped)?;
+    stats.set_item("triangles_culled", s.triangles_culled)?;
+    stats.set_item("triangles_dropped", s.triangles_dropped)?;
+    let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
+    stats.set_item("vertex_ms", ms(s.timings.vertex))?;
+    stats.set_item("setup_ms", ms(s.timings.setup))?;
+    stats.set_item("binning_ms", ms(s.timings.binning))?;
+    stats.set_item("raster_shade_ms", ms(s.timings.raster_shade))?;
+    let out = PyDict::new(py);
+    out.set_item("image", r.image)?;
+    out.set_item("depth", r.depth)?;
+    out.set_item("stats", stats)?;
+    Ok(out)
+}

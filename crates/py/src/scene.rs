@@ -1,0 +1,95 @@
+//! `Scene`.
+
+use glam::Mat4;
+use pyo3::exceptions::PyTypeError;
+use pyo3::prelude::*;
+use shadelab_raster as core;
+
+use crate::convert;
+use crate::errors::to_py;
+use crate::light::{PyDirectionalLight, PyPointLight};
+use crate::material::PyMaterial;
+use crate::mesh::PyMesh;
+
+/// Objects, lights and the global ambient light.
+#[pyclass(name = "Scene", module = "shadelab_rs._core")]
+pub struct PyScene {
+    pub inner: core::Scene,
+}
+
+#[pymethods]
+impl PyScene {
+    #[new]
+    #[pyo3(signature = (ambient=None))]
+    fn new(ambient: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
+        let ambient = ambient.map_or(Ok(glam::Vec3::splat(0.2)), |a| convert::vec3(a, "ambient"))?;
+        Ok(PyScene {
+            inner: core::Scene::new(ambient).map_err(to_py)?,
+        })
+    }
+
+    /// Adds `mesh` with `material` (default: grey plastic) placed by the 4x4 model matrix
+    /// `transform` (column vectors: p_world = transform @ [x, y, z, 1]).
+    #[pyo3(signature = (mesh, material=None, transform=None))]
+    fn add(
+        &mut self,
+        mesh: &PyMesh,
+        material: Option<&PyMaterial>,
+        transform: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let material = material.map_or_else(core::Material::default, |m| m.inner);
+        let transform = transform.map_or(Ok(Mat4::IDENTITY), |t| convert::mat4(t, "transform"))?;
+        self.inner
+            .add(mesh.inner.clone(), material, transform)
+            .map_err(to_py)
+    }
+
+    /// Adds a DirectionalLight or PointLight.
+    fn add_light(&mut self, light: &Bound<'_, PyAny>) -> PyResult<()> {
+        if let Ok(l) = light.extract::<PyRef<'_, PyDirectionalLight>>() {
+            self.inner.add_light(l.inner);
+        } else if let Ok(l) = light.extract::<PyRef<'_, PyPointLight>>() {
+            self.inner.add_light(l.inner);
+        } else {
+            return Err(PyTypeError::new_err(format!(
+                "add_light expects a DirectionalLight or PointLight, got {}",
+                light.get_type().name()?
+            )));
+        }
+        Ok(())
+    }
+
+    /// Global ambient light (r, g, b).
+    #[getter]
+    fn ambient(&self) -> (f32, f32, f32) {
+        self.inner.ambient().into()
+    }
+
+    /// Number of objects.
+    #[getter]
+    fn n_objects(&self) -> usize {
+        self.inner.objects().len()
+    }
+
+    /// Number of lights.
+    #[getter]
+    fn n_lights(&self) -> usize {
+        self.inner.lights().len()
+    }
+
+    /// Total triangles over all objects.
+    #[getter]
+    fn n_triangles(&self) -> usize {
+        self.inner.triangle_count()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Scene(ambient={:?}, objects={}, lights={}, triangles={})",
+            self.inner.ambient().to_array(),
+            self.inner.objects().len(),
+            self.inner.lights().len(),
+            self.inner.triangle_count()
+        )
+    }
+}

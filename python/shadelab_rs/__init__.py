@@ -1,0 +1,50 @@
+"""shadelab_rs: a multithreaded Rust tile rasterizer with flat, Gouraud and Phong shading.
+
+Everything heavy runs in the compiled ``_core`` module (the GIL is released while rendering);
+this package adds file helpers, the bundled demo scene and the command line.
+
+>>> import shadelab_rs as sl
+>>> scene, camera = sl.demo_scene()
+>>> sl.render(scene, camera, width=64, height=48).shape
+(48, 64, 3)
+"""
+
+from ._core import (
+    MAX_IMAGE_SIZE,
+    Camera,
+    DirectionalLight,
+    Material,
+    Mesh,
+    ObjParseError,
+    PointLight,
+    Scene,
+    __version__,
+    load_obj,
+    load_obj_parts,
+    render,
+    render_frame,
+)
+from .demo import data_path, demo_scene, frame_mesh
+from .io import load_mesh, save_image, to_uint8
+
+__all__ = [
+    "MAX_IMAGE_SIZE",
+    "Camera",
+    "DirectionalLight",
+    "Material",
+    "Mesh",
+    "ObjParseError",
+    "PointLight",
+    "Scene",
+    "__version__",
+    "data_path",
+    "demo_scene",
+    "frame_mesh",
+    "load_mesh",
+    "load_obj",
+    "load_obj_parts",
+    "render",
+    "render_frame",
+    "save_image",
+    "to_uint8",
+]

@@ -1,0 +1,120 @@
+"""Command line: ``shadelab render``, ``shadelab demo``, ``shadelab materials``."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from collections.abc import Sequence
+
+from . import _core as core
+from .demo import demo_scene, frame_mesh
+from .io import load_mesh, save_image
+
+
+def _size(text: str) -> tuple[int, int]:
+    try:
+        w, h = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"size must look like 800x600, got '{text}'") from None
+    return w, h
+
+
+def _triple(text: str) -> tuple[float, float, float]:
+    try:
+        vals = tuple(float(v) for v in text.split(","))
+    except ValueError:
+        vals = ()
+    if len(vals) != 3:
+        raise argparse.ArgumentTypeError(f"expected three comma-separated numbers, got '{text}'")
+    return vals  # type: ignore[return-value]
+
+
+def _render_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("-o", "--output", default="out.png", help="image file to write (PNG, JPEG)")
+    p.add_argument("--size", type=_size, default=(800, 600), help="WIDTHxHEIGHT (800x600)")
+    p.add_argument("--shading", choices=["flat", "gouraud", "phong"], default="phong")
+    p.add_argument("--specular", choices=["blinn", "phong"], default="blinn")
+    p.add_argument("--background", type=_triple, default=(0.0, 0.0, 0.0), help="r,g,b in [0,1]")
+    p.add_argument("--threads", type=int, default=None, help="worker threads (default: all)")
+    p.add_argument("--cull-backfaces", action="store_true")
+
+
+def _render(scene: core.Scene, camera: core.Camera, args: argparse.Namespace) -> None:
+    w, h = args.size
+    t0 = time.perf_counter()
+    img = core.render(scene, camera, width=w, height=h, shading=args.shading,
+                      specular=args.specular, background=args.background,
+                      cull_backfaces=args.cull_backfaces, threads=args.threads)
+    dt = (time.perf_counter() - t0) * 1e3
+    save_image(img, args.output)
+    print(f"wrote {args.output} ({w}x{h}, {scene.n_triangles} triangles, {dt:.1f} ms)")
+
+
+def cmd_render(args: argparse.Namespace) -> None:
+    mesh = load_mesh(args.model)
+    material = core.Material.preset(args.material)
+    scene = core.Scene(ambient=args.ambient)
+    scene.add(mesh, material=material)
+    camera = frame_mesh(mesh.vertices, fov_y=args.fov, direction=args.view)
+    if args.eye is not None:
+        target = args.target if args.target is not None else camera.target
+        camera = core.Camera.look_at(eye=args.eye, target=target, up=args.up, fov_y=args.fov,
+                                     near=camera.near, far=camera.far)
+    for d in args.light or [(-0.5, -1.0, -0.8)]:
+        scene.add_light(core.DirectionalLight(direction=d))
+    _render(scene, camera, args)
+
+
+def cmd_demo(args: argparse.Namespace) -> None:
+    scene, camera = demo_scene()
+    _render(scene, camera, args)
+
+
+def cmd_materials(args: argparse.Namespace) -> None:
+    for name in core.Material.preset_names():
+        m = core.Material.preset(name)
+        fmt = lambda v: " ".join(f"{x:.6g}" for x in v)  # noqa: E731
+        print(f"{name:16s} ambient {fmt(m.ambient):28s} diffuse {fmt(m.diffuse):28s} "
+              f"specular {fmt(m.specular):28s} shininess {m.shininess:g}")
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``shadelab`` command; returns the exit status."""
+    parser = argparse.ArgumentParser(prog="shadelab", description=__doc__)
+    parser.add_argument("--version", action="version", version=core.__version__)
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    r = sub.add_parser("render", help="render a mesh file (OBJ, or anything trimesh reads)")
+    r.add_argument("model", help="mesh file")
+    r.add_argument("--material", default="gold", help="preset name (see 'shadelab materials')")
+    r.add_argument("--ambient", type=_triple, default=(0.2, 0.2, 0.2), help="scene ambient r,g,b")
+    r.add_argument("--fov", type=float, default=35.0, help="vertical field of view, degrees")
+    r.add_argument("--view", type=_triple, default=(0.55, 0.35, 1.0),
+                   help="direction from the model's centre to the camera (x,y,z)")
+    r.add_argument("--eye", type=_triple, default=None, help="explicit camera position x,y,z")
+    r.add_argument("--target", type=_triple, default=None, help="point looked at (with --eye)")
+    r.add_argument("--up", type=_triple, default=(0.0, 1.0, 0.0), help="camera up x,y,z")
+    r.add_argument("--light", type=_triple, action="append",
+                   help="directional light travel direction x,y,z (repeatable)")
+    _render_args(r)
+    r.set_defaults(func=cmd_render)
+
+    d = sub.add_parser("demo", help="render the built-in demo scene")
+    _render_args(d)
+    d.set_defaults(func=cmd_demo, output="demo.png")
+
+    m = sub.add_parser("materials", help="list the material presets")
+    m.set_defaults(func=cmd_materials)
+
+    args = parser.parse_args(argv)
+    try:
+        args.func(args)
+    except (ValueError, TypeError, OSError) as e:
+        print(f"shadelab: error: {e}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
