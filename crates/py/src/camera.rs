@@ -130,7 +130,11 @@ impl PyCamera {
         };
         format!(
             "Camera.{}(eye={:?}, target={:?}, up={:?}, {proj}, near={}, far={})",
-            if self.fov_y().is_some() { "look_at" } else { "orthographic" },
+            if self.fov_y().is_some() {
+                "look_at"
+            } else {
+                "orthographic"
+            },
             c.eye().to_array(),
             c.target().to_array(),
             c.up().to_array(),

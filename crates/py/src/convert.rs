@@ -17,11 +17,14 @@ struct Floats {
 }
 
 /// `numpy.asarray(obj)` with its dtype kind (`"f"`, `"i"`, ...) and dtype name.
-fn as_array<'py>(obj: &Bound<'py, PyAny>, name: &str) -> PyResult<(Bound<'py, PyAny>, String, String)> {
+fn as_array<'py>(
+    obj: &Bound<'py, PyAny>,
+    name: &str,
+) -> PyResult<(Bound<'py, PyAny>, String, String)> {
     let np = obj.py().import("numpy")?;
-    let arr = np.call_method1("asarray", (obj,)).map_err(|e| {
-        PyTypeError::new_err(format!("{name} must be array-like of numbers: {e}"))
-    })?;
+    let arr = np
+        .call_method1("asarray", (obj,))
+        .map_err(|e| PyTypeError::new_err(format!("{name} must be array-like of numbers: {e}")))?;
     let dtype = arr.getattr("dtype")?;
     let kind: String = dtype.getattr("kind")?.extract()?;
     let dname: String = dtype.getattr("name")?.extract()?;
@@ -42,19 +45,29 @@ fn floats(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Floats> {
     let c = np.call_method("ascontiguousarray", (arr,), Some(&kwargs))?;
     let ro: PyReadonlyArrayDyn<f64> = c.extract()?;
     let shape = ro.shape().to_vec();
-    let data = ro.as_slice().map_err(|e| PyValueError::new_err(e.to_string()))?.to_vec();
+    let data = ro
+        .as_slice()
+        .map_err(|e| PyValueError::new_err(e.to_string()))?
+        .to_vec();
     Ok(Floats { shape, data })
 }
 
 fn shape_str(shape: &[usize]) -> String {
     format!(
         "({})",
-        shape.iter().map(|s| s.to_string()).collect::<Vec<_>>().join(", ")
+        shape
+            .iter()
+            .map(|s| s.to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
     )
 }
 
 fn first_non_finite(name: &str, data: &[f64], cols: usize) -> PyResult<()> {
-    if let Some(i) = data.iter().position(|v| !v.is_finite() || v.abs() > f32::MAX as f64) {
+    if let Some(i) = data
+        .iter()
+        .position(|v| !v.is_finite() || v.abs() > f32::MAX as f64)
+    {
         let what = if cols > 1 {
             format!("{name}[{}, {}]", i / cols, i % cols)
         } else {
@@ -107,7 +120,11 @@ pub fn vec3(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec3> {
         )));
     }
     first_non_finite(name, &a.data, 1)?;
-    Ok(Vec3::new(a.data[0] as f32, a.data[1] as f32, a.data[2] as f32))
+    Ok(Vec3::new(
+        a.data[0] as f32,
+        a.data[1] as f32,
+        a.data[2] as f32,
+    ))
 }
 
 /// A length-3 sequence → finite f64 triple (camera parameters keep double precision).
@@ -171,7 +188,9 @@ pub fn faces(obj: &Bound<'_, PyAny>, n_vertices: usize) -> PyResult<Vec<[u32; 3]
         kwargs.set_item("dtype", "uint64")?;
         let c = np.call_method("ascontiguousarray", (arr,), Some(&kwargs))?;
         let ro: PyReadonlyArrayDyn<u64> = c.extract()?;
-        let s = ro.as_slice().map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let s = ro
+            .as_slice()
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
         s.iter()
             .enumerate()
             .map(|(i, &v)| check(i, v as i128))
@@ -180,7 +199,9 @@ pub fn faces(obj: &Bound<'_, PyAny>, n_vertices: usize) -> PyResult<Vec<[u32; 3]
         kwargs.set_item("dtype", "int64")?;
         let c = np.call_method("ascontiguousarray", (arr,), Some(&kwargs))?;
         let ro: PyReadonlyArrayDyn<i64> = c.extract()?;
-        let s = ro.as_slice().map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let s = ro
+            .as_slice()
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
         s.iter()
             .enumerate()
             .map(|(i, &v)| check(i, v as i128))

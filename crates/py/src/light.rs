@@ -17,10 +17,18 @@ pub struct PyDirectionalLight {
 impl PyDirectionalLight {
     #[new]
     #[pyo3(signature = (direction, color=None, intensity=1.0))]
-    fn new(direction: &Bound<'_, PyAny>, color: Option<&Bound<'_, PyAny>>, intensity: f64) -> PyResult<Self> {
+    fn new(
+        direction: &Bound<'_, PyAny>,
+        color: Option<&Bound<'_, PyAny>>,
+        intensity: f64,
+    ) -> PyResult<Self> {
         let color = color.map_or(Ok(glam::Vec3::ONE), |c| convert::vec3(c, "color"))?;
-        let inner = core::DirectionalLight::new(convert::vec3(direction, "direction")?, color, intensity as f32)
-            .map_err(to_py)?;
+        let inner = core::DirectionalLight::new(
+            convert::vec3(direction, "direction")?,
+            color,
+            intensity as f32,
+        )
+        .map_err(to_py)?;
         Ok(Self { inner })
     }
 
@@ -63,10 +71,18 @@ pub struct PyPointLight {
 impl PyPointLight {
     #[new]
     #[pyo3(signature = (position, color=None, intensity=1.0))]
-    fn new(position: &Bound<'_, PyAny>, color: Option<&Bound<'_, PyAny>>, intensity: f64) -> PyResult<Self> {
+    fn new(
+        position: &Bound<'_, PyAny>,
+        color: Option<&Bound<'_, PyAny>>,
+        intensity: f64,
+    ) -> PyResult<Self> {
         let color = color.map_or(Ok(glam::Vec3::ONE), |c| convert::vec3(c, "color"))?;
-        let inner = core::PointLight::new(convert::vec3(position, "position")?, color, intensity as f32)
-            .map_err(to_py)?;
+        let inner = core::PointLight::new(
+            convert::vec3(position, "position")?,
+            color,
+            intensity as f32,
+        )
+        .map_err(to_py)?;
         Ok(Self { inner })
     }
 

@@ -38,7 +38,9 @@ impl PyMesh {
     ) -> PyResult<Self> {
         let positions = convert::vec3_rows(vertices, "vertices")?;
         let indices = convert::faces(faces, positions.len())?;
-        let normals = normals.map(|n| convert::vec3_rows(n, "normals")).transpose()?;
+        let normals = normals
+            .map(|n| convert::vec3_rows(n, "normals"))
+            .transpose()?;
         let uvs = uvs.map(|u| convert::vec2_rows(u, "uvs")).transpose()?;
         let mesh = core::Mesh::new(positions, indices, normals, uvs).map_err(to_py)?;
         Ok(PyMesh {
@@ -125,7 +127,11 @@ impl PyMesh {
             "Mesh(n_vertices={}, n_faces={}, normals={}, uvs={})",
             self.inner.positions().len(),
             self.inner.triangle_count(),
-            if self.has_normals() { "given" } else { "generated" },
+            if self.has_normals() {
+                "given"
+            } else {
+                "generated"
+            },
             self.inner.uvs().is_some()
         )
     }
@@ -151,12 +157,24 @@ pub fn load_obj_parts<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Vec<Bound
     parts
         .into_iter()
         .map(|p| {
-            let mesh = Py::new(py, PyMesh { inner: Arc::new(p.mesh) })?;
+            let mesh = Py::new(
+                py,
+                PyMesh {
+                    inner: Arc::new(p.mesh),
+                },
+            )?;
             let mat = p
                 .material
                 .map(|m| Py::new(py, PyMaterial { inner: m }))
                 .transpose()?;
-            PyTuple::new(py, [p.name.into_pyobject(py)?.into_any(), mesh.into_any().into_bound(py), mat.into_pyobject(py)?.into_any()])
+            PyTuple::new(
+                py,
+                [
+                    p.name.into_pyobject(py)?.into_any(),
+                    mesh.into_any().into_bound(py),
+                    mat.into_pyobject(py)?.into_any(),
+                ],
+            )
         })
         .collect()
 }

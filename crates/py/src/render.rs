@@ -28,7 +28,9 @@ fn format_of(dtype: &Bound<'_, PyAny>) -> PyResult<core::ColorFormat> {
         .call_method1("dtype", (dtype,))
         .and_then(|d| d.getattr("name"))
         .and_then(|n| n.extract())
-        .map_err(|_| PyTypeError::new_err(format!("dtype must be 'uint8' or 'float32', got {dtype}")))?;
+        .map_err(|_| {
+            PyTypeError::new_err(format!("dtype must be 'uint8' or 'float32', got {dtype}"))
+        })?;
     match name.as_str() {
         "uint8" => Ok(core::ColorFormat::U8),
         "float32" => Ok(core::ColorFormat::F32),

@@ -22,7 +22,8 @@ impl PyScene {
     #[new]
     #[pyo3(signature = (ambient=None))]
     fn new(ambient: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
-        let ambient = ambient.map_or(Ok(glam::Vec3::splat(0.2)), |a| convert::vec3(a, "ambient"))?;
+        let ambient =
+            ambient.map_or(Ok(glam::Vec3::splat(0.2)), |a| convert::vec3(a, "ambient"))?;
         Ok(PyScene {
             inner: core::Scene::new(ambient).map_err(to_py)?,
         })
