@@ -153,7 +153,8 @@ pub fn render<'py>(
 }
 
 /// Like `render`, returning a dict with "image", "depth" (or None) and "stats" (triangle
-/// counters and per-stage times in milliseconds).
+/// counters and per-stage times in milliseconds: vertex_ms, setup_ms (assembly, clipping,
+/// setup and binning), raster_shade_ms).
 #[pyfunction]
 #[pyo3(signature = (scene, camera, width=800, height=600, shading="phong", specular="blinn",
                     background=None, dtype=None, return_depth=false, cull_backfaces=false, threads=None))]
@@ -197,7 +198,6 @@ pub fn render_frame<'py>(
     let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
     stats.set_item("vertex_ms", ms(s.timings.vertex))?;
     stats.set_item("setup_ms", ms(s.timings.setup))?;
-    stats.set_item("binning_ms", ms(s.timings.binning))?;
     stats.set_item("raster_shade_ms", ms(s.timings.raster_shade))?;
     let out = PyDict::new(py);
     out.set_item("image", r.image)?;

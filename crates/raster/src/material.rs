@@ -197,7 +197,7 @@ pub fn preset_names() -> Vec<&'static str> {
 fn normalise_name(name: &str) -> String {
     name.trim()
         .to_ascii_lowercase()
-        .split(|c: char| c == ' ' || c == '_' || c == '-')
+        .split([' ', '_', '-'])
         .filter(|s| !s.is_empty())
         .collect::<Vec<_>>()
         .join(" ")

@@ -78,10 +78,8 @@ impl RenderOptions {
 pub struct StageTimings {
     /// Vertex transform (and Gouraud lighting).
     pub vertex: Duration,
-    /// Assembly, clipping, setup (and flat lighting).
+    /// Assembly, clipping, setup, binning (and flat lighting).
     pub setup: Duration,
-    /// Tile binning.
-    pub binning: Duration,
     /// Rasterization and shading of all tiles.
     pub raster_shade: Duration,
 }

@@ -37,7 +37,7 @@ impl Object {
         let linear = DMat3::from_mat4(t);
         let det = linear.determinant();
         let scale = linear.x_axis.length() * linear.y_axis.length() * linear.z_axis.length();
-        if !(det.abs() > 1e-12 * scale) || scale == 0.0 {
+        if det.abs() <= 1e-12 * scale || !det.is_finite() || scale == 0.0 {
             return Err(RasterError::invalid(
                 "transform is singular (its 3x3 part has no inverse), so normals are undefined",
             ));

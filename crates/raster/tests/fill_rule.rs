@@ -101,7 +101,7 @@ fn tiny_triangle_between_centres_covers_nothing() {
 fn jittered_grid(n: usize, w: u32, h: u32, rng: &mut Rng) -> Mesh {
     let (cx, cy) = (w as f32 / 2.0, h as f32 / 2.0);
     let span = (w.max(h) as f32) * 1.6;
-    let angle = rng.f32() * 6.283;
+    let angle = rng.f32() * std::f32::consts::TAU;
     let (s, c) = angle.sin_cos();
     let step = span / n as f32;
     let mut p = Vec::new();

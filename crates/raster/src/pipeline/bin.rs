@@ -1,7 +1,50 @@
 //! Binning: which triangles touch which screen tile, in submission order.
+//!
+//! Each primitive-stage chunk bins its own triangles (in parallel with the other chunks);
+//! a tile then walks the chunks in order, so it sees triangles in submission order without
+//! any global merge or copy.
 
 use super::setup::SetupTri;
 use super::tiles::TILE;
+
+/// Bits of a triangle id that index within its chunk; the rest is the chunk index.
+pub(crate) const LOCAL_BITS: u32 = 16;
+
+/// Set-up triangles of one chunk and their per-tile lists.
+#[derive(Debug, Default)]
+pub(crate) struct Chunk {
+    pub tris: Vec<SetupTri>,
+    pub bins: Bins,
+}
+
+/// All set-up triangles, addressed by id `chunk << LOCAL_BITS | local`.
+#[derive(Debug, Default)]
+pub(crate) struct Binned {
+    pub chunks: Vec<Chunk>,
+}
+
+impl Binned {
+    #[inline]
+    pub fn get(&self, id: u32) -> &SetupTri {
+        &self.chunks[(id >> LOCAL_BITS) as usize].tris[(id & ((1 << LOCAL_BITS) - 1)) as usize]
+    }
+
+    /// The triangles touching tile `t`, as (id, triangle), in submission order.
+    pub fn tile(&self, t: usize) -> impl Iterator<Item = (u32, &SetupTri)> + '_ {
+        self.chunks.iter().enumerate().flat_map(move |(c, chunk)| {
+            chunk
+                .bins
+                .tile(t)
+                .iter()
+                .map(move |&l| (((c as u32) << LOCAL_BITS) | l, &chunk.tris[l as usize]))
+        })
+    }
+
+    /// Number of set-up triangles.
+    pub fn len(&self) -> usize {
+        self.chunks.iter().map(|c| c.tris.len()).sum()
+    }
+}
 
 /// Per-tile triangle lists stored flat: tile `t` owns `items[offsets[t]..offsets[t + 1]]`.
 #[derive(Debug, Default)]

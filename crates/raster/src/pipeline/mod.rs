@@ -25,19 +25,21 @@ use crate::error::{RasterError, Result};
 use crate::render::{RenderOptions, RenderStats};
 use crate::scene::Scene;
 use crate::shading::{PreparedMaterial, ShadingMode};
+use bin::{Binned, Bins, Chunk};
 use clip::ClipPlanes;
 use raster::TileBuffers;
-use setup::{Setup, SetupTri};
+use setup::{Setup, Snapped};
 use shade::{Pixel, ShadeContext};
-use vertex::Vertices;
+use vertex::{Vertices, INVALID};
 
 /// Marks a vertex index that refers to a chunk's clip-generated vertices (fixed up on merge).
 const EXTRA_BIT: u32 = 1 << 31;
 /// Triangles per primitive-stage work item (fixed, so results never depend on threads).
+/// Clipping makes at most 7 triangles of one, so a chunk's output fits the 16 local id bits.
 const TRI_CHUNK: usize = 8192;
 
 struct ChunkOut {
-    tris: Vec<SetupTri>,
+    chunk: Chunk,
     extra: Vertices,
     clipped: usize,
     culled: usize,
@@ -50,6 +52,7 @@ struct PrimitiveContext<'a> {
     planes: ClipPlanes,
     eye: Vec3,
     options: &'a RenderOptions,
+    tiles: (usize, usize),
 }
 
 impl PrimitiveContext<'_> {
@@ -67,46 +70,46 @@ impl PrimitiveContext<'_> {
         let (w, h) = (self.options.width, self.options.height);
         let (wf, hf) = (w as f64, h as f64);
         let mut out = ChunkOut {
-            tris: Vec::with_capacity(indices.len()),
+            chunk: Chunk {
+                tris: Vec::with_capacity(indices.len()),
+                bins: Bins::default(),
+            },
             extra: Vertices::default(),
             clipped: 0,
             culled: 0,
             dropped: 0,
         };
         let cull = self.options.cull_backfaces;
+        let push = |s: [Snapped; 3], v: [u32; 3], flat: Vec3, out: &mut ChunkOut| match setup::setup(
+            s, v, object, w, h, cull, flat,
+        ) {
+            Setup::Draw(t) => out.chunk.tris.push(t),
+            Setup::Culled => out.culled += 1,
+            Setup::Skip => {}
+        };
         for idx in indices {
             let v = idx.map(|i| i + first_vertex);
-            let c: [Vec4; 3] = v.map(|i| self.verts.clip[i as usize]);
-            if !c.iter().all(|p| p.is_finite()) {
+            let codes = v.map(|i| self.verts.outcode[i as usize]);
+            if (codes[0] | codes[1] | codes[2]) & INVALID != 0 {
                 out.dropped += 1;
                 continue;
             }
-            let codes = c.map(|p| self.planes.outcode(p));
             if codes[0] & codes[1] & codes[2] != 0 {
                 continue; // entirely outside one plane
             }
-            let flat = self.flat_color(v, object);
-            let push = |s: [(i32, i32, f32, f32); 3], vv: [u32; 3], out: &mut ChunkOut| {
-                match setup::setup(s, vv, object, w, h, cull, flat) {
-                    Setup::Draw(t) => out.tris.push(t),
-                    Setup::Culled => out.culled += 1,
-                    Setup::Skip => {}
-                }
-            };
             let mask = codes[0] | codes[1] | codes[2];
             if mask == 0 {
-                let s = c.map(|p| setup::snap(p.as_dvec4(), wf, hf));
-                match s {
-                    [Some(a), Some(b), Some(cc)] => push([a, b, cc], v, &mut out),
-                    _ => out.dropped += 1,
-                }
+                let s = v.map(|i| self.verts.screen[i as usize]);
+                push(s, v, self.flat_color(v, object), &mut out);
                 continue;
             }
+            let c: [Vec4; 3] = v.map(|i| self.verts.clip[i as usize]);
             let poly = self.planes.clip(c, mask);
             if poly.len() < 3 {
                 continue;
             }
             out.clipped += 1;
+            let flat = self.flat_color(v, object);
             let mut ids = Vec::with_capacity(poly.len());
             let mut snapped = Vec::with_capacity(poly.len());
             for (pos, wts) in &poly {
@@ -122,28 +125,28 @@ impl PrimitiveContext<'_> {
                 ids.push(id);
                 snapped.push(setup::snap(*pos, wf, hf));
             }
-            if snapped.iter().any(|s| s.is_none()) {
+            let Some(s) = snapped.into_iter().collect::<Option<Vec<_>>>() else {
                 out.dropped += 1;
                 continue;
-            }
-            let s: Vec<_> = snapped.into_iter().flatten().collect();
+            };
             for k in 1..poly.len() - 1 {
                 push(
                     [s[0], s[k], s[k + 1]],
                     [ids[0], ids[k], ids[k + 1]],
+                    flat,
                     &mut out,
                 );
             }
         }
+        out.chunk.bins = bin::bin(&out.chunk.tris, self.tiles.0, self.tiles.1);
         out
     }
 }
 
-/// Geometry ready for the tile stage: transformed vertices, set-up triangles and bins.
+/// Geometry ready for the tile stage: transformed vertices and binned, set-up triangles.
 pub(crate) struct Prepared {
     pub verts: Vertices,
-    pub tris: Vec<SetupTri>,
-    pub bins: bin::Bins,
+    pub tris: Binned,
     pub materials: Vec<PreparedMaterial>,
     pub eye: Vec3,
     pub stats: RenderStats,
@@ -168,6 +171,18 @@ pub(crate) fn prepare(scene: &Scene, camera: &Camera, options: &RenderOptions) -
             "the scene has {total_vertices} vertices; at most 2^31 - 1 are supported"
         )));
     }
+    let chunk_count: usize = scene
+        .objects()
+        .iter()
+        .map(|o| o.mesh().triangle_count().div_ceil(TRI_CHUNK))
+        .sum();
+    if chunk_count >= (1 << (32 - bin::LOCAL_BITS)) - 1 {
+        return Err(RasterError::invalid(format!(
+            "the scene has {} triangles; at most {} are supported",
+            stats.triangles_in,
+            ((1usize << (32 - bin::LOCAL_BITS)) - 2) * TRI_CHUNK
+        )));
+    }
     let eye = camera.eye().as_vec3();
     let view_proj = camera.projection_matrix(w as f64 / h as f64) * camera.view_matrix();
     let materials: Vec<PreparedMaterial> = scene
@@ -182,12 +197,20 @@ pub(crate) fn prepare(scene: &Scene, camera: &Camera, options: &RenderOptions) -
             )
         })
         .collect();
-
-    let mut verts = vertex::transform(scene, view_proj, options.shading, &materials, eye);
+    let planes = ClipPlanes::new(options.width, options.height);
+    let mut verts = vertex::transform(
+        scene,
+        view_proj,
+        options.shading,
+        &materials,
+        eye,
+        &planes,
+        (w as f64, h as f64),
+    );
     let t_vertex = Instant::now();
 
-    // Primitive stage over fixed chunks of each object's triangles.
-    let mut work = Vec::new();
+    // Primitive stage (assembly, clipping, setup, per-chunk binning) over fixed chunks.
+    let mut work = Vec::with_capacity(chunk_count);
     let mut first_vertex = 0u32;
     for (oi, obj) in scene.objects().iter().enumerate() {
         for chunk in obj.mesh().indices().chunks(TRI_CHUNK) {
@@ -198,50 +221,49 @@ pub(crate) fn prepare(scene: &Scene, camera: &Camera, options: &RenderOptions) -
     let ctx = PrimitiveContext {
         verts: &verts,
         materials: &materials,
-        planes: ClipPlanes::new(options.width, options.height),
+        planes,
         eye,
         options,
+        tiles: tiles::tile_counts(w, h),
     };
-    let chunks: Vec<ChunkOut> = work
+    let mut outs: Vec<ChunkOut> = work
         .par_iter()
         .map(|&(oi, fv, idx)| ctx.assemble(oi, fv, idx))
         .collect();
-    let mut tris = Vec::with_capacity(chunks.iter().map(|c| c.tris.len()).sum());
+    // Clip-generated vertices go after the transformed ones, chunk by chunk.
+    let mut offset = verts.clip.len() as u32;
     let mut extras = Vertices::default();
-    let base = verts.clip.len() as u32;
-    for mut c in chunks {
-        let offset = base + extras.clip.len() as u32;
-        for t in &mut c.tris {
-            for v in &mut t.v {
-                if *v & EXTRA_BIT != 0 {
-                    *v = offset + (*v & !EXTRA_BIT);
+    for out in &mut outs {
+        if !out.extra.clip.is_empty() {
+            for t in &mut out.chunk.tris {
+                for v in &mut t.v {
+                    if *v & EXTRA_BIT != 0 {
+                        *v = offset + (*v & !EXTRA_BIT);
+                    }
                 }
             }
+            offset += out.extra.clip.len() as u32;
+            extras.append(&mut out.extra);
         }
-        stats.triangles_clipped += c.clipped;
-        stats.triangles_culled += c.culled;
-        stats.triangles_dropped += c.dropped;
-        tris.append(&mut c.tris);
-        extras.append(&mut c.extra);
+        stats.triangles_clipped += out.clipped;
+        stats.triangles_culled += out.culled;
+        stats.triangles_dropped += out.dropped;
     }
     verts.append(&mut extras);
+    let tris = Binned {
+        chunks: outs.into_iter().map(|o| o.chunk).collect(),
+    };
     stats.triangles_setup = tris.len();
     let t_setup = Instant::now();
-
-    let (tiles_x, tiles_y) = tiles::tile_counts(w, h);
-    let bins = bin::bin(&tris, tiles_x, tiles_y);
-    let t_bin = Instant::now();
     stats.timings.vertex = t_vertex - t_start;
     stats.timings.setup = t_setup - t_vertex;
-    stats.timings.binning = t_bin - t_setup;
     Ok(Prepared {
         verts,
         tris,
-        bins,
         materials,
         eye,
         stats,
-        t_start: t_bin,
+        t_start: t_setup,
     })
 }
 
@@ -278,7 +300,7 @@ pub(crate) fn run<P: Pixel>(
         .zip(depth_rows.par_iter_mut())
         .enumerate()
         .for_each_init(TileBuffers::new, |buf, (i, ((rect, crows), drows))| {
-            raster::rasterize_tile(&prep.tris, prep.bins.tile(i), *rect, buf);
+            raster::rasterize_tile(&prep.tris, i, *rect, buf);
             shade::shade_tile(
                 &shade_ctx,
                 options.shading,
@@ -303,7 +325,7 @@ pub(crate) fn coverage_counts(
     let (w, h) = (options.width as usize, options.height as usize);
     let mut counts = vec![0u32; w * h];
     for (i, rect) in tiles::tile_rects(w, h).into_iter().enumerate() {
-        raster::for_each_covered(&prep.tris, prep.bins.tile(i), rect, |slot, _, _| {
+        raster::for_each_covered(prep.tris.tile(i), rect, |slot, _, _| {
             let (x, y) = (rect.x0 + slot % tiles::TILE, rect.y0 + slot / tiles::TILE);
             counts[y * w + x] += 1;
         });

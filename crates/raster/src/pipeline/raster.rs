@@ -4,6 +4,7 @@
 //! fill rule, so meshes are watertight. Depth is reversed-Z (larger is nearer) with a strict
 //! `>` test: among equal depths the first-submitted triangle wins, independent of threads.
 
+use super::bin::Binned;
 use super::setup::{SetupTri, HALF, ONE};
 use super::tiles::{TileRect, TILE};
 
@@ -32,16 +33,11 @@ impl TileBuffers {
     }
 }
 
-/// Rasterizes the triangles `bin` (ids into `tris`, in submission order) into `buf`.
-pub(crate) fn rasterize_tile(
-    tris: &[SetupTri],
-    bin: &[u32],
-    rect: TileRect,
-    buf: &mut TileBuffers,
-) {
+/// Rasterizes the triangles binned to tile `index` (in submission order) into `buf`.
+pub(crate) fn rasterize_tile(tris: &Binned, index: usize, rect: TileRect, buf: &mut TileBuffers) {
     buf.clear();
     let (depth, ids) = (&mut *buf.depth, &mut *buf.id);
-    for_each_covered(tris, bin, rect, |slot, z, id| {
+    for_each_covered(tris.tile(index), rect, |slot, z, id| {
         if z > depth[slot] {
             depth[slot] = z;
             ids[slot] = id;
@@ -49,19 +45,17 @@ pub(crate) fn rasterize_tile(
     });
 }
 
-/// Calls `f(slot, z, id)` for every pixel centre of the tile that a triangle of `bin`
-/// covers, in submission order; `slot` is `row · TILE + column` within the tile.
+/// Calls `f(slot, z, id)` for every pixel centre of the tile covered by one of `tris`
+/// (in the given order); `slot` is `row · TILE + column` within the tile.
 #[inline(always)]
-pub(crate) fn for_each_covered(
-    tris: &[SetupTri],
-    bin: &[u32],
+pub(crate) fn for_each_covered<'a>(
+    tris: impl Iterator<Item = (u32, &'a SetupTri)>,
     rect: TileRect,
     mut f: impl FnMut(usize, f32, u32),
 ) {
     let (tx0, ty0) = (rect.x0 as i64, rect.y0 as i64);
     let (tx1, ty1) = (tx0 + rect.w as i64 - 1, ty0 + rect.h as i64 - 1);
-    for &id in bin {
-        let t = &tris[id as usize];
+    for (id, t) in tris {
         let x0 = (t.bbox[0] as i64).max(tx0);
         let y0 = (t.bbox[1] as i64).max(ty0);
         let x1 = (t.bbox[2] as i64).min(tx1);

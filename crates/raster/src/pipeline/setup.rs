@@ -65,9 +65,12 @@ impl SetupTri {
     }
 }
 
+/// A snapped vertex: 16.8 fixed-point x and y, reversed-Z depth, 1/w.
+pub(crate) type Snapped = (i32, i32, f32, f32);
+
 /// Viewport transform and snapping of one clip-space vertex; `None` if not finite.
 #[inline]
-pub(crate) fn snap(clip: DVec4, width: f64, height: f64) -> Option<(i32, i32, f32, f32)> {
+pub(crate) fn snap(clip: DVec4, width: f64, height: f64) -> Option<Snapped> {
     let inv_w = 1.0 / clip.w;
     let sx = (clip.x * inv_w + 1.0) * 0.5 * width;
     let sy = (1.0 - clip.y * inv_w) * 0.5 * height;
@@ -93,7 +96,7 @@ pub(crate) enum Setup {
 /// Sets up one (already clipped) triangle of snapped vertices.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn setup(
-    s: [(i32, i32, f32, f32); 3],
+    s: [Snapped; 3],
     v: [u32; 3],
     object: u32,
     width: u32,

@@ -6,6 +6,7 @@
 
 use glam::Vec3;
 
+use super::bin::Binned;
 use super::raster::{TileBuffers, NO_TRIANGLE};
 use super::setup::{Edges, SetupTri, HALF, ONE};
 use super::tiles::{TileRect, TILE};
@@ -42,7 +43,7 @@ impl Pixel for f32 {
 
 /// Everything the shade pass reads, shared by all tiles.
 pub(crate) struct ShadeContext<'a> {
-    pub tris: &'a [SetupTri],
+    pub tris: &'a Binned,
     pub verts: &'a Vertices,
     pub materials: &'a [PreparedMaterial],
     pub camera: &'a Camera,
@@ -108,7 +109,7 @@ fn shade_impl<P: Pixel, const MODE: u8>(
                 }
                 continue;
             }
-            let t = &ctx.tris[id as usize];
+            let t = ctx.tris.get(id);
             if MODE == FLAT && !want_depth {
                 P::store(&mut row[i * 3..i * 3 + 3], t.flat);
                 continue;

@@ -6,13 +6,23 @@
 use glam::{DMat4, Vec3, Vec4};
 use rayon::prelude::*;
 
+use super::clip::ClipPlanes;
+use super::setup::{snap, Snapped};
 use crate::scene::Scene;
 use crate::shading::{PreparedMaterial, ShadingMode};
+
+/// Outcode bit of a vertex whose snapped coordinates are unusable (non-finite).
+pub(crate) const INVALID: u8 = 0x80;
 
 /// Post-transform vertices of every object, concatenated in submission order.
 #[derive(Debug, Default)]
 pub(crate) struct Vertices {
     pub clip: Vec<Vec4>,
+    /// Clip-plane outcode per vertex (plus [`INVALID`]); only for the transformed vertices,
+    /// not for those appended by clipping (which are snapped where they are made).
+    pub outcode: Vec<u8>,
+    /// Snapped screen position, depth and 1/w, valid where the outcode is 0.
+    pub screen: Vec<Snapped>,
     pub world: Vec<Vec3>,
     pub normal: Vec<Vec3>,
     pub color: Vec<Vec3>,
@@ -49,13 +59,16 @@ impl Vertices {
 const CHUNK: usize = 4096;
 
 /// Transforms every object's vertices. `view_proj` is world → clip in f64; each object's
-/// full matrix is composed in f64 and rounded once to f32.
+/// full matrix is composed in f64 and rounded once to f32. Each vertex is classified
+/// against the clip planes and snapped once here, not once per triangle that uses it.
 pub(crate) fn transform(
     scene: &Scene,
     view_proj: DMat4,
     mode: ShadingMode,
     materials: &[PreparedMaterial],
     eye: Vec3,
+    planes: &ClipPlanes,
+    size: (f64, f64),
 ) -> Vertices {
     let mut out = Vertices::default();
     let total: usize = scene
@@ -115,5 +128,23 @@ pub(crate) fn transform(
             }
         }
     }
+    out.clip
+        .par_iter()
+        .with_min_len(CHUNK)
+        .map(|p| {
+            let code = if p.is_finite() {
+                planes.outcode(*p)
+            } else {
+                INVALID
+            };
+            if code != 0 {
+                return (code, Snapped::default());
+            }
+            match snap(p.as_dvec4(), size.0, size.1) {
+                Some(s) => (0, s),
+                None => (INVALID, Snapped::default()),
+            }
+        })
+        .unzip_into_vecs(&mut out.outcode, &mut out.screen);
     out
 }
