@@ -169,7 +169,7 @@ impl PreparedMaterial {
                     // `s` is in [0, 1] (or NaN → skipped), so powf never sees a negative base;
                     // 0^0 = 1 by IEEE pow.
                     if s >= 0.0 {
-                        c += light.specular * s.powf(self.shininess);
+                        c += light.specular * pow01(s, self.shininess);
                     }
                 }
             }
@@ -178,10 +178,91 @@ impl PreparedMaterial {
     }
 }
 
+/// `x^f` for `x` in [0, 1] and `f ≥ 0`, as `2^(f·log2 x)` with polynomial log2/exp2.
+///
+/// Faster than `powf`. Relative error below 2e-5 (0.005 of an 8-bit level) for the `f ≤ 128` of real
+/// materials (see the tests); the absolute error stays below 1e-6 even at `f = 10 000`.
+/// Results below 2^-126 flush to 0; `0^0 = 1` as with `powf`.
+#[inline(always)]
+pub(crate) fn pow01(x: f32, f: f32) -> f32 {
+    if x <= 0.0 {
+        return if f == 0.0 { 1.0 } else { 0.0 };
+    }
+    let y = f * log2(x);
+    exp2(y)
+}
+
+/// log2 of a positive normal or subnormal f32 (error ≈ 1e-7 absolute near 1).
+#[inline(always)]
+fn log2(x: f32) -> f32 {
+    let bits = x.to_bits();
+    let mut e = ((bits >> 23) & 0xff) as i32 - 127;
+    // Mantissa in [sqrt(1/2), sqrt(2)) so the series argument stays small.
+    let mut m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000);
+    if m > std::f32::consts::SQRT_2 {
+        m *= 0.5;
+        e += 1;
+    }
+    if bits < 0x0080_0000 {
+        // Subnormal input: fall back to the library (never hit for x in shading ranges).
+        return x.log2();
+    }
+    let t = (m - 1.0) / (m + 1.0);
+    let t2 = t * t;
+    // 2/ln 2 · atanh(t) = log2(m), |t| ≤ 0.1716: five odd terms reach f32 precision.
+    let poly =
+        t * (2.885_39 + t2 * (0.961_796_7 + t2 * (0.577_078 + t2 * (0.412_198 + t2 * 0.320_6))));
+    e as f32 + poly
+}
+
+/// 2^y for y ≤ 0 (y > 0 only arises for x = 1 rounding and is handled the same way).
+#[inline(always)]
+fn exp2(y: f32) -> f32 {
+    if y < -126.0 {
+        return 0.0;
+    }
+    // Round to nearest by truncating y − 0.5 (y ≤ ~0): no libm call on baseline x86-64.
+    let i = (y - 0.5) as i32 as f32;
+    let r = y - i; // in (-0.5, 0.5]
+                   // 2^r by its Taylor series in r·ln 2 to degree 7 (error < 2e-8 relative).
+    let z = r * std::f32::consts::LN_2;
+    let p = 1.0
+        + z * (1.0
+            + z * (0.5
+                + z * (1.0 / 6.0
+                    + z * (1.0 / 24.0
+                        + z * (1.0 / 120.0 + z * (1.0 / 720.0 + z * (1.0 / 5040.0)))))));
+    p * f32::from_bits(((i as i32 + 127) as u32) << 23)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::light::{DirectionalLight, PointLight};
+
+    #[test]
+    fn pow01_is_accurate() {
+        let mut worst_rel = 0.0f64;
+        let mut worst_abs = 0.0f64;
+        for i in 0..=20_000 {
+            let x = i as f32 / 20_000.0;
+            for &f in &[
+                0.0f32, 0.5, 1.0, 2.0, 9.84615, 27.8974, 51.2, 89.6, 128.0, 1000.0, 10_000.0,
+            ] {
+                let want = (x as f64).powf(f as f64);
+                let got = pow01(x, f) as f64;
+                worst_abs = worst_abs.max((got - want).abs());
+                if f <= 128.0 && want > 1e-30 {
+                    worst_rel = worst_rel.max(((got - want) / want).abs());
+                }
+            }
+        }
+        assert!(worst_rel < 2e-5, "relative {worst_rel}");
+        assert!(worst_abs < 1e-6, "absolute {worst_abs}");
+        assert_eq!(pow01(0.0, 0.0), 1.0);
+        assert_eq!(pow01(0.0, 3.0), 0.0);
+        assert_eq!(pow01(1.0, 10_000.0), 1.0);
+    }
 
     fn mat() -> Material {
         Material::new(

@@ -71,11 +71,57 @@ pub(crate) fn shade_tile<P: Pixel>(
     }
 }
 
-/// Cached per-triangle data while consecutive pixels share a triangle.
-struct Current {
+/// Per-triangle data gathered once while consecutive pixels share a triangle.
+struct Current<'a> {
     id: u32,
     edges: Edges,
-    inv_area: f64,
+    /// `inv_w[k] / area2`: turns an integer edge value straight into λ_k / w_k.
+    qw: [f32; 3],
+    /// Gouraud: vertex colours. Phong: vertex normals.
+    attr: [Vec3; 3],
+    /// Phong: world positions.
+    pos: [Vec3; 3],
+    material: Option<&'a PreparedMaterial>,
+}
+
+impl<'a> Current<'a> {
+    fn empty() -> Self {
+        Current {
+            id: NO_TRIANGLE,
+            edges: Edges {
+                a: [0; 3],
+                b: [0; 3],
+                c: [0; 3],
+                bias: [0; 3],
+            },
+            qw: [0.0; 3],
+            attr: [Vec3::ZERO; 3],
+            pos: [Vec3::ZERO; 3],
+            material: None,
+        }
+    }
+
+    fn load<const MODE: u8>(ctx: &ShadeContext<'a>, id: u32, t: &SetupTri) -> Self {
+        let inv_area = 1.0 / t.area2 as f64;
+        let v = t.v.map(|k| k as usize);
+        let (attr, pos, material) = match MODE {
+            GOURAUD => (v.map(|k| ctx.verts.color[k]), [Vec3::ZERO; 3], None),
+            PHONG => {
+                let n = v.map(|k| ctx.verts.normal[k]);
+                let p = v.map(|k| ctx.verts.world[k]);
+                (n, p, Some(&ctx.materials[t.object as usize]))
+            }
+            _ => ([Vec3::ZERO; 3], [Vec3::ZERO; 3], None),
+        };
+        Current {
+            id,
+            edges: t.edges(),
+            qw: [0, 1, 2].map(|k| (t.inv_w[k] as f64 * inv_area) as f32),
+            attr,
+            pos,
+            material,
+        }
+    }
 }
 
 fn shade_impl<P: Pixel, const MODE: u8>(
@@ -86,24 +132,16 @@ fn shade_impl<P: Pixel, const MODE: u8>(
     mut depth: Option<&mut [&mut [f32]]>,
 ) {
     let want_depth = depth.is_some();
-    let mut cur = Current {
-        id: NO_TRIANGLE,
-        edges: Edges {
-            a: [0; 3],
-            b: [0; 3],
-            c: [0; 3],
-            bias: [0; 3],
-        },
-        inv_area: 0.0,
-    };
+    let mut cur = Current::empty();
     for j in 0..rect.h {
         let row = &mut *color[j];
         let py = (rect.y0 + j) as i64 * ONE + HALF;
         for i in 0..rect.w {
             let slot = j * TILE + i;
             let id = buf.id[slot];
+            let out = &mut row[i * 3..i * 3 + 3];
             if id == NO_TRIANGLE {
-                P::store(&mut row[i * 3..i * 3 + 3], ctx.background);
+                P::store(out, ctx.background);
                 if let Some(d) = depth.as_deref_mut() {
                     d[j][i] = f32::INFINITY;
                 }
@@ -111,46 +149,41 @@ fn shade_impl<P: Pixel, const MODE: u8>(
             }
             let t = ctx.tris.get(id);
             if MODE == FLAT && !want_depth {
-                P::store(&mut row[i * 3..i * 3 + 3], t.flat);
+                P::store(out, t.flat);
                 continue;
             }
             if id != cur.id {
-                cur = Current {
-                    id,
-                    edges: t.edges(),
-                    inv_area: 1.0 / t.area2 as f64,
-                };
+                cur = Current::load::<MODE>(ctx, id, t);
             }
             let px = (rect.x0 + i) as i64 * ONE + HALF;
             let e = &cur.edges;
-            // Exact integer barycentrics, one rounding each, then the 1/w correction.
-            let lambda = [0, 1, 2]
-                .map(|k| ((e.a[k] * px + e.b[k] * py + e.c[k]) as f64 * cur.inv_area) as f32);
-            let q = [0, 1, 2].map(|k| lambda[k] * t.inv_w[k]);
-            let inv_w = q[0] + q[1] + q[2];
+            // Exact integer edge values (one rounding each) times inv_w / area: the
+            // perspective weights λ_k / w_k, whose sum is the interpolated 1/w.
+            let q0 = (e.a[0] * px + e.b[0] * py + e.c[0]) as f32 * cur.qw[0];
+            let q1 = (e.a[1] * px + e.b[1] * py + e.c[1]) as f32 * cur.qw[1];
+            let q2 = (e.a[2] * px + e.b[2] * py + e.c[2]) as f32 * cur.qw[2];
+            let inv_w = q0 + q1 + q2;
             if let Some(d) = depth.as_deref_mut() {
                 d[j][i] = ctx.camera.eye_depth(buf.depth[slot], inv_w);
             }
-            let c = match MODE {
-                FLAT => t.flat,
-                GOURAUD => {
-                    let b = q.map(|v| v / inv_w);
-                    let col = &ctx.verts.color;
-                    col[t.v[0] as usize] * b[0]
-                        + col[t.v[1] as usize] * b[1]
-                        + col[t.v[2] as usize] * b[2]
-                }
-                _ => {
-                    let b = q.map(|v| v / inv_w);
-                    let (nrm, wld) = (&ctx.verts.normal, &ctx.verts.world);
-                    let v = t.v.map(|k| k as usize);
-                    let n = nrm[v[0]] * b[0] + nrm[v[1]] * b[1] + nrm[v[2]] * b[2];
-                    let p = wld[v[0]] * b[0] + wld[v[1]] * b[1] + wld[v[2]] * b[2];
-                    let n = n.try_normalize().unwrap_or_else(|| face_normal(t, wld));
-                    ctx.materials[t.object as usize].shade(n, p, ctx.eye)
-                }
+            if MODE == FLAT {
+                P::store(out, t.flat);
+                continue;
+            }
+            let r = 1.0 / inv_w;
+            let (b0, b1, b2) = (q0 * r, q1 * r, q2 * r);
+            let a = &cur.attr;
+            let blend = a[0] * b0 + a[1] * b1 + a[2] * b2;
+            let c = if MODE == GOURAUD {
+                blend
+            } else {
+                let p = cur.pos[0] * b0 + cur.pos[1] * b1 + cur.pos[2] * b2;
+                let n = blend
+                    .try_normalize()
+                    .unwrap_or_else(|| face_normal(t, &ctx.verts.world));
+                cur.material.expect("loaded for phong").shade(n, p, ctx.eye)
             };
-            P::store(&mut row[i * 3..i * 3 + 3], c);
+            P::store(out, c);
         }
     }
 }
