@@ -7,7 +7,7 @@ PY := $(VENV)/bin/python
 DEPS := $(VENV)/.deps-stamp
 ENVS := VIRTUAL_ENV=$(abspath $(VENV)) PATH="$(abspath $(VENV))/bin:$$PATH"
 
-.PHONY: help demo test lint build bench wheel clean
+.PHONY: help demo test lint build bench wheel wheel-check clean
 
 help:  ## list targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
@@ -43,3 +43,10 @@ wheel: $(DEPS)  ## build a release wheel into dist/
 clean:  ## remove build products and the venv
 	cargo clean
 	rm -rf $(VENV) dist demo.png
+
+wheel-check: wheel  ## install the built wheel into a fresh venv and render with it
+	rm -rf /tmp/shadelab-wheel-venv
+	$(PYTHON) -m venv /tmp/shadelab-wheel-venv
+	/tmp/shadelab-wheel-venv/bin/pip install -q dist/shadelab_rs-*.whl
+	cd /tmp && /tmp/shadelab-wheel-venv/bin/python -c "import shadelab_rs as sl; s, c = sl.demo_scene(); im = sl.render(s, c, width=160, height=120); assert im.shape == (120, 160, 3) and im.max() > 0; print('wheel OK', sl.__version__, im.mean())"
+	cd /tmp && /tmp/shadelab-wheel-venv/bin/shadelab demo -o /tmp/shadelab-wheel-demo.png --size 160x120
