@@ -12,7 +12,7 @@ use super::setup::{Edges, SetupTri, HALF, ONE};
 use super::tiles::{TileRect, TILE};
 use super::vertex::Vertices;
 use crate::camera::Camera;
-use crate::shading::{PreparedMaterial, ShadingMode};
+use crate::shading::{Lanes, PreparedMaterial, ShadingMode, LANES};
 
 /// An output sample type: how a linear RGB colour is stored.
 pub trait Pixel: Copy + Default + Send + Sync + 'static {
@@ -67,7 +67,7 @@ pub(crate) fn shade_tile<P: Pixel>(
     match mode {
         ShadingMode::Flat => shade_impl::<P, FLAT>(ctx, rect, buf, color, depth),
         ShadingMode::Gouraud => shade_impl::<P, GOURAUD>(ctx, rect, buf, color, depth),
-        ShadingMode::Phong => shade_impl::<P, PHONG>(ctx, rect, buf, color, depth),
+        ShadingMode::Phong => shade_phong(ctx, rect, buf, color, depth),
     }
 }
 
@@ -171,21 +171,113 @@ fn shade_impl<P: Pixel, const MODE: u8>(
                 continue;
             }
             let r = 1.0 / inv_w;
-            let (b0, b1, b2) = (q0 * r, q1 * r, q2 * r);
             let a = &cur.attr;
-            let blend = a[0] * b0 + a[1] * b1 + a[2] * b2;
-            let c = if MODE == GOURAUD {
-                blend
-            } else {
-                let p = cur.pos[0] * b0 + cur.pos[1] * b1 + cur.pos[2] * b2;
-                let n = blend
-                    .try_normalize()
-                    .unwrap_or_else(|| face_normal(t, &ctx.verts.world));
-                cur.material.expect("loaded for phong").shade(n, p, ctx.eye)
-            };
-            P::store(out, c);
+            P::store(out, a[0] * (q0 * r) + a[1] * (q1 * r) + a[2] * (q2 * r));
         }
     }
+}
+
+/// Pixels waiting to be lit together, all with the same material.
+struct PhongBatch<'a> {
+    n: [Lanes; 3],
+    p: [Lanes; 3],
+    /// (row in tile, column in tile) of each lane.
+    at: [(usize, usize); LANES],
+    len: usize,
+    material: Option<&'a PreparedMaterial>,
+}
+
+impl<'a> PhongBatch<'a> {
+    fn flush<P: Pixel>(&mut self, eye: Vec3, color: &mut [&mut [P]]) {
+        if let Some(m) = self.material.filter(|_| self.len > 0) {
+            let c = m.shade_lanes(&self.n, &self.p, eye);
+            for (k, &(j, i)) in self.at[..self.len].iter().enumerate() {
+                P::store(
+                    &mut color[j][i * 3..i * 3 + 3],
+                    Vec3::new(c[0][k], c[1][k], c[2][k]),
+                );
+            }
+        }
+        self.len = 0;
+    }
+
+    fn push<P: Pixel>(
+        &mut self,
+        m: &'a PreparedMaterial,
+        n: Vec3,
+        p: Vec3,
+        at: (usize, usize),
+        eye: Vec3,
+        color: &mut [&mut [P]],
+    ) {
+        if self.len > 0 && !std::ptr::eq(m, self.material.unwrap_or(m)) {
+            self.flush(eye, color);
+        }
+        self.material = Some(m);
+        let k = self.len;
+        (self.n[0][k], self.n[1][k], self.n[2][k]) = (n.x, n.y, n.z);
+        (self.p[0][k], self.p[1][k], self.p[2][k]) = (p.x, p.y, p.z);
+        self.at[k] = at;
+        self.len += 1;
+        if self.len == LANES {
+            self.flush(eye, color);
+        }
+    }
+}
+
+/// Phong: interpolation per pixel, lighting [`LANES`] pixels at a time.
+fn shade_phong<P: Pixel>(
+    ctx: &ShadeContext<'_>,
+    rect: TileRect,
+    buf: &TileBuffers,
+    color: &mut [&mut [P]],
+    mut depth: Option<&mut [&mut [f32]]>,
+) {
+    let mut cur = Current::empty();
+    let mut batch = PhongBatch {
+        n: [[0.0; LANES]; 3],
+        p: [[0.0; LANES]; 3],
+        at: [(0, 0); LANES],
+        len: 0,
+        material: None,
+    };
+    for j in 0..rect.h {
+        let py = (rect.y0 + j) as i64 * ONE + HALF;
+        for i in 0..rect.w {
+            let slot = j * TILE + i;
+            let id = buf.id[slot];
+            if id == NO_TRIANGLE {
+                P::store(&mut color[j][i * 3..i * 3 + 3], ctx.background);
+                if let Some(d) = depth.as_deref_mut() {
+                    d[j][i] = f32::INFINITY;
+                }
+                continue;
+            }
+            let t = ctx.tris.get(id);
+            if id != cur.id {
+                cur = Current::load::<PHONG>(ctx, id, t);
+            }
+            let px = (rect.x0 + i) as i64 * ONE + HALF;
+            let e = &cur.edges;
+            let q0 = (e.a[0] * px + e.b[0] * py + e.c[0]) as f32 * cur.qw[0];
+            let q1 = (e.a[1] * px + e.b[1] * py + e.c[1]) as f32 * cur.qw[1];
+            let q2 = (e.a[2] * px + e.b[2] * py + e.c[2]) as f32 * cur.qw[2];
+            let inv_w = q0 + q1 + q2;
+            if let Some(d) = depth.as_deref_mut() {
+                d[j][i] = ctx.camera.eye_depth(buf.depth[slot], inv_w);
+            }
+            let r = 1.0 / inv_w;
+            let (b0, b1, b2) = (q0 * r, q1 * r, q2 * r);
+            let a = &cur.attr;
+            let n = (a[0] * b0 + a[1] * b1 + a[2] * b2)
+                .try_normalize()
+                .unwrap_or_else(|| face_normal(t, &ctx.verts.world));
+            let p = cur.pos[0] * b0 + cur.pos[1] * b1 + cur.pos[2] * b2;
+            let m = cur.material.expect("loaded for phong");
+            batch.push(m, n, p, (j, i), ctx.eye, color);
+        }
+    }
+    batch.flush(ctx.eye, color);
 }
 
 /// The world-space face normal in the triangle's original winding (zero if degenerate).
