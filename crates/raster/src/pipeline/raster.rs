@@ -33,6 +33,29 @@ impl TileBuffers {
     }
 }
 
+/// Rows at least this wide compute their covered span with one division per edge instead
+/// of testing every pixel.
+const SPAN_MIN_WIDTH: i64 = 12;
+
+/// The pixels `i` in `0..width` with `e_k + i·step_k ≥ 0` for all three edges, if any.
+#[inline]
+fn row_span(e: [i64; 3], step: [i64; 3], width: i64) -> Option<(usize, usize)> {
+    let (mut lo, mut hi) = (0i64, width - 1);
+    for k in 0..3 {
+        let (e, a) = (e[k], step[k]);
+        if a > 0 {
+            // e + a·i ≥ 0  ⇔  i ≥ ceil(−e / a)
+            lo = lo.max(-(e.div_euclid(a)));
+        } else if a < 0 {
+            // e + a·i ≥ 0  ⇔  i ≤ floor(e / −a)
+            hi = hi.min(e.div_euclid(-a));
+        } else if e < 0 {
+            return None;
+        }
+    }
+    (lo <= hi).then_some((lo as usize, hi as usize))
+}
+
 /// Rasterizes the triangles binned to tile `index` (in submission order) into `buf`.
 pub(crate) fn rasterize_tile(tris: &Binned, index: usize, rect: TileRect, buf: &mut TileBuffers) {
     buf.clear();
@@ -81,17 +104,27 @@ pub(crate) fn for_each_covered<'a>(
             dzdy += step_y[k] as f64 * inv_area * t.z[k] as f64;
         }
         let (z0, dzdx, dzdy) = (z0 as f32, dzdx as f32, dzdy as f32);
+        let width = x1 - x0 + 1;
         for (j, y) in (y0..=y1).enumerate() {
-            let [mut e0, mut e1, mut e2] = row;
             let base = (y - ty0) as usize * TILE + (x0 - tx0) as usize;
             let zrow = z0 + dzdy * j as f32;
-            for i in 0..=(x1 - x0) as usize {
-                if (e0 | e1 | e2) >= 0 {
-                    f(base + i, zrow + dzdx * i as f32, id);
+            if width >= SPAN_MIN_WIDTH {
+                // Wide rows: solve each edge for the covered span exactly, then fill it.
+                if let Some((lo, hi)) = row_span(row, step_x, width) {
+                    for i in lo..=hi {
+                        f(base + i, zrow + dzdx * i as f32, id);
+                    }
                 }
-                e0 += step_x[0];
-                e1 += step_x[1];
-                e2 += step_x[2];
+            } else {
+                let [mut e0, mut e1, mut e2] = row;
+                for i in 0..width as usize {
+                    if (e0 | e1 | e2) >= 0 {
+                        f(base + i, zrow + dzdx * i as f32, id);
+                    }
+                    e0 += step_x[0];
+                    e1 += step_x[1];
+                    e2 += step_x[2];
+                }
             }
             for k in 0..3 {
                 row[k] += step_y[k];

@@ -133,6 +133,10 @@ fn shade_impl<P: Pixel, const MODE: u8>(
 ) {
     let want_depth = depth.is_some();
     let mut cur = Current::empty();
+    // Stored samples of the background and of the last flat colour, converted once.
+    let mut background = [P::default(); 3];
+    P::store(&mut background, ctx.background);
+    let (mut flat_id, mut flat) = (NO_TRIANGLE, [P::default(); 3]);
     for j in 0..rect.h {
         let row = &mut *color[j];
         let py = (rect.y0 + j) as i64 * ONE + HALF;
@@ -141,17 +145,21 @@ fn shade_impl<P: Pixel, const MODE: u8>(
             let id = buf.id[slot];
             let out = &mut row[i * 3..i * 3 + 3];
             if id == NO_TRIANGLE {
-                P::store(out, ctx.background);
+                out.copy_from_slice(&background);
                 if let Some(d) = depth.as_deref_mut() {
                     d[j][i] = f32::INFINITY;
                 }
                 continue;
             }
-            let t = ctx.tris.get(id);
             if MODE == FLAT && !want_depth {
-                P::store(out, t.flat);
+                if id != flat_id {
+                    flat_id = id;
+                    P::store(&mut flat, ctx.tris.get(id).flat);
+                }
+                out.copy_from_slice(&flat);
                 continue;
             }
+            let t = ctx.tris.get(id);
             if id != cur.id {
                 cur = Current::load::<MODE>(ctx, id, t);
             }
@@ -234,6 +242,8 @@ fn shade_phong<P: Pixel>(
     mut depth: Option<&mut [&mut [f32]]>,
 ) {
     let mut cur = Current::empty();
+    let mut background = [P::default(); 3];
+    P::store(&mut background, ctx.background);
     let mut batch = PhongBatch {
         n: [[0.0; LANES]; 3],
         p: [[0.0; LANES]; 3],
@@ -247,7 +257,7 @@ fn shade_phong<P: Pixel>(
             let slot = j * TILE + i;
             let id = buf.id[slot];
             if id == NO_TRIANGLE {
-                P::store(&mut color[j][i * 3..i * 3 + 3], ctx.background);
+                color[j][i * 3..i * 3 + 3].copy_from_slice(&background);
                 if let Some(d) = depth.as_deref_mut() {
                     d[j][i] = f32::INFINITY;
                 }
