@@ -30,7 +30,9 @@ lint: $(DEPS)  ## rustfmt, clippy (warnings are errors), ruff
 	$(VENV)/bin/ruff check python tests bench
 	$(VENV)/bin/ruff format --check python tests bench
 
-test: lint build  ## lint, cargo test, pytest
+test: lint build  ## lint, stub check, cargo test, pytest
+	$(PY) -m mypy.stubtest shadelab_rs._core
+	$(PY) -m mypy python/shadelab_rs
 	cargo test
 	$(PY) -m pytest -q
 

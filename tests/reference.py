@@ -214,9 +214,7 @@ def _world_to_eye(camera: Camera, p: np.ndarray) -> np.ndarray:
     return (np.asarray(p, dtype=np.float64) - _vec3(camera.eye)) @ view[:3, :3].T
 
 
-def project_to_screen(
-    p_eye: np.ndarray, camera: Camera, width: int, height: int
-) -> np.ndarray:
+def project_to_screen(p_eye: np.ndarray, camera: Camera, width: int, height: int) -> np.ndarray:
     """Project eye-space points ``(..., 3)`` to screen pixels ``(..., 2)``.
 
     Uses the contract formulas; for perspective the points must have ``d > 0``.
@@ -237,9 +235,7 @@ def project_to_screen(
     return np.stack([sx, sy], axis=-1)
 
 
-def pixel_rays(
-    camera: Camera, width: int, height: int
-) -> tuple[np.ndarray, np.ndarray]:
+def pixel_rays(camera: Camera, width: int, height: int) -> tuple[np.ndarray, np.ndarray]:
     """Eye-space rays through all pixel centres.
 
     Returns ``(origin, direction)``, each ``(H, W, 3)``.  Directions have
@@ -567,10 +563,8 @@ def render_reference(
     # ---- per-triangle setup: facing, clipping, screen polygon, bbox -------
     p0, p1, p2 = ve[f[:, 0]], ve[f[:, 1]], ve[f[:, 2]]
     n_eye = np.cross(p1 - p0, p2 - p0)
-    if camera.is_ortho:
-        facing = n_eye[:, 2]
-    else:
-        facing = -_dot(n_eye, p0)  # n . (eye_origin - p0)
+    # Orthographic: n . view axis; perspective: n . (eye_origin - p0).
+    facing = n_eye[:, 2] if camera.is_ortho else -_dot(n_eye, p0)
     active = facing != 0  # edge-on / degenerate triangles cover nothing
     if cull_backfaces:
         active &= facing > 0
@@ -580,9 +574,7 @@ def render_reference(
 
     polys = np.zeros((nf, 6, 2))  # screen polygon, padded by repeating vertex 0
     with np.errstate(all="ignore"):
-        tri_scr = project_to_screen(
-            np.stack([p0, p1, p2], axis=1), camera, width, height
-        )
+        tri_scr = project_to_screen(np.stack([p0, p1, p2], axis=1), camera, width, height)
         polys[:, :3] = tri_scr
         polys[:, 3:] = tri_scr[:, :1]
     for i in np.nonzero(need_clip)[0]:
@@ -646,14 +638,7 @@ def render_reference(
             qvec = np.cross(tvec, e1)
             v = _dot(dvec, qvec) * inv
             t = _dot(e2, qvec) * inv
-            hit = (
-                (det != 0)
-                & (u >= 0)
-                & (v >= 0)
-                & (u + v <= 1)
-                & (t >= near)
-                & (t <= far)
-            )
+            hit = (det != 0) & (u >= 0) & (v >= 0) & (u + v <= 1) & (t >= near) & (t <= far)
         if not np.any(hit):
             continue
         pix, t_id, u, v, t = pix[hit], t_id[hit], u[hit], v[hit], t[hit]

@@ -28,9 +28,7 @@ MAT = ref.Material(
     shininess=8,
 )
 # Id = Is = (1, 0.5, 0.25) * 2 = (2, 1, 0.5); light travels along -z, so l = +z.
-LIGHT_Z = ref.DirectionalLight(
-    direction=(0, 0, -1), color=(1.0, 0.5, 0.25), intensity=2.0
-)
+LIGHT_Z = ref.DirectionalLight(direction=(0, 0, -1), color=(1.0, 0.5, 0.25), intensity=2.0)
 AMB = (0.2, 0.2, 0.2)
 # ka*Ia + kd*Id*1 + ks*Is*1
 EXPECT_FULL = np.array([0.02 + 1.0 + 0.6, 0.04 + 0.4 + 0.3, 0.06 + 0.15 + 0.15])
@@ -79,9 +77,7 @@ def test_flat_shading_uses_centroid_and_face_normal():
     img = render(TRI_CENTRED, FACE0, shading="flat", background=(9, 9, 9))
     m = img.mask
     assert m.sum() > 50
-    np.testing.assert_allclose(
-        img.color[m], np.broadcast_to(EXPECT_FULL, (m.sum(), 3)), atol=1e-12
-    )
+    np.testing.assert_allclose(img.color[m], np.broadcast_to(EXPECT_FULL, (m.sum(), 3)), atol=1e-12)
     np.testing.assert_array_equal(img.color[~m], 9.0)
 
 
@@ -139,24 +135,18 @@ def test_point_light_colour_intensity_and_multiple_lights():
 def test_light_behind_surface_gives_ambient_only():
     # l = (0.6, 0, -0.8): n.l < 0 -> no diffuse, no specular (even with shininess 0).
     mat = ref.Material(0.5, 1.0, 1.0, 0)
-    c = ref.lighting(
-        [0, 0, 0], [0, 0, 1], [0, 0, 5], mat, [ref.PointLight((3, 0, -4))], 0.2
-    )
+    c = ref.lighting([0, 0, 0], [0, 0, 1], [0, 0, 5], mat, [ref.PointLight((3, 0, -4))], 0.2)
     np.testing.assert_allclose(c, [0.1] * 3, atol=1e-15)
 
 
 def test_shininess_zero_and_blinn_zero_half_vector():
     mat = ref.Material(0.0, 1.0, 1.0, 0)
     # numpy power semantics: max(n.h, 0)^0 = 1 wherever n.l > 0.
-    c = ref.lighting(
-        [0, 0, 0], [0, 0, 1], [0, 0, 5], mat, [ref.PointLight((3, 0, 4))], 0.0
-    )
+    c = ref.lighting([0, 0, 0], [0, 0, 1], [0, 0, 5], mat, [ref.PointLight((3, 0, 4))], 0.0)
     np.testing.assert_allclose(c, [0.8 + 1.0] * 3, atol=1e-12)
     # Eye below the plane, light above along the normal: l = +z, v = -z,
     # l + v = 0 -> S = 0 for Blinn even with shininess 0.
-    c = ref.lighting(
-        [0, 0, 0], [0, 0, 1], [0, 0, -5], mat, [ref.PointLight((0, 0, 5))], 0.0
-    )
+    c = ref.lighting([0, 0, 0], [0, 0, 1], [0, 0, -5], mat, [ref.PointLight((0, 0, 5))], 0.0)
     np.testing.assert_allclose(c, [1.0] * 3, atol=1e-15)
     # Phong at the same geometry: r = 2n - l = +z, r.v = -1 -> 0^0 = 1.
     c = ref.lighting(
@@ -202,12 +192,8 @@ def test_perspective_correct_barycentrics_receding_plane():
         np.array([0.9, -0.9, -1.0]),
         np.array([0.0, 4.0, -8.0]),
     )
-    cam = ref.Camera(
-        eye=(0, 0, 0), target=(0, 0, -1), up=(0, 1, 0), fov_y=90.0, near=0.5, far=50
-    )
-    img = render(
-        np.stack([a, b, c]), FACE0, camera=cam, width=16, height=16, shading="gouraud"
-    )
+    cam = ref.Camera(eye=(0, 0, 0), target=(0, 0, -1), up=(0, 1, 0), fov_y=90.0, near=0.5, far=50)
+    img = render(np.stack([a, b, c]), FACE0, camera=cam, width=16, height=16, shading="gouraud")
 
     # Pixel (8, 10): x_ndc = 17/16 - 1, y_ndc = 1 - 21/16; ray dir (x, y, -1).
     px, py = 8, 10
@@ -226,14 +212,10 @@ def test_perspective_correct_barycentrics_receding_plane():
     assert img.tri[py, px] == 0
     np.testing.assert_allclose(img.bary[py, px], bary, atol=1e-12)
     assert img.depth[py, px] == pytest.approx(t, rel=1e-12)
-    np.testing.assert_allclose(
-        img.position[py, px], t * np.array([dx, dy, -1]), atol=1e-12
-    )
+    np.testing.assert_allclose(img.position[py, px], t * np.array([dx, dy, -1]), atol=1e-12)
 
     # Screen-space formulation: b_i = (lambda_i / w_i) / sum_j (lambda_j / w_j).
-    scr = np.array(
-        [[(v[0] / -v[2] + 1) * 8, (1 - v[1] / -v[2]) * 8] for v in (a, b, c)]
-    )
+    scr = np.array([[(v[0] / -v[2] + 1) * 8, (1 - v[1] / -v[2]) * 8] for v in (a, b, c)])
     pc = np.array([px + 0.5, py + 0.5])
 
     def area(p, q, r):
@@ -285,9 +267,7 @@ def test_look_at_orientation():
     assert len(xs) > 0
     assert xs.min() >= 16 and ys.max() < 16
     view = ref.look_at(cam.eye, cam.target, cam.up)
-    np.testing.assert_allclose(
-        view[:3, :3], [[0, 0, -1], [0, 1, 0], [1, 0, 0]], atol=1e-15
-    )
+    np.testing.assert_allclose(view[:3, :3], [[0, 0, -1], [0, 1, 0], [1, 0, 0]], atol=1e-15)
     np.testing.assert_allclose(view @ [0, 0, 0, 1], [0, 0, -3, 1], atol=1e-15)
 
 
@@ -349,9 +329,7 @@ def _two_layers(near_first):
 @pytest.mark.parametrize("near_first", [True, False])
 def test_nearer_triangle_wins(near_first):
     verts, faces = _two_layers(near_first)
-    img = render(
-        verts, faces, camera=axis_camera(5.0, ortho_height=4.0), width=20, height=20
-    )
+    img = render(verts, faces, camera=axis_camera(5.0, ortho_height=4.0), width=20, height=20)
     near_idx = 0 if near_first else 1
     assert img.tri[10, 10] == near_idx
     assert img.depth[10, 10] == pytest.approx(4.0, abs=1e-12)
@@ -435,7 +413,7 @@ def test_near_plane_crossing_floor():
 
 
 def test_outside_depth_range_not_drawn():
-    behind = TRI_CENTRED + [0, 0, 10]  # behind the eye at z = 3
+    behind = TRI_CENTRED + np.array([0, 0, 10])  # behind the eye at z = 3
     assert not render(behind, FACE0).mask.any()
     cam = axis_camera(3.0, fov_y=60.0, near=0.1, far=2.5)  # triangle at d = 3 > far
     assert not render(TRI_CENTRED, FACE0, camera=cam).mask.any()
@@ -541,9 +519,7 @@ def test_uv_sphere_closed_and_outward(n_lat, n_lon):
     # Outward: face normals point away from the centre, positive volume.
     fn = ref.face_normals(v, f)
     assert np.all(np.sum(fn * v[f].mean(axis=1), axis=1) > 0)
-    vol = (
-        np.sum(np.einsum("ij,ij->i", v[f[:, 0]], np.cross(v[f[:, 1]], v[f[:, 2]]))) / 6
-    )
+    vol = np.sum(np.einsum("ij,ij->i", v[f[:, 0]], np.cross(v[f[:, 1]], v[f[:, 2]]))) / 6
     assert vol > 0
     # Auto vertex normals of a sphere point outward.
     vn = ref.vertex_normals(v, f)
@@ -568,10 +544,7 @@ def test_sphere_render_visibility_and_culling():
     inner = m & (img.edge_dist > 1e-6)
     assert np.all(img.position[inner][:, 2] > -1e-12)
     fn = ref.face_normals(v, f)
-    front = (
-        np.sum(fn[img.tri[inner]] * (np.array(cam.eye) - img.position[inner]), axis=1)
-        > 0
-    )
+    front = np.sum(fn[img.tri[inner]] * (np.array(cam.eye) - img.position[inner]), axis=1) > 0
     assert np.all(front)
     culled = render(v, f, cull_backfaces=True, **kw)
     np.testing.assert_array_equal(culled.tri[inner], img.tri[inner])
@@ -592,15 +565,11 @@ def test_to_uint8():
     out = ref.to_uint8(x.reshape(1, 3, 3))
     assert out.dtype == np.uint8
     # 0.5 -> 127.5 rounds up to 128; 0.25 -> 63.75 -> 64; 0.75 -> 191.25 -> 191.
-    np.testing.assert_array_equal(
-        out.reshape(-1), [0, 0, 128, 127, 64, 191, 255, 255, 0]
-    )
+    np.testing.assert_array_equal(out.reshape(-1), [0, 0, 128, 127, 64, 191, 255, 255, 0])
 
 
 def test_empty_mesh_gives_background():
-    img = render(
-        np.zeros((0, 3)), np.zeros((0, 3), dtype=int), background=(0.1, 0.2, 0.3)
-    )
+    img = render(np.zeros((0, 3)), np.zeros((0, 3), dtype=int), background=(0.1, 0.2, 0.3))
     assert img.color.shape == (33, 33, 3)
     np.testing.assert_array_equal(img.color[5, 7], [0.1, 0.2, 0.3])
     assert np.all(img.tri == -1)

@@ -43,9 +43,17 @@ def _render_args(p: argparse.ArgumentParser) -> None:
 def _render(scene: core.Scene, camera: core.Camera, args: argparse.Namespace) -> None:
     w, h = args.size
     t0 = time.perf_counter()
-    img = core.render(scene, camera, width=w, height=h, shading=args.shading,
-                      specular=args.specular, background=args.background,
-                      cull_backfaces=args.cull_backfaces, threads=args.threads)
+    img = core.render(
+        scene,
+        camera,
+        width=w,
+        height=h,
+        shading=args.shading,
+        specular=args.specular,
+        background=args.background,
+        cull_backfaces=args.cull_backfaces,
+        threads=args.threads,
+    )
     dt = (time.perf_counter() - t0) * 1e3
     save_image(img, args.output)
     print(f"wrote {args.output} ({w}x{h}, {scene.n_triangles} triangles, {dt:.1f} ms)")
@@ -59,8 +67,14 @@ def cmd_render(args: argparse.Namespace) -> None:
     camera = frame_mesh(mesh.vertices, fov_y=args.fov, direction=args.view)
     if args.eye is not None:
         target = args.target if args.target is not None else camera.target
-        camera = core.Camera.look_at(eye=args.eye, target=target, up=args.up, fov_y=args.fov,
-                                     near=camera.near, far=camera.far)
+        camera = core.Camera.look_at(
+            eye=args.eye,
+            target=target,
+            up=args.up,
+            fov_y=args.fov,
+            near=camera.near,
+            far=camera.far,
+        )
     for d in args.light or [(-0.5, -1.0, -0.8)]:
         scene.add_light(core.DirectionalLight(direction=d))
     _render(scene, camera, args)
@@ -75,8 +89,10 @@ def cmd_materials(args: argparse.Namespace) -> None:
     for name in core.Material.preset_names():
         m = core.Material.preset(name)
         fmt = lambda v: " ".join(f"{x:.6g}" for x in v)  # noqa: E731
-        print(f"{name:16s} ambient {fmt(m.ambient):28s} diffuse {fmt(m.diffuse):28s} "
-              f"specular {fmt(m.specular):28s} shininess {m.shininess:g}")
+        print(
+            f"{name:16s} ambient {fmt(m.ambient):28s} diffuse {fmt(m.diffuse):28s} "
+            f"specular {fmt(m.specular):28s} shininess {m.shininess:g}"
+        )
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -90,13 +106,21 @@ def main(argv: Sequence[str] | None = None) -> int:
     r.add_argument("--material", default="gold", help="preset name (see 'shadelab materials')")
     r.add_argument("--ambient", type=_triple, default=(0.2, 0.2, 0.2), help="scene ambient r,g,b")
     r.add_argument("--fov", type=float, default=35.0, help="vertical field of view, degrees")
-    r.add_argument("--view", type=_triple, default=(0.55, 0.35, 1.0),
-                   help="direction from the model's centre to the camera (x,y,z)")
+    r.add_argument(
+        "--view",
+        type=_triple,
+        default=(0.55, 0.35, 1.0),
+        help="direction from the model's centre to the camera (x,y,z)",
+    )
     r.add_argument("--eye", type=_triple, default=None, help="explicit camera position x,y,z")
     r.add_argument("--target", type=_triple, default=None, help="point looked at (with --eye)")
     r.add_argument("--up", type=_triple, default=(0.0, 1.0, 0.0), help="camera up x,y,z")
-    r.add_argument("--light", type=_triple, action="append",
-                   help="directional light travel direction x,y,z (repeatable)")
+    r.add_argument(
+        "--light",
+        type=_triple,
+        action="append",
+        help="directional light travel direction x,y,z (repeatable)",
+    )
     _render_args(r)
     r.set_defaults(func=cmd_render)
 

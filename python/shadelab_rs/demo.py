@@ -56,14 +56,18 @@ def demo_scene() -> tuple[Scene, Camera]:
     cow: Mesh = load_obj(data_path("spot/spot_triangulated.obj"))
     cube: Mesh = load_obj(data_path("cube/cube.obj"))
     scene = Scene(ambient=(0.25, 0.25, 0.25))
-    for x, name, angle in ((-1.15, "gold", 215.0), (0.0, "polished silver", 180.0),
-                           (1.15, "copper", 145.0)):
+    for x, name, angle in (
+        (-1.15, "gold", 215.0),
+        (0.0, "polished silver", 180.0),
+        (1.15, "copper", 145.0),
+    ):
         scene.add(cow, material=Material.preset(name), transform=_translate_rotate_y(x, 0, angle))
     base = np.diag([2.0, 0.08, 0.9, 1.0])
     base[1, 3] = -0.83
     scene.add(cube, material=Material.preset("pewter"), transform=base)
     scene.add_light(DirectionalLight(direction=(-0.5, -1.0, -0.8), color=(1.0, 0.97, 0.9)))
     scene.add_light(PointLight(position=(-3.0, 2.0, 4.0), color=(0.35, 0.4, 0.55)))
-    camera = Camera.look_at(eye=(0.0, 1.1, 4.4), target=(0.0, -0.1, 0.0), up=(0, 1, 0),
-                            fov_y=42.0, near=0.1, far=50.0)
+    camera = Camera.look_at(
+        eye=(0.0, 1.1, 4.4), target=(0.0, -0.1, 0.0), up=(0, 1, 0), fov_y=42.0, near=0.1, far=50.0
+    )
     return scene, camera

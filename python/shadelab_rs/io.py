@@ -14,6 +14,8 @@ def load_mesh(path: str | os.PathLike[str]) -> Mesh:
     """Loads a mesh file: OBJ through the Rust loader, any other format trimesh reads
     (STL, PLY, GLB, OFF, ...) through trimesh, with scenes flattened into one mesh."""
     p = Path(path)
+    if p.is_dir():
+        raise IsADirectoryError(f"'{p}' is a directory, not a mesh file")
     if p.suffix.lower() == ".obj":
         return load_obj(p)
     if not p.exists():

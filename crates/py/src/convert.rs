@@ -160,6 +160,10 @@ pub fn faces(obj: &Bound<'_, PyAny>, n_vertices: usize) -> PyResult<Vec<[u32; 3]
     let py = obj.py();
     let (arr, kind, dname) = as_array(obj, "faces")?;
     let shape: Vec<usize> = arr.getattr("shape")?.extract()?;
+    if shape.iter().product::<usize>() == 0 && (shape.len() == 1 || shape.get(1) == Some(&3)) {
+        // `[]` has dtype float64 in NumPy; an empty face list is "no triangles", not a dtype error.
+        return Ok(Vec::new());
+    }
     if !matches!(kind.as_str(), "i" | "u") {
         return Err(PyTypeError::new_err(format!(
             "faces must be an integer array, got dtype {dname}"

@@ -2,7 +2,8 @@
 
 use pyo3::create_exception;
 use pyo3::exceptions::{
-    PyFileNotFoundError, PyMemoryError, PyOSError, PyRuntimeError, PyValueError,
+    PyFileNotFoundError, PyIsADirectoryError, PyMemoryError, PyOSError, PyRuntimeError,
+    PyValueError,
 };
 use pyo3::PyErr;
 use shadelab_raster::RasterError;
@@ -14,13 +15,15 @@ create_exception!(
     "A mesh file was read but its content is malformed (a ValueError)."
 );
 
-/// The Python exception for a core error: `FileNotFoundError`, `OSError`, `ObjParseError`
+/// The Python exception for a core error: `FileNotFoundError`, `IsADirectoryError`,
+/// `OSError`, `ObjParseError`
 /// (a `ValueError`), `MemoryError` or `ValueError`, with the core's message.
 pub fn to_py(e: RasterError) -> PyErr {
     let msg = e.to_string();
     match e {
         RasterError::InvalidInput(_) => PyValueError::new_err(msg),
         RasterError::NotFound(_) => PyFileNotFoundError::new_err(msg),
+        RasterError::Io { path, .. } if path.is_dir() => PyIsADirectoryError::new_err(msg),
         RasterError::Io { .. } => PyOSError::new_err(msg),
         RasterError::Parse { .. } => ObjParseError::new_err(msg),
         RasterError::OutOfMemory { .. } => PyMemoryError::new_err(msg),

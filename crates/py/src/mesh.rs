@@ -57,8 +57,17 @@ impl PyMesh {
         tm: &Bound<'_, PyAny>,
         use_normals: bool,
     ) -> PyResult<Self> {
-        let vertices = tm.getattr("vertices")?;
-        let faces = tm.getattr("faces")?;
+        let not_a_mesh = |_| {
+            pyo3::exceptions::PyTypeError::new_err(format!(
+                "from_trimesh expects a trimesh.Trimesh (with .vertices and .faces), got {}",
+                tm.get_type()
+                    .name()
+                    .map(|n| n.to_string())
+                    .unwrap_or_else(|_| "?".into())
+            ))
+        };
+        let vertices = tm.getattr("vertices").map_err(not_a_mesh)?;
+        let faces = tm.getattr("faces").map_err(not_a_mesh)?;
         let normals = if use_normals {
             Some(tm.getattr("vertex_normals")?)
         } else {

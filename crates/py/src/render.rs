@@ -12,14 +12,47 @@ use crate::convert;
 use crate::errors::{no_panic, to_py};
 use crate::scene::PyScene;
 
-fn size(v: i64, name: &str) -> PyResult<u32> {
-    if v < 1 || v > core::MAX_IMAGE_SIZE as i64 {
-        return Err(PyValueError::new_err(format!(
-            "{name} must be between 1 and {}, got {v}",
-            core::MAX_IMAGE_SIZE
+/// An integer argument; huge values become `None` (out of any range) instead of an
+/// OverflowError, non-integers a TypeError naming the argument.
+fn int_arg(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Option<i64>> {
+    if obj.is_instance_of::<pyo3::types::PyBool>() || obj.is_instance_of::<pyo3::types::PyFloat>() {
+        return Err(PyTypeError::new_err(format!(
+            "{name} must be an integer, got {}",
+            obj.get_type().name()?
         )));
     }
-    Ok(v as u32)
+    match obj.extract::<i64>() {
+        Ok(v) => Ok(Some(v)),
+        Err(e) if e.is_instance_of::<pyo3::exceptions::PyOverflowError>(obj.py()) => Ok(None),
+        Err(_) => Err(PyTypeError::new_err(format!(
+            "{name} must be an integer, got {}",
+            obj.get_type().name()?
+        ))),
+    }
+}
+
+fn size(obj: Option<&Bound<'_, PyAny>>, default: u32, name: &str) -> PyResult<u32> {
+    let Some(obj) = obj else { return Ok(default) };
+    match int_arg(obj, name)? {
+        Some(v) if (1..=core::MAX_IMAGE_SIZE as i64).contains(&v) => Ok(v as u32),
+        _ => Err(PyValueError::new_err(format!(
+            "{name} must be between 1 and {}, got {obj}",
+            core::MAX_IMAGE_SIZE
+        ))),
+    }
+}
+
+fn threads_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
+    let Some(obj) = obj.filter(|o| !o.is_none()) else {
+        return Ok(None);
+    };
+    match int_arg(obj, "threads")? {
+        Some(n) if (1..=core::MAX_THREADS as i64).contains(&n) => Ok(Some(n as usize)),
+        _ => Err(PyValueError::new_err(format!(
+            "threads must be between 1 and {} (or None for all cores), got {obj}",
+            core::MAX_THREADS
+        ))),
+    }
 }
 
 fn format_of(dtype: &Bound<'_, PyAny>) -> PyResult<core::ColorFormat> {
@@ -51,32 +84,25 @@ fn render_impl<'py>(
     py: Python<'py>,
     scene: &PyScene,
     camera: &PyCamera,
-    width: i64,
-    height: i64,
+    width: Option<&Bound<'py, PyAny>>,
+    height: Option<&Bound<'py, PyAny>>,
     shading: &str,
     specular: &str,
     background: Option<&Bound<'py, PyAny>>,
     dtype: &Bound<'py, PyAny>,
     return_depth: bool,
     cull_backfaces: bool,
-    threads: Option<i64>,
+    threads: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Rendered<'py>> {
-    let mut options = core::RenderOptions::new(size(width, "width")?, size(height, "height")?);
+    let mut options =
+        core::RenderOptions::new(size(width, 800, "width")?, size(height, 600, "height")?);
     options.shading = shading.parse().map_err(to_py)?;
     options.specular = specular.parse().map_err(to_py)?;
     if let Some(bg) = background {
         options.background = convert::vec3(bg, "background")?;
     }
     options.cull_backfaces = cull_backfaces;
-    options.threads = match threads {
-        None => None,
-        Some(n) if n < 1 => {
-            return Err(PyValueError::new_err(format!(
-                "threads must be >= 1 (or None for all cores), got {n}"
-            )))
-        }
-        Some(n) => Some(usize::try_from(n).unwrap_or(usize::MAX)),
-    };
+    options.threads = threads_arg(threads)?;
     let format = format_of(dtype)?;
     let scene_copy = scene.inner.clone();
     let cam = camera.inner;
@@ -114,22 +140,23 @@ fn render_impl<'py>(
 /// Renders `scene` through `camera` into a C-contiguous (height, width, 3) array, or a
 /// tuple (image, depth) with `return_depth=True`. The GIL is released while rendering.
 #[pyfunction]
-#[pyo3(signature = (scene, camera, width=800, height=600, shading="phong", specular="blinn",
-                    background=None, dtype=None, return_depth=false, cull_backfaces=false, threads=None))]
+#[pyo3(signature = (scene, camera, width=None, height=None, shading="phong", specular="blinn",
+                    background=None, dtype=None, return_depth=false, cull_backfaces=false, threads=None),
+       text_signature = "(scene, camera, width=800, height=600, shading='phong', specular='blinn', background=None, dtype=None, return_depth=False, cull_backfaces=False, threads=None)")]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
     py: Python<'py>,
     scene: &PyScene,
     camera: &PyCamera,
-    width: i64,
-    height: i64,
+    width: Option<&Bound<'py, PyAny>>,
+    height: Option<&Bound<'py, PyAny>>,
     shading: &str,
     specular: &str,
     background: Option<&Bound<'py, PyAny>>,
     dtype: Option<&Bound<'py, PyAny>>,
     return_depth: bool,
     cull_backfaces: bool,
-    threads: Option<i64>,
+    threads: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let default_dtype = "uint8".into_pyobject(py)?.into_any();
     let r = render_impl(
@@ -156,22 +183,23 @@ pub fn render<'py>(
 /// counters and per-stage times in milliseconds: vertex_ms, setup_ms (assembly, clipping,
 /// setup and binning), raster_shade_ms).
 #[pyfunction]
-#[pyo3(signature = (scene, camera, width=800, height=600, shading="phong", specular="blinn",
-                    background=None, dtype=None, return_depth=false, cull_backfaces=false, threads=None))]
+#[pyo3(signature = (scene, camera, width=None, height=None, shading="phong", specular="blinn",
+                    background=None, dtype=None, return_depth=false, cull_backfaces=false, threads=None),
+       text_signature = "(scene, camera, width=800, height=600, shading='phong', specular='blinn', background=None, dtype=None, return_depth=False, cull_backfaces=False, threads=None)")]
 #[allow(clippy::too_many_arguments)]
 pub fn render_frame<'py>(
     py: Python<'py>,
     scene: &PyScene,
     camera: &PyCamera,
-    width: i64,
-    height: i64,
+    width: Option<&Bound<'py, PyAny>>,
+    height: Option<&Bound<'py, PyAny>>,
     shading: &str,
     specular: &str,
     background: Option<&Bound<'py, PyAny>>,
     dtype: Option<&Bound<'py, PyAny>>,
     return_depth: bool,
     cull_backfaces: bool,
-    threads: Option<i64>,
+    threads: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let default_dtype = "uint8".into_pyobject(py)?.into_any();
     let r = render_impl(

@@ -1,0 +1,208 @@
+"""The command line, run as ``python -m shadelab_rs`` in a subprocess."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import shadelab_rs as sl
+from PIL import Image
+from shadelab_rs import cli
+
+CUBE = str(sl.data_path("cube/cube.obj"))
+
+
+def run(*args, cwd=None):
+    """``python -m shadelab_rs *args`` -> CompletedProcess (text output)."""
+    return subprocess.run(
+        [sys.executable, "-m", "shadelab_rs", *map(str, args)],
+        capture_output=True,
+        text=True,
+        cwd=cwd,
+        timeout=60,
+        check=False,
+    )
+
+
+def read_png(path):
+    with Image.open(path) as im:
+        assert im.mode == "RGB"
+        return np.asarray(im)
+
+
+def test_demo(tmp_path):
+    out = tmp_path / "demo.png"
+    r = run("demo", "-o", out, "--size", "160x120")
+    assert r.returncode == 0, r.stderr
+    assert r.stderr == ""
+    assert str(out) in r.stdout and "160x120" in r.stdout
+    img = read_png(out)
+    assert img.shape == (120, 160, 3)
+    # The same picture as the Python API draws.
+    scene, cam = sl.demo_scene()
+    np.testing.assert_array_equal(img, sl.render(scene, cam, width=160, height=120))
+
+
+def test_demo_default_output_name(tmp_path):
+    r = run("demo", "--size", "32x24", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert read_png(tmp_path / "demo.png").shape == (24, 32, 3)
+
+
+def test_render_cube_chrome_flat(tmp_path):
+    out = tmp_path / "cube.png"
+    r = run(
+        "render", CUBE, "--material", "chrome", "--shading", "flat", "-o", out, "--size", "96x64"
+    )
+    assert r.returncode == 0, r.stderr
+    img = read_png(out)
+    assert img.shape == (64, 96, 3)
+    covered = img.any(axis=-1)
+    assert 0.1 < covered.mean() < 0.9  # the cube is framed, with background around it
+    # Flat shading of a cube: few distinct colours (one per visible face direction).
+    assert len(np.unique(img[covered].reshape(-1, 3), axis=0)) <= 6
+    # chrome is grey: equal channels.
+    assert np.all(img[..., 0] == img[..., 1]) and np.all(img[..., 1] == img[..., 2])
+
+
+def test_render_options(tmp_path):
+    out = tmp_path / "opts.jpg"
+    r = run(
+        "render",
+        CUBE,
+        "-o",
+        out,
+        "--size",
+        "40x30",
+        "--shading",
+        "gouraud",
+        "--specular",
+        "phong",
+        "--background",
+        "0,0,1",
+        "--threads",
+        "1",
+        "--cull-backfaces",
+        "--light",
+        "0,-1,0",
+        "--light=-1,0,0",  # a leading "-" needs "=" (argparse)
+        "--eye",
+        "3,2,4",
+        "--target",
+        "0,0,0",
+        "--fov",
+        "50",
+        "--ambient",
+        "0.1,0.1,0.1",
+        "--material",
+        "Polished_Silver",
+    )
+    assert r.returncode == 0, r.stderr
+    with Image.open(out) as im:
+        assert im.format == "JPEG" and im.size == (40, 30)
+        corner = np.asarray(im)[0, 0].astype(int)
+    assert corner[2] > 200 and corner[0] < 60  # blue background (JPEG is lossy)
+
+
+def test_render_stl_through_trimesh(tmp_path):
+    import trimesh
+
+    stl = tmp_path / "ico.stl"
+    trimesh.creation.icosphere(subdivisions=2).export(stl)
+    out = tmp_path / "ico.png"
+    r = run("render", stl, "-o", out, "--size", "48x48")
+    assert r.returncode == 0, r.stderr
+    assert read_png(out).any()
+
+
+def test_materials():
+    r = run("materials")
+    assert r.returncode == 0, r.stderr
+    rows = r.stdout.strip().splitlines()
+    assert len(rows) == 9
+    names = sl.Material.preset_names()
+    for row, name in zip(rows, names):
+        assert row.startswith(name)
+    gold = next(row for row in rows if row.startswith("gold"))
+    for value in ("0.24725", "0.75164", "0.628281", "51.2"):
+        assert value in gold
+
+
+def test_version():
+    r = run("--version")
+    assert r.returncode == 0
+    assert r.stdout.strip() == sl.__version__
+
+
+def test_missing_file_is_an_error(tmp_path):
+    out = tmp_path / "x.png"
+    r = run("render", tmp_path / "missing.obj", "-o", out)
+    assert r.returncode == 1
+    assert r.stdout == ""
+    assert r.stderr.startswith("shadelab: error: ")
+    assert "no such file" in r.stderr and "missing.obj" in r.stderr
+    assert "Traceback" not in r.stderr
+    assert not out.exists()
+
+
+def test_unknown_material_is_an_error(tmp_path):
+    out = tmp_path / "x.png"
+    r = run("render", CUBE, "--material", "vibranium", "-o", out)
+    assert r.returncode == 1
+    assert "vibranium" in r.stderr and "gold" in r.stderr  # names the valid presets
+    assert "Traceback" not in r.stderr
+    assert not out.exists()
+
+
+def test_malformed_obj_is_an_error(tmp_path):
+    bad = tmp_path / "bad.obj"
+    bad.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")
+    r = run("render", bad, "-o", tmp_path / "x.png")
+    assert r.returncode == 1
+    assert f"{bad}:4:" in r.stderr and "Traceback" not in r.stderr
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--size", "0x10"], "width"),
+        (["--size", "10x99999"], "height"),
+        (["--background", "nan,0,0"], "background"),
+        (["--threads", "0"], "threads"),
+        (["--eye", "0,0,0", "--target", "0,0,0"], "eye and target"),
+        (["--light", "0,0,0"], "direction"),
+    ],
+)
+def test_bad_values_exit_1_with_a_message(tmp_path, args, message, capsys):
+    """In-process (fast): value errors print one line and return 1."""
+    code = cli.main(["render", CUBE, "-o", str(tmp_path / "x.png"), *args])
+    captured = capsys.readouterr()
+    assert code == 1
+    assert captured.err.startswith("shadelab: error: ") and message in captured.err
+    assert not (tmp_path / "x.png").exists()
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["render"],  # no model
+        ["render", CUBE, "--size", "big"],
+        ["render", CUBE, "--shading", "toon"],
+        ["render", CUBE, "--background", "1,2"],
+        ["teleport"],
+        [],
+    ],
+)
+def test_usage_errors_exit_2(args, capsys):
+    with pytest.raises(SystemExit) as e:
+        cli.main(args)
+    assert e.value.code == 2
+    assert "usage: shadelab" in capsys.readouterr().err
+
+
+def test_usage_error_through_subprocess():
+    r = run("render", CUBE, "--size", "big")
+    assert r.returncode == 2
+    assert "size must look like 800x600" in r.stderr
