@@ -56,10 +56,8 @@ struct PrimitiveContext<'a> {
 }
 
 impl PrimitiveContext<'_> {
+    /// The flat-shaded colour of original triangle `v`: face normal at the centroid.
     fn flat_color(&self, v: [u32; 3], object: u32) -> Vec3 {
-        if self.options.shading != ShadingMode::Flat {
-            return Vec3::ZERO;
-        }
         let [a, b, c] = v.map(|i| self.verts.world[i as usize]);
         let n = (b - a).cross(c - a).normalize_or_zero();
         let centroid = (a + b + c) / 3.0;
@@ -80,12 +78,24 @@ impl PrimitiveContext<'_> {
             dropped: 0,
         };
         let cull = self.options.cull_backfaces;
-        let push = |s: [Snapped; 3], v: [u32; 3], flat: Vec3, out: &mut ChunkOut| match setup::setup(
-            s, v, object, w, h, cull, flat,
-        ) {
-            Setup::Draw(t) => out.chunk.tris.push(t),
-            Setup::Culled => out.culled += 1,
-            Setup::Skip => {}
+        let flat_mode = self.options.shading == ShadingMode::Flat;
+        // Sets up one triangle; flat colours are computed only for triangles that cover a
+        // pixel centre, once per original triangle (`flat` caches it across clip pieces).
+        let push = |s: [Snapped; 3],
+                    vv: [u32; 3],
+                    v: [u32; 3],
+                    flat: &mut Option<Vec3>,
+                    out: &mut ChunkOut| {
+            match setup::setup(s, vv, object, w, h, cull) {
+                Setup::Draw(mut t) => {
+                    if flat_mode {
+                        t.flat = *flat.get_or_insert_with(|| self.flat_color(v, object));
+                    }
+                    out.chunk.tris.push(t);
+                }
+                Setup::Culled => out.culled += 1,
+                Setup::Skip => {}
+            }
         };
         for idx in indices {
             let v = idx.map(|i| i + first_vertex);
@@ -100,7 +110,7 @@ impl PrimitiveContext<'_> {
             let mask = codes[0] | codes[1] | codes[2];
             if mask == 0 {
                 let s = v.map(|i| self.verts.screen[i as usize]);
-                push(s, v, self.flat_color(v, object), &mut out);
+                push(s, v, v, &mut None, &mut out);
                 continue;
             }
             let c: [Vec4; 3] = v.map(|i| self.verts.clip[i as usize]);
@@ -109,7 +119,7 @@ impl PrimitiveContext<'_> {
                 continue;
             }
             out.clipped += 1;
-            let flat = self.flat_color(v, object);
+            let mut flat = None;
             let mut ids = Vec::with_capacity(poly.len());
             let mut snapped = Vec::with_capacity(poly.len());
             for (pos, wts) in &poly {
@@ -130,12 +140,8 @@ impl PrimitiveContext<'_> {
                 continue;
             };
             for k in 1..poly.len() - 1 {
-                push(
-                    [s[0], s[k], s[k + 1]],
-                    [ids[0], ids[k], ids[k + 1]],
-                    flat,
-                    &mut out,
-                );
+                let vv = [ids[0], ids[k], ids[k + 1]];
+                push([s[0], s[k], s[k + 1]], vv, v, &mut flat, &mut out);
             }
         }
         out.chunk.bins = bin::bin(&out.chunk.tris, self.tiles.0, self.tiles.1);

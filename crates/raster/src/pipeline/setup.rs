@@ -26,7 +26,7 @@ pub(crate) struct SetupTri {
     /// Counter-clockwise on screen (front facing); the vertex order was swapped to make
     /// `area2` positive.
     pub front: bool,
-    /// The flat-shaded colour (flat mode only).
+    /// The flat-shaded colour (flat mode only; set by the primitive stage).
     pub flat: Vec3,
 }
 
@@ -94,7 +94,6 @@ pub(crate) enum Setup {
 }
 
 /// Sets up one (already clipped) triangle of snapped vertices.
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn setup(
     s: [Snapped; 3],
     v: [u32; 3],
@@ -102,7 +101,6 @@ pub(crate) fn setup(
     width: u32,
     height: u32,
     cull_backfaces: bool,
-    flat: Vec3,
 ) -> Setup {
     let (x0, y0) = (s[0].0 as i64, s[0].1 as i64);
     let area2 =
@@ -143,7 +141,7 @@ pub(crate) fn setup(
         area2,
         object,
         front,
-        flat,
+        flat: Vec3::ZERO,
     })
 }
 
@@ -153,7 +151,7 @@ mod tests {
 
     fn tri(pts: [(i32, i32); 3]) -> SetupTri {
         let s = pts.map(|(x, y)| (x * ONE as i32, y * ONE as i32, 0.5, 1.0));
-        match setup(s, [0, 1, 2], 0, 100, 100, false, Vec3::ZERO) {
+        match setup(s, [0, 1, 2], 0, 100, 100, false) {
             Setup::Draw(t) => t,
             _ => panic!("skipped"),
         }
@@ -186,7 +184,7 @@ mod tests {
             (640, 0, 0.0, 1.0),
             (128, 2560, 0.0, 1.0),
         ];
-        let Setup::Draw(t) = setup(s, [0, 1, 2], 0, 100, 100, false, Vec3::ZERO) else {
+        let Setup::Draw(t) = setup(s, [0, 1, 2], 0, 100, 100, false) else {
             panic!()
         };
         assert_eq!(t.bbox, [0, 0, 2, 9]);
