@@ -79,17 +79,21 @@ impl PrimitiveContext<'_> {
         };
         let cull = self.options.cull_backfaces;
         let flat_mode = self.options.shading == ShadingMode::Flat;
-        // Sets up one triangle; flat colours are computed only for triangles that cover a
-        // pixel centre, once per original triangle (`flat` caches it across clip pieces).
+        // Sets up one triangle. Unclipped triangles are flat-lit in the shade pass, only if
+        // visible; clipped pieces (`flat` is Some) carry their original triangle's colour,
+        // computed once and cached across the pieces.
         let push = |s: [Snapped; 3],
                     vv: [u32; 3],
                     v: [u32; 3],
-                    flat: &mut Option<Vec3>,
+                    flat: Option<&mut Option<Vec3>>,
                     out: &mut ChunkOut| {
             match setup::setup(s, vv, object, w, h, cull) {
                 Setup::Draw(mut t) => {
-                    if flat_mode {
-                        t.flat = *flat.get_or_insert_with(|| self.flat_color(v, object));
+                    if let Some(flat) = flat {
+                        t.clipped = true;
+                        if flat_mode {
+                            t.flat = *flat.get_or_insert_with(|| self.flat_color(v, object));
+                        }
                     }
                     out.chunk.tris.push(t);
                 }
@@ -110,7 +114,7 @@ impl PrimitiveContext<'_> {
             let mask = codes[0] | codes[1] | codes[2];
             if mask == 0 {
                 let s = v.map(|i| self.verts.screen[i as usize]);
-                push(s, v, v, &mut None, &mut out);
+                push(s, v, v, None, &mut out);
                 continue;
             }
             let c: [Vec4; 3] = v.map(|i| self.verts.clip[i as usize]);
@@ -141,7 +145,7 @@ impl PrimitiveContext<'_> {
             };
             for k in 1..poly.len() - 1 {
                 let vv = [ids[0], ids[k], ids[k + 1]];
-                push([s[0], s[k], s[k + 1]], vv, v, &mut flat, &mut out);
+                push([s[0], s[k], s[k + 1]], vv, v, Some(&mut flat), &mut out);
             }
         }
         out.chunk.bins = bin::bin(&out.chunk.tris, self.tiles.0, self.tiles.1);

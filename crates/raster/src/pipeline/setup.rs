@@ -26,7 +26,9 @@ pub(crate) struct SetupTri {
     /// Counter-clockwise on screen (front facing); the vertex order was swapped to make
     /// `area2` positive.
     pub front: bool,
-    /// The flat-shaded colour (flat mode only; set by the primitive stage).
+    /// A piece of a clipped triangle (its vertices are not the original ones).
+    pub clipped: bool,
+    /// Flat mode, clipped pieces only: the original triangle's flat colour.
     pub flat: Vec3,
 }
 
@@ -141,6 +143,7 @@ pub(crate) fn setup(
         area2,
         object,
         front,
+        clipped: false,
         flat: Vec3::ZERO,
     })
 }

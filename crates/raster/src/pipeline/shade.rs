@@ -52,6 +52,8 @@ pub(crate) struct ShadeContext<'a> {
 }
 
 const FLAT: u8 = 0;
+/// Entries of the per-tile flat colour cache.
+const FLAT_CACHE: usize = 64;
 const GOURAUD: u8 = 1;
 const PHONG: u8 = 2;
 
@@ -136,7 +138,9 @@ fn shade_impl<P: Pixel, const MODE: u8>(
     // Stored samples of the background and of the last flat colour, converted once.
     let mut background = [P::default(); 3];
     P::store(&mut background, ctx.background);
-    let (mut flat_id, mut flat) = (NO_TRIANGLE, [P::default(); 3]);
+    // Flat colours of recently seen triangles, direct-mapped by id: the rows of a triangle
+    // alternate with its neighbours', so a single last-id cache would relight it per row.
+    let mut flat_cache = [(NO_TRIANGLE, [P::default(); 3]); FLAT_CACHE];
     for j in 0..rect.h {
         let row = &mut *color[j];
         let py = (rect.y0 + j) as i64 * ONE + HALF;
@@ -152,11 +156,12 @@ fn shade_impl<P: Pixel, const MODE: u8>(
                 continue;
             }
             if MODE == FLAT && !want_depth {
-                if id != flat_id {
-                    flat_id = id;
-                    P::store(&mut flat, ctx.tris.get(id).flat);
+                let entry = &mut flat_cache[id as usize % FLAT_CACHE];
+                if entry.0 != id {
+                    entry.0 = id;
+                    P::store(&mut entry.1, flat_color(ctx, ctx.tris.get(id)));
                 }
-                out.copy_from_slice(&flat);
+                out.copy_from_slice(&entry.1);
                 continue;
             }
             let t = ctx.tris.get(id);
@@ -175,7 +180,12 @@ fn shade_impl<P: Pixel, const MODE: u8>(
                 d[j][i] = ctx.camera.eye_depth(buf.depth[slot], inv_w);
             }
             if MODE == FLAT {
-                P::store(out, t.flat);
+                let entry = &mut flat_cache[id as usize % FLAT_CACHE];
+                if entry.0 != id {
+                    entry.0 = id;
+                    P::store(&mut entry.1, flat_color(ctx, t));
+                }
+                out.copy_from_slice(&entry.1);
                 continue;
             }
             let r = 1.0 / inv_w;
@@ -288,6 +298,18 @@ fn shade_phong<P: Pixel>(
         }
     }
     batch.flush(ctx.eye, color);
+}
+
+/// Flat shading is lit here, in the shade pass, so only visible triangles pay for it: the
+/// face normal at the centroid of the original triangle (clipped pieces carry the colour of
+/// their original triangle, computed when they were made).
+fn flat_color(ctx: &ShadeContext<'_>, t: &SetupTri) -> Vec3 {
+    if t.clipped {
+        return t.flat;
+    }
+    let w = &ctx.verts.world;
+    let centroid = (w[t.v[0] as usize] + w[t.v[1] as usize] + w[t.v[2] as usize]) / 3.0;
+    ctx.materials[t.object as usize].shade(face_normal(t, w), centroid, ctx.eye)
 }
 
 /// The world-space face normal in the triangle's original winding (zero if degenerate).
