@@ -308,7 +308,7 @@ impl PreparedMaterial {
 /// Normalises the vectors `f(lane)` into `out` (zero stays zero).
 #[inline(always)]
 #[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
-fn normalize_lanes(out: &mut [Lanes; 3], f: impl Fn(usize) -> (f32, f32, f32)) {
+pub(crate) fn normalize_lanes(out: &mut [Lanes; 3], f: impl Fn(usize) -> (f32, f32, f32)) {
     for k in 0..LANES {
         let (x, y, z) = f(k);
         let len2 = x * x + y * y + z * z;

@@ -12,7 +12,7 @@ use super::setup::{Edges, SetupTri, HALF, ONE};
 use super::tiles::{TileRect, TILE};
 use super::vertex::Vertices;
 use crate::camera::Camera;
-use crate::shading::{Lanes, PreparedMaterial, ShadingMode, LANES};
+use crate::shading::{normalize_lanes, Lanes, PreparedMaterial, ShadingMode, LANES};
 
 /// An output sample type: how a linear RGB colour is stored.
 pub trait Pixel: Copy + Default + Send + Sync + 'static {
@@ -197,6 +197,7 @@ fn shade_impl<P: Pixel, const MODE: u8>(
 
 /// Pixels waiting to be lit together, all with the same material.
 struct PhongBatch<'a> {
+    /// Interpolated normals, not yet normalised (never zero).
     n: [Lanes; 3],
     p: [Lanes; 3],
     /// (row in tile, column in tile) of each lane.
@@ -208,7 +209,10 @@ struct PhongBatch<'a> {
 impl<'a> PhongBatch<'a> {
     fn flush<P: Pixel>(&mut self, eye: Vec3, color: &mut [&mut [P]]) {
         if let Some(m) = self.material.filter(|_| self.len > 0) {
-            let c = m.shade_lanes(&self.n, &self.p, eye);
+            let mut n = [[0.0; LANES]; 3];
+            let raw = &self.n;
+            normalize_lanes(&mut n, |k| (raw[0][k], raw[1][k], raw[2][k]));
+            let c = m.shade_lanes(&n, &self.p, eye);
             for (k, &(j, i)) in self.at[..self.len].iter().enumerate() {
                 P::store(
                     &mut color[j][i * 3..i * 3 + 3],
@@ -289,9 +293,15 @@ fn shade_phong<P: Pixel>(
             let r = 1.0 / inv_w;
             let (b0, b1, b2) = (q0 * r, q1 * r, q2 * r);
             let a = &cur.attr;
-            let n = (a[0] * b0 + a[1] * b1 + a[2] * b2)
-                .try_normalize()
-                .unwrap_or_else(|| face_normal(t, &ctx.verts.world));
+            // Normalised with the batch (in SIMD); a zero or unusable blend takes the face
+            // normal instead.
+            let n = a[0] * b0 + a[1] * b1 + a[2] * b2;
+            let len2 = n.length_squared();
+            let n = if len2 > 1e-30 && len2.is_finite() {
+                n
+            } else {
+                face_normal(t, &ctx.verts.world)
+            };
             let p = cur.pos[0] * b0 + cur.pos[1] * b1 + cur.pos[2] * b2;
             let m = cur.material.expect("loaded for phong");
             batch.push(m, n, p, (j, i), ctx.eye, color);

@@ -9,7 +9,7 @@ use rayon::prelude::*;
 use super::clip::ClipPlanes;
 use super::setup::{snap, Snapped};
 use crate::scene::Scene;
-use crate::shading::{PreparedMaterial, ShadingMode};
+use crate::shading::{PreparedMaterial, ShadingMode, LANES};
 
 /// Outcode bit of a vertex whose snapped coordinates are unusable (non-finite).
 pub(crate) const INVALID: u8 = 0x80;
@@ -113,16 +113,24 @@ pub(crate) fn transform(
             ShadingMode::Gouraud => {
                 let nm = obj.normal_matrix();
                 let normals = mesh.vertex_normals();
+                // Lit LANES vertices at a time (SIMD lane loops), in order.
                 out.color.par_extend(
-                    pos.par_iter()
-                        .zip(normals.par_iter())
-                        .with_min_len(CHUNK)
-                        .map(|(p, n)| {
-                            pm.shade(
-                                (nm * *n).normalize_or_zero(),
-                                model.transform_point3(*p),
-                                eye,
-                            )
+                    pos.par_chunks(LANES)
+                        .zip(normals.par_chunks(LANES))
+                        .with_min_len(CHUNK / LANES)
+                        .flat_map_iter(|(p, n)| {
+                            let mut nl = [[0.0; LANES]; 3];
+                            let mut pl = [[0.0; LANES]; 3];
+                            for (k, (p, n)) in p.iter().zip(n).enumerate() {
+                                let n = (nm * *n).normalize_or_zero();
+                                let p = model.transform_point3(*p);
+                                for ax in 0..3 {
+                                    nl[ax][k] = n[ax];
+                                    pl[ax][k] = p[ax];
+                                }
+                            }
+                            let c = pm.shade_lanes(&nl, &pl, eye);
+                            (0..p.len()).map(move |k| Vec3::new(c[0][k], c[1][k], c[2][k]))
                         }),
                 );
             }
