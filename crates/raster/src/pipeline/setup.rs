@@ -67,6 +67,15 @@ impl SetupTri {
     }
 }
 
+/// Round to nearest, ties to even, for |x| < 2^51 (larger or non-finite values are rejected
+/// by the caller). Adding and removing 1.5·2^52 leaves no fraction bits and needs no libm call
+/// (`f64::round` is one on baseline x86-64).
+#[inline(always)]
+fn round_even(x: f64) -> f64 {
+    const MAGIC: f64 = 6_755_399_441_055_744.0;
+    (x + MAGIC) - MAGIC
+}
+
 /// A snapped vertex: 16.8 fixed-point x and y, reversed-Z depth, 1/w.
 pub(crate) type Snapped = (i32, i32, f32, f32);
 
@@ -76,8 +85,8 @@ pub(crate) fn snap(clip: DVec4, width: f64, height: f64) -> Option<Snapped> {
     let inv_w = 1.0 / clip.w;
     let sx = (clip.x * inv_w + 1.0) * 0.5 * width;
     let sy = (1.0 - clip.y * inv_w) * 0.5 * height;
-    let fx = (sx * ONE as f64).round();
-    let fy = (sy * ONE as f64).round();
+    let fx = round_even(sx * ONE as f64);
+    let fy = round_even(sy * ONE as f64);
     // Inside the guard band |fx|, |fy| < 2^23; anything else is a non-finite input.
     let lim = (1u64 << 24) as f64;
     if !(fx.abs() < lim && fy.abs() < lim && inv_w.is_finite()) {
@@ -177,6 +186,21 @@ mod tests {
         }
         let back = tri([(0, 0), (10, 0), (0, 10)]);
         assert!(!back.front);
+    }
+
+    #[test]
+    fn round_even_rounds_to_nearest() {
+        for (x, want) in [
+            (0.4, 0.0),
+            (0.6, 1.0),
+            (-0.6, -1.0),
+            (2.5, 2.0),
+            (3.5, 4.0),
+            (-2.5, -2.0),
+        ] {
+            assert_eq!(round_even(x), want, "{x}");
+        }
+        assert_eq!(round_even(8_388_607.7), 8_388_608.0);
     }
 
     #[test]
