@@ -176,7 +176,6 @@ pub fn faces(obj: &Bound<'_, PyAny>, n_vertices: usize) -> PyResult<Vec<[u32; 3]
         )));
     }
     let np = py.import("numpy")?;
-    let kwargs = PyDict::new(py);
     let check = |i: usize, v: i128| -> PyResult<u32> {
         if v < 0 || v >= n_vertices as i128 {
             Err(PyValueError::new_err(format!(
@@ -188,28 +187,29 @@ pub fn faces(obj: &Bound<'_, PyAny>, n_vertices: usize) -> PyResult<Vec<[u32; 3]
             Ok(v as u32)
         }
     };
-    let flat: Vec<u32> = if kind == "u" {
-        kwargs.set_item("dtype", "uint64")?;
+    // Unsigned dtypes go through uint64 so values ≥ 2^63 are not wrapped to negatives.
+    fn read<T: numpy::Element + Copy + Into<i128>>(
+        np: &Bound<'_, PyModule>,
+        arr: Bound<'_, PyAny>,
+        dtype: &str,
+        check: impl Fn(usize, i128) -> PyResult<u32>,
+    ) -> PyResult<Vec<u32>> {
+        let kwargs = PyDict::new(np.py());
+        kwargs.set_item("dtype", dtype)?;
         let c = np.call_method("ascontiguousarray", (arr,), Some(&kwargs))?;
-        let ro: PyReadonlyArrayDyn<u64> = c.extract()?;
+        let ro: PyReadonlyArrayDyn<T> = c.extract()?;
         let s = ro
             .as_slice()
             .map_err(|e| PyValueError::new_err(e.to_string()))?;
         s.iter()
             .enumerate()
-            .map(|(i, &v)| check(i, v as i128))
-            .collect::<PyResult<_>>()?
+            .map(|(i, &v)| check(i, v.into()))
+            .collect()
+    }
+    let flat = if kind == "u" {
+        read::<u64>(&np, arr, "uint64", check)?
     } else {
-        kwargs.set_item("dtype", "int64")?;
-        let c = np.call_method("ascontiguousarray", (arr,), Some(&kwargs))?;
-        let ro: PyReadonlyArrayDyn<i64> = c.extract()?;
-        let s = ro
-            .as_slice()
-            .map_err(|e| PyValueError::new_err(e.to_string()))?;
-        s.iter()
-            .enumerate()
-            .map(|(i, &v)| check(i, v as i128))
-            .collect::<PyResult<_>>()?
+        read::<i64>(&np, arr, "int64", check)?
     };
     Ok(flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
 }

@@ -103,6 +103,14 @@ impl<'a> Current<'a> {
         }
     }
 
+    /// Perspective weights λ_k / w_k at the fixed-point sample (px, py): exact integer edge
+    /// values (one rounding each) times inv_w / area. Their sum is the interpolated 1/w.
+    #[inline(always)]
+    fn weights(&self, px: i64, py: i64) -> [f32; 3] {
+        let e = &self.edges;
+        [0, 1, 2].map(|k| (e.a[k] * px + e.b[k] * py + e.c[k]) as f32 * self.qw[k])
+    }
+
     fn load<const MODE: u8>(ctx: &ShadeContext<'a>, id: u32, t: &SetupTri) -> Self {
         let inv_area = 1.0 / t.area2 as f64;
         let v = t.v.map(|k| k as usize);
@@ -168,13 +176,7 @@ fn shade_impl<P: Pixel, const MODE: u8>(
             if id != cur.id {
                 cur = Current::load::<MODE>(ctx, id, t);
             }
-            let px = (rect.x0 + i) as i64 * ONE + HALF;
-            let e = &cur.edges;
-            // Exact integer edge values (one rounding each) times inv_w / area: the
-            // perspective weights λ_k / w_k, whose sum is the interpolated 1/w.
-            let q0 = (e.a[0] * px + e.b[0] * py + e.c[0]) as f32 * cur.qw[0];
-            let q1 = (e.a[1] * px + e.b[1] * py + e.c[1]) as f32 * cur.qw[1];
-            let q2 = (e.a[2] * px + e.b[2] * py + e.c[2]) as f32 * cur.qw[2];
+            let [q0, q1, q2] = cur.weights((rect.x0 + i) as i64 * ONE + HALF, py);
             let inv_w = q0 + q1 + q2;
             if let Some(d) = depth.as_deref_mut() {
                 d[j][i] = ctx.camera.eye_depth(buf.depth[slot], inv_w);
@@ -281,11 +283,7 @@ fn shade_phong<P: Pixel>(
             if id != cur.id {
                 cur = Current::load::<PHONG>(ctx, id, t);
             }
-            let px = (rect.x0 + i) as i64 * ONE + HALF;
-            let e = &cur.edges;
-            let q0 = (e.a[0] * px + e.b[0] * py + e.c[0]) as f32 * cur.qw[0];
-            let q1 = (e.a[1] * px + e.b[1] * py + e.c[1]) as f32 * cur.qw[1];
-            let q2 = (e.a[2] * px + e.b[2] * py + e.c[2]) as f32 * cur.qw[2];
+            let [q0, q1, q2] = cur.weights((rect.x0 + i) as i64 * ONE + HALF, py);
             let inv_w = q0 + q1 + q2;
             if let Some(d) = depth.as_deref_mut() {
                 d[j][i] = ctx.camera.eye_depth(buf.depth[slot], inv_w);
