@@ -8,7 +8,9 @@ timed alternately, so slow drifts in machine load hit both thread counts alike. 
 configuration: median and interquartile range of the wall time of ``sl.render_frame`` (the
 whole Python call: argument conversion, render, NumPy hand-off), Mtri/s (triangles submitted
 per second), Mpix/s (covered pixels per second) and the medians of the per-stage times the
-renderer reports in ``stats``.
+renderer reports in ``stats``. A (scene, mode) during which the process kept fewer than 85 %
+of its threads busy (usually: other work took the CPU) is measured again at the end, and the
+report says which measurement it shows.
 
     python bench/bench_render.py                 # full run, table on stdout
     python bench/bench_render.py --quick         # smoke run, a few frames each
@@ -164,7 +166,8 @@ class Result:
 
     @property
     def core_share(self) -> float:
-        """Median cores kept busy / threads: about 1 unless other work took the CPU."""
+        """Median cores kept busy / threads: about 1 unless other work took the CPU or a
+        worker sat idle."""
         return statistics.median(self.cores) / self.threads
 
     @property
@@ -451,8 +454,9 @@ def markdown(
         "",
         "Median ms per frame (IQR in brackets); speed-up = median 1 thread / median 2 threads. "
         "*Cores* is the median over frames of the process's CPU time / wall time during the "
-        "call: about 1 and 2 when the renderer had the cores to itself, less when other work "
-        "took them (idle rayon workers spin for a moment before sleeping, which counts too).",
+        "call: about 1 and 2 when the renderer had the cores to itself and kept them busy; less "
+        "when other work took them, or when a worker sat idle (serial parts, uneven tiles; "
+        "idle rayon workers spin for a moment before sleeping, which counts as busy).",
         "",
         "| scene | mode | 1 thread ms | 2 threads ms | speed-up | Mtri/s 1t | Mtri/s 2t "
         "| Mpix/s 1t | Mpix/s 2t | cores 1t / 2t |",
@@ -472,8 +476,9 @@ def markdown(
     if notes:
         out += [
             "",
-            f"Measured again at the end of the run because other work took the CPU during "
-            f"the first measurement (fewer than {CONTENDED:.0%} of the threads kept busy):",
+            f"Measured again at the end of the run because fewer than {CONTENDED:.0%} of the "
+            "threads were kept busy during the first measurement (usually other work taking "
+            "the CPU):",
             "",
             *[f"- {n}" for n in notes],
         ]
