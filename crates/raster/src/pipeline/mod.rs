@@ -24,11 +24,11 @@ use crate::camera::Camera;
 use crate::error::{RasterError, Result};
 use crate::render::{RenderOptions, RenderStats};
 use crate::scene::Scene;
-use crate::shading::{PreparedMaterial, ShadingMode};
+use crate::shading::{normalize_lanes, PreparedMaterial, ShadingMode, LANES};
 use bin::{Binned, Bins, Chunk};
 use clip::ClipPlanes;
 use raster::TileBuffers;
-use setup::{Setup, Snapped};
+use setup::{Setup, SetupTri, Snapped};
 use shade::{Pixel, ShadeContext};
 use vertex::{Vertices, INVALID};
 
@@ -79,9 +79,9 @@ impl PrimitiveContext<'_> {
         };
         let cull = self.options.cull_backfaces;
         let flat_mode = self.options.shading == ShadingMode::Flat;
-        // Sets up one triangle. Unclipped triangles are flat-lit in the shade pass, only if
-        // visible; clipped pieces (`flat` is Some) carry their original triangle's colour,
-        // computed once and cached across the pieces.
+        // Sets up one triangle. Clipped pieces (`flat` is Some) carry their original
+        // triangle's flat colour, computed once and cached across the pieces; the others are
+        // flat-lit together by `light_flat` when the chunk is done.
         let push = |s: [Snapped; 3],
                     vv: [u32; 3],
                     v: [u32; 3],
@@ -148,8 +148,44 @@ impl PrimitiveContext<'_> {
                 push([s[0], s[k], s[k + 1]], vv, v, Some(&mut flat), &mut out);
             }
         }
+        if flat_mode {
+            self.light_flat(object, &mut out.chunk.tris);
+        }
         out.chunk.bins = bin::bin(&out.chunk.tris, self.tiles.0, self.tiles.1);
         out
+    }
+
+    /// Flat colours of the unclipped triangles that survived setup, [`LANES`] at a time
+    /// (clipped pieces already carry their original triangle's colour).
+    fn light_flat(&self, object: u32, tris: &mut [SetupTri]) {
+        let material = &self.materials[object as usize];
+        let world = &self.verts.world;
+        let todo: Vec<usize> = (0..tris.len()).filter(|&i| !tris[i].clipped).collect();
+        for group in todo.chunks(LANES) {
+            let mut raw = [[0.0; LANES]; 3];
+            let mut p = [[0.0; LANES]; 3];
+            for (k, &i) in group.iter().enumerate() {
+                let t = &tris[i];
+                let [a, b, c] = t.v.map(|v| world[v as usize]);
+                // Setup swapped two vertices of front faces; undo it for the true normal.
+                let n = if t.front {
+                    (c - a).cross(b - a)
+                } else {
+                    (b - a).cross(c - a)
+                };
+                let centroid = (a + b + c) / 3.0;
+                for ax in 0..3 {
+                    raw[ax][k] = n[ax];
+                    p[ax][k] = centroid[ax];
+                }
+            }
+            let mut n = [[0.0; LANES]; 3];
+            normalize_lanes(&mut n, |k| (raw[0][k], raw[1][k], raw[2][k]));
+            let c = material.shade_lanes(&n, &p, self.eye);
+            for (k, &i) in group.iter().enumerate() {
+                tris[i].flat = Vec3::new(c[0][k], c[1][k], c[2][k]);
+            }
+        }
     }
 }
 

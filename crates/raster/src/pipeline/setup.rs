@@ -28,7 +28,7 @@ pub(crate) struct SetupTri {
     pub front: bool,
     /// A piece of a clipped triangle (its vertices are not the original ones).
     pub clipped: bool,
-    /// Flat mode, clipped pieces only: the original triangle's flat colour.
+    /// Flat mode: the (original) triangle's flat colour.
     pub flat: Vec3,
 }
 

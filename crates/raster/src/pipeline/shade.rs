@@ -146,8 +146,8 @@ fn shade_impl<P: Pixel, const MODE: u8>(
     // Stored samples of the background and of the last flat colour, converted once.
     let mut background = [P::default(); 3];
     P::store(&mut background, ctx.background);
-    // Flat colours of recently seen triangles, direct-mapped by id: the rows of a triangle
-    // alternate with its neighbours', so a single last-id cache would relight it per row.
+    // Stored samples of recently seen flat colours, direct-mapped by id: the rows of a
+    // triangle alternate with its neighbours', so a last-id cache would miss on every row.
     let mut flat_cache = [(NO_TRIANGLE, [P::default(); 3]); FLAT_CACHE];
     for j in 0..rect.h {
         let row = &mut *color[j];
@@ -167,7 +167,7 @@ fn shade_impl<P: Pixel, const MODE: u8>(
                 let entry = &mut flat_cache[id as usize % FLAT_CACHE];
                 if entry.0 != id {
                     entry.0 = id;
-                    P::store(&mut entry.1, flat_color(ctx, ctx.tris.get(id)));
+                    P::store(&mut entry.1, ctx.tris.get(id).flat);
                 }
                 out.copy_from_slice(&entry.1);
                 continue;
@@ -185,7 +185,7 @@ fn shade_impl<P: Pixel, const MODE: u8>(
                 let entry = &mut flat_cache[id as usize % FLAT_CACHE];
                 if entry.0 != id {
                     entry.0 = id;
-                    P::store(&mut entry.1, flat_color(ctx, t));
+                    P::store(&mut entry.1, t.flat);
                 }
                 out.copy_from_slice(&entry.1);
                 continue;
@@ -306,18 +306,6 @@ fn shade_phong<P: Pixel>(
         }
     }
     batch.flush(ctx.eye, color);
-}
-
-/// Flat shading is lit here, in the shade pass, so only visible triangles pay for it: the
-/// face normal at the centroid of the original triangle (clipped pieces carry the colour of
-/// their original triangle, computed when they were made).
-fn flat_color(ctx: &ShadeContext<'_>, t: &SetupTri) -> Vec3 {
-    if t.clipped {
-        return t.flat;
-    }
-    let w = &ctx.verts.world;
-    let centroid = (w[t.v[0] as usize] + w[t.v[1] as usize] + w[t.v[2] as usize]) / 3.0;
-    ctx.materials[t.object as usize].shade(face_normal(t, w), centroid, ctx.eye)
 }
 
 /// The world-space face normal in the triangle's original winding (zero if degenerate).
