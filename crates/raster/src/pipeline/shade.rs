@@ -107,8 +107,13 @@ impl<'a> Current<'a> {
     /// values (one rounding each) times inv_w / area. Their sum is the interpolated 1/w.
     #[inline(always)]
     fn weights(&self, px: i64, py: i64) -> [f32; 3] {
-        let e = &self.edges;
-        [0, 1, 2].map(|k| (e.a[k] * px + e.b[k] * py + e.c[k]) as f32 * self.qw[k])
+        let (e, q) = (&self.edges, &self.qw);
+        // Written out: `array::map` here is not always inlined, and this runs per pixel.
+        [
+            (e.a[0] * px + e.b[0] * py + e.c[0]) as f32 * q[0],
+            (e.a[1] * px + e.b[1] * py + e.c[1]) as f32 * q[1],
+            (e.a[2] * px + e.b[2] * py + e.c[2]) as f32 * q[2],
+        ]
     }
 
     fn load<const MODE: u8>(ctx: &ShadeContext<'a>, id: u32, t: &SetupTri) -> Self {
