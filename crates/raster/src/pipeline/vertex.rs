@@ -85,12 +85,33 @@ pub(crate) fn transform(
         let mesh = obj.mesh();
         let pos = mesh.positions();
         let model = obj.transform();
-        let mvp = (view_proj * model.as_dmat4()).as_mat4();
-        out.clip.par_extend(
-            pos.par_iter()
-                .with_min_len(CHUNK)
-                .map(|p| mvp * p.extend(1.0)),
-        );
+        // Clip coordinates in f64: depth differences of 1e-6 relative (two surfaces 1e-4
+        // apart at distance 100 with near = 0.001) survive into the snapped z and 1/w. The f32
+        // copy only serves the (rare) clipping path.
+        let mvp = view_proj * model.as_dmat4();
+        let (clip, (codes, screen)): (Vec<Vec4>, (Vec<u8>, Vec<Snapped>)) = pos
+            .par_iter()
+            .with_min_len(CHUNK)
+            .map(|p| {
+                let c = mvp * p.as_dvec3().extend(1.0);
+                let c32 = c.as_vec4();
+                let code = if c32.is_finite() {
+                    planes.outcode(c32)
+                } else {
+                    INVALID
+                };
+                if code != 0 {
+                    return (c32, (code, Snapped::default()));
+                }
+                match snap(c, size.0, size.1) {
+                    Some(s) => (c32, (0, s)),
+                    None => (c32, (INVALID, Snapped::default())),
+                }
+            })
+            .unzip();
+        out.clip.extend_from_slice(&clip);
+        out.outcode.extend_from_slice(&codes);
+        out.screen.extend_from_slice(&screen);
         if need_world {
             out.world.par_extend(
                 pos.par_iter()
@@ -136,23 +157,5 @@ pub(crate) fn transform(
             }
         }
     }
-    out.clip
-        .par_iter()
-        .with_min_len(CHUNK)
-        .map(|p| {
-            let code = if p.is_finite() {
-                planes.outcode(*p)
-            } else {
-                INVALID
-            };
-            if code != 0 {
-                return (code, Snapped::default());
-            }
-            match snap(p.as_dvec4(), size.0, size.1) {
-                Some(s) => (0, s),
-                None => (INVALID, Snapped::default()),
-            }
-        })
-        .unzip_into_vecs(&mut out.outcode, &mut out.screen);
     out
 }
