@@ -142,3 +142,72 @@ def test_64_lights_add_up():
     b = sl.render(many, cam, 16, 12, dtype="float32")
     np.testing.assert_allclose(b, 64 * a, rtol=1e-5)
     assert math.isclose(float(a.max()), 0.01, rel_tol=1e-6)
+
+
+def _degenerate_mesh():
+    """A mesh with every kind of degeneracy the hard-cases list names."""
+    v = np.array(
+        [
+            [0, 0, 0],
+            [1, 0, 0],
+            [0, 1, 0],
+            [1, 1, 0],
+            [2, 2, 0],  # collinear with 0 and 3
+            [0.5, 0.5, 0],  # on the edge 1-2
+            [9, 9, 9],  # unreferenced
+            [1, 0, 0],  # same position as vertex 1 (repeated vertex)
+        ],
+        float,
+    )
+    f = np.array(
+        [
+            [0, 1, 2],
+            [1, 3, 2],
+            [0, 3, 4],  # zero area: collinear
+            [0, 0, 1],  # zero area: repeated index
+            [7, 3, 1],  # zero area: two vertices at one position
+            [0, 1, 2],  # duplicate face
+            [2, 1, 0],  # the same face, other side (normals cancel at 0, 1, 2)
+            [1, 2, 5],  # zero area, non-manifold fan on edge 1-2
+            [5, 1, 3],
+        ]
+    )
+    return v, f
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_degenerate_geometry_gives_no_nan(mode):
+    v, f = _degenerate_mesh()
+    mesh = sl.Mesh(v, f)
+    assert np.isfinite(mesh.normals).all()
+    # Cancelling normals fall back to the first face's; unreferenced/degenerate-only get 0.
+    np.testing.assert_allclose(mesh.normals[0], [0, 0, 1], atol=1e-6)
+    np.testing.assert_array_equal(mesh.normals[6], [0, 0, 0])
+    s = sl.Scene()
+    s.add(mesh, material=sl.Material.preset("brass"))
+    s.add_light(sl.PointLight((0.5, 0.5, 2)))
+    cam = sl.Camera.look_at((0.5, 0.5, 3), (0.5, 0.5, 0))
+    img, depth = sl.render(s, cam, 64, 64, shading=mode, dtype="float32", return_depth=True)
+    assert np.isfinite(img).all()
+    assert np.isfinite(depth).sum() > 500
+    stats = sl.render_frame(s, cam, 64, 64, shading=mode)["stats"]
+    assert stats["triangles_in"] == len(f)
+    assert stats["triangles_setup"] < len(f)  # the zero-area ones are skipped
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_zero_given_normals_fall_back(mode):
+    """Zero normals given by the user: Phong uses the face normal, Gouraud gets ambient only;
+    no NaN either way."""
+    v = np.array([[-1, -1, 0], [1, -1, 0], [0, 1, 0]], float)
+    s = sl.Scene(ambient=(0.1, 0.1, 0.1))
+    mat = sl.Material(ambient=(1, 1, 1), diffuse=(1, 1, 1), specular=(0, 0, 0))
+    s.add(sl.Mesh(v, [[0, 1, 2]], normals=np.zeros((3, 3))), material=mat)
+    s.add_light(sl.DirectionalLight((0, 0, -1)))
+    img = sl.render(
+        s, sl.Camera.look_at((0, 0, 3), (0, 0, 0)), 32, 32, shading=mode, dtype="float32"
+    )
+    assert np.isfinite(img).all()
+    centre = img[16, 16]
+    want = {"flat": 1.1, "gouraud": 0.1, "phong": 1.1}[mode]
+    np.testing.assert_allclose(centre, want, rtol=1e-5)

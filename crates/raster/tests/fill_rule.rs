@@ -140,7 +140,7 @@ fn jittered_grid(n: usize, w: u32, h: u32, rng: &mut Rng) -> Mesh {
 #[test]
 fn jittered_grids_are_watertight() {
     let mut rng = Rng(0x9E3779B97F4A7C15);
-    for (n, w, h) in [(40, 97, 61), (120, 200, 150), (230, 256, 256)] {
+    for (n, w, h) in [(40, 97, 61), (120, 200, 150), (230, 256, 256), (240, 300, 200)] {
         let mesh = jittered_grid(n, w, h, &mut rng);
         let tris = mesh.triangle_count();
         let c = counts(mesh, &pixel_camera(w, h), w, h);
@@ -159,10 +159,11 @@ fn jittered_grids_are_watertight() {
 
 #[test]
 fn fan_of_slivers_is_watertight() {
-    // 20 000 thin triangles around one vertex inside the image, reaching past the border.
+    // 100 000 thin triangles (apex angle 0.0036°) around one vertex inside the image,
+    // reaching past the border.
     let (w, h) = (128, 128);
     let centre = screen(h, 61.3, 70.7);
-    let n = 20_000;
+    let n = 100_000;
     let mut p = vec![centre];
     for k in 0..n {
         let a = k as f32 / n as f32 * std::f32::consts::TAU;
@@ -192,7 +193,7 @@ fn closed_sphere_is_covered_zero_or_twice() {
         100.0,
     )
     .unwrap();
-    let scene = white_scene(primitives::uv_sphere(60, 120));
+    let scene = white_scene(primitives::uv_sphere(160, 320)); // 101 760 triangles
     let mut opts = RenderOptions::new(200, 160);
     let c = coverage_counts(&scene, &cam, &opts).unwrap();
     assert!(c.iter().all(|&v| v == 0 || v == 2));

@@ -344,7 +344,7 @@ fn identical_bytes_for_any_thread_count() {
     .unwrap();
     for mode in [ShadingMode::Flat, ShadingMode::Gouraud, ShadingMode::Phong] {
         let mut reference = None;
-        for threads in [1, 2, 3, 8, 1] {
+        for threads in [1, 2, 3, 4, 8, 1] {
             let mut opts = RenderOptions::new(333, 207);
             opts.shading = mode;
             opts.threads = Some(threads);
