@@ -268,6 +268,27 @@ mod tests {
     }
 
     #[test]
+    fn non_finite_values_in_the_file_are_errors_naming_the_group() {
+        let p = write(
+            "nan.obj",
+            "o broken\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvn nan 0 1\nvn 0 0 1\nvn 0 0 1\nf 1//1 2//2 3//3\n",
+        );
+        let e = load_obj(&p).unwrap_err();
+        assert!(matches!(e, RasterError::Parse { .. }), "{e}");
+        let msg = e.to_string();
+        assert!(
+            msg.contains("nan.obj") && msg.contains("broken") && msg.contains("normal"),
+            "{msg}"
+        );
+        let p = write("inf.obj", "v 0 0 0\nv 1 0 inf\nv 0 1 0\nf 1 2 3\n");
+        let msg = load_obj(&p).unwrap_err().to_string();
+        assert!(
+            msg.contains("vertex 1") && msg.contains("non-finite"),
+            "{msg}"
+        );
+    }
+
+    #[test]
     fn reads_mtl_and_tolerates_missing_mtl() {
         write(
             "m.mtl",

@@ -140,7 +140,12 @@ fn jittered_grid(n: usize, w: u32, h: u32, rng: &mut Rng) -> Mesh {
 #[test]
 fn jittered_grids_are_watertight() {
     let mut rng = Rng(0x9E3779B97F4A7C15);
-    for (n, w, h) in [(40, 97, 61), (120, 200, 150), (230, 256, 256), (240, 300, 200)] {
+    for (n, w, h) in [
+        (40, 97, 61),
+        (120, 200, 150),
+        (230, 256, 256),
+        (240, 300, 200),
+    ] {
         let mesh = jittered_grid(n, w, h, &mut rng);
         let tris = mesh.triangle_count();
         let c = counts(mesh, &pixel_camera(w, h), w, h);
