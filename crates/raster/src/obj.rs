@@ -1,19 +1,20 @@
 //! Wavefront OBJ (+ MTL) loading through tobj.
 //!
 //! Polygons are triangulated (fan), positions/normals/UVs are re-indexed to one index per
-//! vertex, and `Ka`/`Kd`/`Ks`/`Ns` from the MTL file become [`Material`]s. Recovery rules:
-//! a missing or unreadable MTL file leaves the parts without material (geometry still
-//! loads); normals are used only when every vertex of a part has one, otherwise they are
-//! generated; points and lines are ignored. Parse errors name the file and, where a line can
+//! distinct corner, and `Ka`/`Kd`/`Ks`/`Ns` from the MTL file become [`Material`]s. Recovery
+//! rules: a missing or unreadable MTL file leaves the parts without material (geometry still
+//! loads); normals are used only when every face corner of a group has one, otherwise they
+//! are generated per OBJ position (shared across UV seams); points and lines are ignored. Parse errors name the file and, where a line can
 //! be found, the line.
 
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use glam::{Vec2, Vec3};
 
 use crate::error::{RasterError, Result};
 use crate::material::Material;
-use crate::mesh::Mesh;
+use crate::mesh::{generate_vertex_normals, Mesh};
 
 /// One `o`/`g` group of an OBJ file.
 #[derive(Debug)]
@@ -44,7 +45,9 @@ pub fn load_obj_parts(path: impl AsRef<Path>) -> Result<Vec<ObjPart>> {
     }
     let options = tobj::LoadOptions {
         triangulate: true,
-        single_index: true,
+        // We build one index per (position, uv, normal) ourselves, so that generated normals
+        // can be shared by every copy of an OBJ position (UV seams must not crease shading).
+        single_index: false,
         ignore_points: true,
         ignore_lines: true,
     };
@@ -56,36 +59,18 @@ pub fn load_obj_parts(path: impl AsRef<Path>) -> Result<Vec<ObjPart>> {
         if mesh.indices.is_empty() {
             continue;
         }
-        let positions: Vec<Vec3> = mesh
-            .positions
-            .chunks_exact(3)
-            .map(|c| Vec3::new(c[0], c[1], c[2]))
-            .collect();
-        let indices: Vec<[u32; 3]> = mesh
-            .indices
-            .chunks_exact(3)
-            .map(|c| [c[0], c[1], c[2]])
-            .collect();
-        let normals = (mesh.normals.len() == mesh.positions.len()).then(|| {
-            mesh.normals
-                .chunks_exact(3)
-                .map(|c| Vec3::new(c[0], c[1], c[2]))
-                .collect()
-        });
-        let uvs = (mesh.texcoords.len() / 2 == positions.len() && !mesh.texcoords.is_empty()).then(
-            || {
-                mesh.texcoords
-                    .chunks_exact(2)
-                    .map(|c| Vec2::new(c[0], c[1]))
-                    .collect()
-            },
-        );
+        let (positions, indices, normals, uvs, generated) = single_index(mesh);
         let built =
             Mesh::new(positions, indices, normals, uvs).map_err(|e| RasterError::Parse {
                 path: path.to_path_buf(),
                 line: None,
                 message: format!("group '{}': {e}", m.name),
             })?;
+        let built = if generated {
+            built.with_generated_normals()
+        } else {
+            built
+        };
         let material = mesh
             .material_id
             .and_then(|i| materials.get(i))
@@ -107,6 +92,77 @@ pub fn load_obj_parts(path: impl AsRef<Path>) -> Result<Vec<ObjPart>> {
     Ok(parts)
 }
 
+/// Positions, triangles, normals, UVs, and whether the normals were generated.
+type Arrays = (
+    Vec<Vec3>,
+    Vec<[u32; 3]>,
+    Option<Vec<Vec3>>,
+    Option<Vec<Vec2>>,
+    bool,
+);
+
+/// One vertex per distinct (position, uv, normal) triple of a group's faces. UVs and normals
+/// are kept only when every face corner has one. Without normals in the file, they are
+/// generated per OBJ *position* by [`generate_vertex_normals`] and shared by all copies of
+/// that position, so a UV seam (which splits vertices) does not show in the shading.
+fn single_index(m: &tobj::Mesh) -> Arrays {
+    let n = m.indices.len();
+    let has_uv = m.texcoord_indices.len() == n && !m.texcoords.is_empty();
+    let has_n = m.normal_indices.len() == n && !m.normals.is_empty();
+    let pos = |i: u32| {
+        let i = i as usize * 3;
+        Vec3::new(m.positions[i], m.positions[i + 1], m.positions[i + 2])
+    };
+    let generated = (!has_n).then(|| {
+        let all: Vec<Vec3> = (0..m.positions.len() as u32 / 3).map(pos).collect();
+        let tris: Vec<[u32; 3]> = m
+            .indices
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect();
+        generate_vertex_normals(&all, &tris)
+    });
+    let mut map: HashMap<(u32, u32, u32), u32> = HashMap::with_capacity(n);
+    let (mut positions, mut normals, mut uvs) = (Vec::new(), Vec::new(), Vec::new());
+    let mut corners = Vec::with_capacity(n);
+    for k in 0..n {
+        let p = m.indices[k];
+        let t = if has_uv {
+            m.texcoord_indices[k]
+        } else {
+            u32::MAX
+        };
+        let q = if has_n { m.normal_indices[k] } else { u32::MAX };
+        let id = *map.entry((p, t, q)).or_insert_with(|| {
+            positions.push(pos(p));
+            if has_uv {
+                let t = t as usize * 2;
+                uvs.push(Vec2::new(m.texcoords[t], m.texcoords[t + 1]));
+            }
+            normals.push(match &generated {
+                Some(g) => g[p as usize],
+                None => {
+                    let q = q as usize * 3;
+                    Vec3::new(m.normals[q], m.normals[q + 1], m.normals[q + 2])
+                }
+            });
+            positions.len() as u32 - 1
+        });
+        corners.push(id);
+    }
+    let indices = corners
+        .chunks_exact(3)
+        .map(|c| [c[0], c[1], c[2]])
+        .collect();
+    (
+        positions,
+        indices,
+        Some(normals),
+        has_uv.then_some(uvs),
+        !has_n,
+    )
+}
+
 /// Loads an OBJ file as one mesh (all parts merged, in file order).
 pub fn load_obj(path: impl AsRef<Path>) -> Result<Mesh> {
     let parts = load_obj_parts(path)?;
@@ -117,21 +173,25 @@ fn merge_parts(mut parts: Vec<ObjPart>) -> Result<Mesh> {
     if parts.len() == 1 {
         return Ok(parts.pop().expect("one part").mesh);
     }
-    let all_normals = parts.iter().all(|p| p.mesh.given_normals().is_some());
+    // Every OBJ part carries normals (from the file or generated per position).
+    let generated = parts.iter().any(|p| p.mesh.given_normals().is_none());
     let all_uvs = parts.iter().all(|p| p.mesh.uvs().is_some());
     let (mut pos, mut idx, mut nrm, mut uv) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for p in &parts {
         let base = pos.len() as u32;
         pos.extend_from_slice(p.mesh.positions());
         idx.extend(p.mesh.indices().iter().map(|t| t.map(|i| i + base)));
-        if all_normals {
-            nrm.extend_from_slice(p.mesh.given_normals().unwrap_or_default());
-        }
+        nrm.extend_from_slice(p.mesh.vertex_normals());
         if all_uvs {
             uv.extend_from_slice(p.mesh.uvs().unwrap_or_default());
         }
     }
-    Mesh::new(pos, idx, all_normals.then_some(nrm), all_uvs.then_some(uv))
+    let mesh = Mesh::new(pos, idx, Some(nrm), all_uvs.then_some(uv))?;
+    Ok(if generated {
+        mesh.with_generated_normals()
+    } else {
+        mesh
+    })
 }
 
 fn material_from_mtl(path: &Path, m: &tobj::Material) -> Result<Material> {
@@ -286,6 +346,36 @@ mod tests {
             msg.contains("vertex 1") && msg.contains("non-finite"),
             "{msg}"
         );
+    }
+
+    #[test]
+    fn uv_seams_do_not_crease_generated_normals() {
+        // A quad folded along the diagonal 1-3, each half with its own UVs: the diagonal's
+        // positions are split into two vertices each, but share one averaged normal.
+        let p = write(
+            "seam.obj",
+            "v 0 0 0\nv 1 0 0\nv 1 1 1\nv 0 1 0\n\
+             vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 0.5\nvt 0.2 0.2\n\
+             f 1/1 2/2 4/4\nf 2/5 3/3 4/6\n",
+        );
+        let m = load_obj(&p).unwrap();
+        assert_eq!(m.positions().len(), 6);
+        assert!(m.uvs().is_some());
+        let n = m.vertex_normals();
+        let at = |q: Vec3| -> Vec<Vec3> {
+            (0..6)
+                .filter(|&i| m.positions()[i] == q)
+                .map(|i| n[i])
+                .collect()
+        };
+        for q in [Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0)] {
+            let ns = at(q);
+            assert_eq!(ns.len(), 2);
+            assert_eq!(ns[0], ns[1]);
+            let a = Vec3::Z; // face 1
+            let b = (Vec3::ONE - Vec3::X).cross(Vec3::Y - Vec3::X).normalize(); // face 2
+            assert!((ns[0] - (a + b).normalize()).length() < 1e-6, "{:?}", ns[0]);
+        }
     }
 
     #[test]
