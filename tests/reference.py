@@ -75,25 +75,30 @@ class DirectionalLight:
     direction: Vec3
     color: Vec3 = (1.0, 1.0, 1.0)
     intensity: float = 1.0
+    ambient: Vec3 = (0.0, 0.0, 0.0)
 
 
 @dataclass
 class PointLight:
-    """Point light at world ``position`` (no distance attenuation)."""
+    """Point light at world ``position``; ``attenuation=(kc, kl, kq)`` divides the light
+    (its ambient too) by ``kc + kl*d + kq*d**2``."""
 
     position: Vec3
     color: Vec3 = (1.0, 1.0, 1.0)
     intensity: float = 1.0
+    attenuation: Vec3 = (1.0, 0.0, 0.0)
+    ambient: Vec3 = (0.0, 0.0, 0.0)
 
 
 @dataclass
 class Material:
-    """Phong material: RGB ambient/diffuse/specular reflectances and shininess."""
+    """Phong material: RGB ambient/diffuse/specular reflectances, shininess, emission."""
 
     ambient: Vec3
     diffuse: Vec3
     specular: Vec3
     shininess: float
+    emission: Vec3 = (0.0, 0.0, 0.0)
 
 
 @dataclass
@@ -328,7 +333,8 @@ def lighting(
 ) -> np.ndarray:
     """Evaluate the OpenGL 2.1 local-viewer lighting equation (world space).
 
-    ``c = ka*Ia + sum_lights [kd*Id*max(n.l, 0) + ks*Is*S]`` with
+    ``c = ke + ka*Ia + sum_lights att*[ka*Ia_i + kd*Id*max(n.l, 0) + ks*Is*S]`` with
+    ``att = 1 / max(kc + kl*d + kq*d**2, 1e-6)`` for point lights (1 for directional) and
     ``Id = Is = color*intensity``, ``v = normalize(eye - p)`` and ``S = 0``
     unless ``n.l > 0``.  ``specular="blinn"``: ``S = max(n.h, 0)**shininess``,
     ``h = normalize(l + v)`` (``S = 0`` if ``l + v`` is zero);
@@ -362,13 +368,19 @@ def lighting(
     ks = _vec3(material.specular, "specular")
     shin = float(material.shininess)
     ia = _vec3(ambient, "ambient")
-    color = np.broadcast_to(ka * ia, shape).copy()
+    ke = _vec3(getattr(material, "emission", (0.0, 0.0, 0.0)), "emission")
+    color = np.broadcast_to(ke + ka * ia, shape).copy()
     v = _normalize(_vec3(eye, "eye") - p)
     for light in lights:
+        att = np.ones(shape[:-1])
         if isinstance(light, DirectionalLight):
             lv = np.broadcast_to(_normalize(-_vec3(light.direction)), shape)
         elif isinstance(light, PointLight):
-            lv = _normalize(_vec3(light.position) - p)
+            to_light = _vec3(light.position) - p
+            lv = _normalize(to_light)
+            kc, kl, kq = (float(k) for k in light.attenuation)
+            d = np.sqrt(_dot(to_light, to_light))
+            att = 1.0 / np.maximum(kc + kl * d + kq * d * d, 1e-6)
         else:
             raise TypeError(f"unsupported light {light!r}")
         intensity = _vec3(light.color, "color") * float(light.intensity)
@@ -383,7 +395,8 @@ def lighting(
             r = 2.0 * ndotl[..., None] * n - lv
             s = np.power(np.maximum(_dot(r, v), 0.0), shin)
         s = np.where(ndotl > 0, s, 0.0)
-        color += kd * intensity * diff[..., None] + ks * intensity * s[..., None]
+        lit = ka * _vec3(light.ambient, "ambient") + kd * intensity * diff[..., None]
+        color += att[..., None] * (lit + ks * intensity * s[..., None])
     return color
 
 

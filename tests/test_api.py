@@ -826,3 +826,25 @@ def test_version_and_exports():
     for name in sl.__all__:
         assert hasattr(sl, name), name
     assert issubclass(sl.ObjParseError, ValueError)
+
+
+def test_light_and_material_extras_round_trip():
+    p = sl.PointLight((1, 2, 3), attenuation=(1, 0.5, 0.25), ambient=(0.1, 0.2, 0.3))
+    assert p.attenuation == (1.0, 0.5, 0.25)
+    assert p.ambient == pytest.approx((0.1, 0.2, 0.3))
+    assert sl.PointLight((0, 0, 0)).attenuation == (1.0, 0.0, 0.0)
+    d = sl.DirectionalLight((0, -1, 0), ambient=(0.5, 0.5, 0.5))
+    assert d.ambient == (0.5, 0.5, 0.5)
+    m = sl.Material(emission=(0.25, 0.0, 0.5))
+    assert m.emission == (0.25, 0.0, 0.5)
+    assert sl.Material.preset("gold").emission == (0.0, 0.0, 0.0)
+    assert m != sl.Material()
+
+
+def test_emission_alone_lights_an_unlit_scene():
+    """No lights, no ambient: the image is exactly the emission colour where covered."""
+    v = np.array([[-5, -5, -3], [5, -5, -3], [5, 5, -3], [-5, 5, -3]], float)
+    s = sl.Scene(ambient=(0, 0, 0))
+    s.add(sl.Mesh(v, [[0, 1, 2], [0, 2, 3]]), material=sl.Material(emission=(0.25, 0.5, 1.0)))
+    img = sl.render(s, sl.Camera.look_at((0, 0, 0), (0, 0, -1)), 16, 12, dtype="float32")
+    np.testing.assert_array_equal(img, np.broadcast_to([0.25, 0.5, 1.0], img.shape))

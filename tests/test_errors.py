@@ -600,3 +600,16 @@ def test_from_trimesh_rejects_non_meshes():
 def test_directories_are_not_mesh_files(tmp_path):
     expect_error(IsADirectoryError, "", sl.load_obj, tmp_path)
     expect_error(IsADirectoryError, "directory", sl.load_mesh, tmp_path)
+
+
+def test_attenuation_ambient_and_emission_are_validated():
+    expect_error(ValueError, "attenuation", sl.PointLight, (0, 0, 0), attenuation=(0, 0, 0))
+    expect_error(ValueError, "attenuation", sl.PointLight, (0, 0, 0), attenuation=(1, -1, 0))
+    expect_error(
+        ValueError, r"attenuation\[2\]", sl.PointLight, (0, 0, 0), attenuation=(1, 0, np.inf)
+    )
+    expect_error(ValueError, "attenuation must be 3", sl.PointLight, (0, 0, 0), attenuation=(1, 0))
+    expect_error(ValueError, "ambient", sl.PointLight, (0, 0, 0), ambient=(-1, 0, 0))
+    expect_error(ValueError, "ambient", sl.DirectionalLight, (0, 0, -1), ambient=(0, np.nan, 0))
+    expect_error(ValueError, "emission", sl.Material, emission=(0, -0.5, 0))
+    expect_error(ValueError, r"emission\[0\]", sl.Material, emission=(np.inf, 0, 0))

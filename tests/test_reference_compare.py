@@ -76,6 +76,7 @@ class Case:
     background: tuple = (0.0, 0.0, 0.0)
     width: int = 136
     height: int = 120
+    emission: tuple = (0.0, 0.0, 0.0)
 
 
 def _rotation(axis, degrees):
@@ -125,6 +126,25 @@ SPHERE_CASES = {
             transform=XFORM,
             ambient=(0.3, 0.25, 0.2),
         ),
+        # Attenuated point light with its own ambient, a directional light's ambient and
+        # material emission: every term of the equation that is not specular or diffuse.
+        Case(
+            "persp-attenuation-ambient-emission",
+            "sphere",
+            PERSP,
+            (
+                ref.DirectionalLight((-1.0, -1.2, -0.8), ambient=(0.1, 0.05, 0.0)),
+                ref.PointLight(
+                    (1.5, 1.0, 2.0),
+                    color=(1.0, 0.9, 0.8),
+                    intensity=4.0,
+                    attenuation=(0.5, 0.3, 0.4),
+                    ambient=(0.2, 0.3, 0.4),
+                ),
+            ),
+            "copper",
+            emission=(0.05, 0.0, 0.1),
+        ),
         # Intensities > 1 drive channels above 1: float32 keeps them, uint8 clamps.
         Case(
             "ortho-xform-2lights-bright",
@@ -172,8 +192,16 @@ def _mesh_arrays(name):
 
 def _sl_light(light):
     if isinstance(light, ref.DirectionalLight):
-        return sl.DirectionalLight(light.direction, color=light.color, intensity=light.intensity)
-    return sl.PointLight(light.position, color=light.color, intensity=light.intensity)
+        return sl.DirectionalLight(
+            light.direction, color=light.color, intensity=light.intensity, ambient=light.ambient
+        )
+    return sl.PointLight(
+        light.position,
+        color=light.color,
+        intensity=light.intensity,
+        attenuation=light.attenuation,
+        ambient=light.ambient,
+    )
 
 
 def _sl_camera(cam):
@@ -186,9 +214,14 @@ def _sl_camera(cam):
     )
 
 
-def _ref_material(name):
-    m = sl.Material.preset(name)
-    return ref.Material(m.ambient, m.diffuse, m.specular, m.shininess)
+def _sl_material(case):
+    m = sl.Material.preset(case.material)
+    return sl.Material(m.ambient, m.diffuse, m.specular, m.shininess, emission=case.emission)
+
+
+def _ref_material(case):
+    m = _sl_material(case)
+    return ref.Material(m.ambient, m.diffuse, m.specular, m.shininess, m.emission)
 
 
 def _world_vertices(case):
@@ -204,7 +237,7 @@ def render_sl(case, shading, specular, dtype):
     v, f, n = _mesh_arrays(case.mesh)
     scene = sl.Scene(ambient=case.ambient)
     mesh = sl.Mesh(v, f, normals=n)
-    scene.add(mesh, material=sl.Material.preset(case.material), transform=case.transform)
+    scene.add(mesh, material=_sl_material(case), transform=case.transform)
     for light in case.lights:
         scene.add_light(_sl_light(light))
     return sl.render(
@@ -230,7 +263,7 @@ def render_ref(case, shading, specular):
         camera=case.camera,
         width=case.width,
         height=case.height,
-        material=_ref_material(case.material),
+        material=_ref_material(case),
         lights=list(case.lights),
         ambient=case.ambient,
         normals=n,

@@ -102,9 +102,10 @@ class Mesh:
 
 @final
 class Material:
-    """OpenGL-style material: ambient, diffuse, specular RGB (each >= 0) and shininess (the
-    specular exponent, >= 0). Omitted arguments take the default grey plastic's values.
-    Materials compare equal when all their values are equal (and are not hashable)."""
+    """OpenGL-style material: ambient, diffuse, specular RGB (each >= 0), shininess (the
+    specular exponent, >= 0) and emission (RGB >= 0, added unlit; black by default). Omitted
+    arguments take the default grey plastic's values. Materials compare equal when all their
+    values are equal (and are not hashable)."""
 
     def __new__(
         cls,
@@ -112,6 +113,7 @@ class Material:
         diffuse: _Vec3Like | None = None,
         specular: _Vec3Like | None = None,
         shininess: float | None = None,
+        emission: _Vec3Like | None = None,
     ) -> Material: ...
     @staticmethod
     def preset(name: str) -> Material:
@@ -132,6 +134,9 @@ class Material:
     def specular(self) -> _Vec3:
         """Specular reflectance (r, g, b)."""
     @property
+    def emission(self) -> _Vec3:
+        """Emitted colour, added unlit."""
+    @property
     def shininess(self) -> float:
         """Specular exponent."""
     def __eq__(self, value: object, /) -> bool: ...
@@ -142,11 +147,19 @@ class Material:
 class DirectionalLight:
     """A light at infinity; ``direction`` is where the light travels (a sun overhead:
     ``(0, -1, 0)``) and must be non-zero. ``color`` (default white) and ``intensity``
-    (its multiplier) must be >= 0. No attenuation."""
+    (its multiplier) must be >= 0; ``ambient`` is the light's own ambient colour (default
+    black). No attenuation."""
 
     def __new__(
-        cls, direction: _Vec3Like, color: _Vec3Like | None = None, intensity: float = 1.0
+        cls,
+        direction: _Vec3Like,
+        color: _Vec3Like | None = None,
+        intensity: float = 1.0,
+        ambient: _Vec3Like | None = None,
     ) -> DirectionalLight: ...
+    @property
+    def ambient(self) -> _Vec3:
+        """The light's own ambient colour."""
     @property
     def direction(self) -> _Vec3:
         """Unit direction of travel."""
@@ -159,12 +172,26 @@ class DirectionalLight:
 
 @final
 class PointLight:
-    """A light at a point, shining in all directions (no distance attenuation). ``color``
-    (default white) and ``intensity`` must be >= 0."""
+    """A light at a point, shining in all directions. ``color`` (default white) and
+    ``intensity`` must be >= 0. ``attenuation=(kc, kl, kq)`` divides the light by
+    ``kc + kl*d + kq*d**2`` (d: distance to the light; default (1, 0, 0), none; coefficients
+    >= 0, not all zero; the divisor is at least 1e-6). ``ambient`` is the light's own ambient
+    colour (default black), attenuated like the rest."""
 
     def __new__(
-        cls, position: _Vec3Like, color: _Vec3Like | None = None, intensity: float = 1.0
+        cls,
+        position: _Vec3Like,
+        color: _Vec3Like | None = None,
+        intensity: float = 1.0,
+        attenuation: _Vec3Like | None = None,
+        ambient: _Vec3Like | None = None,
     ) -> PointLight: ...
+    @property
+    def ambient(self) -> _Vec3:
+        """The light's own ambient colour."""
+    @property
+    def attenuation(self) -> _Vec3:
+        """(kc, kl, kq)."""
     @property
     def position(self) -> _Vec3:
         """World position."""

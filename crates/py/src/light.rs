@@ -16,20 +16,26 @@ pub struct PyDirectionalLight {
 #[pymethods]
 impl PyDirectionalLight {
     #[new]
-    #[pyo3(signature = (direction, color=None, intensity=1.0))]
+    #[pyo3(signature = (direction, color=None, intensity=1.0, ambient=None))]
     fn new(
         direction: &Bound<'_, PyAny>,
         color: Option<&Bound<'_, PyAny>>,
         intensity: f64,
+        ambient: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let color = color.map_or(Ok(glam::Vec3::ONE), |c| convert::vec3(c, "color"))?;
-        let inner = core::DirectionalLight::new(
-            convert::vec3(direction, "direction")?,
-            color,
-            intensity as f32,
-        )
-        .map_err(to_py)?;
+        let ambient = ambient.map_or(Ok(glam::Vec3::ZERO), |a| convert::vec3(a, "ambient"))?;
+        let direction = convert::vec3(direction, "direction")?;
+        let inner = core::DirectionalLight::new(direction, color, intensity as f32)
+            .and_then(|l| l.with_ambient(ambient))
+            .map_err(to_py)?;
         Ok(Self { inner })
+    }
+
+    /// The light's own ambient colour (r, g, b).
+    #[getter]
+    fn ambient(&self) -> (f32, f32, f32) {
+        self.inner.ambient.into()
     }
 
     /// Unit direction of travel.
@@ -70,20 +76,36 @@ pub struct PyPointLight {
 #[pymethods]
 impl PyPointLight {
     #[new]
-    #[pyo3(signature = (position, color=None, intensity=1.0))]
+    #[pyo3(signature = (position, color=None, intensity=1.0, attenuation=None, ambient=None))]
     fn new(
         position: &Bound<'_, PyAny>,
         color: Option<&Bound<'_, PyAny>>,
         intensity: f64,
+        attenuation: Option<&Bound<'_, PyAny>>,
+        ambient: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let color = color.map_or(Ok(glam::Vec3::ONE), |c| convert::vec3(c, "color"))?;
-        let inner = core::PointLight::new(
-            convert::vec3(position, "position")?,
-            color,
-            intensity as f32,
-        )
-        .map_err(to_py)?;
+        let ambient = ambient.map_or(Ok(glam::Vec3::ZERO), |a| convert::vec3(a, "ambient"))?;
+        let k = attenuation.map_or(Ok(glam::Vec3::X), |a| convert::vec3(a, "attenuation"))?;
+        let position = convert::vec3(position, "position")?;
+        let inner = core::PointLight::new(position, color, intensity as f32)
+            .and_then(|l| l.with_ambient(ambient))
+            .and_then(|l| l.with_attenuation(k.x, k.y, k.z))
+            .map_err(to_py)?;
         Ok(Self { inner })
+    }
+
+    /// The light's own ambient colour (r, g, b), attenuated like the rest.
+    #[getter]
+    fn ambient(&self) -> (f32, f32, f32) {
+        self.inner.ambient.into()
+    }
+
+    /// Distance attenuation (kc, kl, kq): the light is divided by kc + kl·d + kq·d².
+    #[getter]
+    fn attenuation(&self) -> (f32, f32, f32) {
+        let [a, b, c] = self.inner.attenuation;
+        (a, b, c)
     }
 
     /// World position.

@@ -16,23 +16,26 @@ pub struct PyMaterial {
 #[pymethods]
 impl PyMaterial {
     #[new]
-    #[pyo3(signature = (ambient=None, diffuse=None, specular=None, shininess=None))]
+    #[pyo3(signature = (ambient=None, diffuse=None, specular=None, shininess=None, emission=None))]
     fn new(
         ambient: Option<&Bound<'_, PyAny>>,
         diffuse: Option<&Bound<'_, PyAny>>,
         specular: Option<&Bound<'_, PyAny>>,
         shininess: Option<f64>,
+        emission: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let d = core::Material::default();
         let pick = |v: Option<&Bound<'_, PyAny>>, name: &str, dflt| -> PyResult<glam::Vec3> {
             v.map_or(Ok(dflt), |v| convert::vec3(v, name))
         };
+        let emission = pick(emission, "emission", glam::Vec3::ZERO)?;
         let inner = core::Material::new(
             pick(ambient, "ambient", d.ambient)?,
             pick(diffuse, "diffuse", d.diffuse)?,
             pick(specular, "specular", d.specular)?,
             shininess.map_or(d.shininess, |s| s as f32),
         )
+        .and_then(|m| m.with_emission(emission))
         .map_err(to_py)?;
         Ok(PyMaterial { inner })
     }
@@ -75,14 +78,21 @@ impl PyMaterial {
         self.inner.shininess
     }
 
+    /// Emitted colour (r, g, b), added unlit.
+    #[getter]
+    fn emission(&self) -> (f32, f32, f32) {
+        self.inner.emission.into()
+    }
+
     fn __repr__(&self) -> String {
         let m = &self.inner;
         format!(
-            "Material(ambient={:?}, diffuse={:?}, specular={:?}, shininess={})",
+            "Material(ambient={:?}, diffuse={:?}, specular={:?}, shininess={}, emission={:?})",
             m.ambient.to_array(),
             m.diffuse.to_array(),
             m.specular.to_array(),
-            m.shininess
+            m.shininess,
+            m.emission.to_array()
         )
     }
 }

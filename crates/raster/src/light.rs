@@ -12,9 +12,12 @@ pub struct DirectionalLight {
     pub color: Vec3,
     /// Scalar multiplier of `color`.
     pub intensity: f32,
+    /// The light's own ambient colour `Ia_i` (OpenGL `GL_AMBIENT` of a light), black by
+    /// default; not scaled by `intensity`.
+    pub ambient: Vec3,
 }
 
-/// A light at a point, shining equally in all directions (no attenuation in this version).
+/// A light at a point, shining equally in all directions.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PointLight {
     /// World-space position.
@@ -23,6 +26,25 @@ pub struct PointLight {
     pub color: Vec3,
     /// Scalar multiplier of `color`.
     pub intensity: f32,
+    /// The light's own ambient colour, black by default; attenuated like the rest.
+    pub ambient: Vec3,
+    /// Distance attenuation `(kc, kl, kq)`: the light is scaled by `1 / (kc + kl·d + kq·d²)`.
+    /// `(1, 0, 0)` (the default) is no attenuation.
+    pub attenuation: [f32; 3],
+}
+
+/// Smallest attenuation denominator: a light exactly at the surface with `kc = 0` gives a
+/// large but finite value instead of infinity.
+pub const MIN_ATTENUATION_DENOMINATOR: f32 = 1e-6;
+
+fn check_ambient(ambient: Vec3) -> Result<()> {
+    if !ambient.is_finite() || ambient.min_element() < 0.0 {
+        return Err(RasterError::invalid(format!(
+            "light ambient must be finite and >= 0, got {:?}",
+            ambient.to_array()
+        )));
+    }
+    Ok(())
 }
 
 /// Any light a scene can hold.
@@ -66,7 +88,15 @@ impl DirectionalLight {
             direction: unit,
             color,
             intensity,
+            ambient: Vec3::ZERO,
         })
+    }
+
+    /// The same light with its own ambient colour (finite, ≥ 0).
+    pub fn with_ambient(mut self, ambient: Vec3) -> Result<Self> {
+        check_ambient(ambient)?;
+        self.ambient = ambient;
+        Ok(self)
     }
 
     /// The unit direction the light travels.
@@ -89,7 +119,34 @@ impl PointLight {
             position,
             color,
             intensity,
+            ambient: Vec3::ZERO,
+            attenuation: [1.0, 0.0, 0.0],
         })
+    }
+
+    /// The same light with its own ambient colour (finite, ≥ 0).
+    pub fn with_ambient(mut self, ambient: Vec3) -> Result<Self> {
+        check_ambient(ambient)?;
+        self.ambient = ambient;
+        Ok(self)
+    }
+
+    /// The same light attenuated by `1 / (kc + kl·d + kq·d²)`; each coefficient finite and
+    /// ≥ 0, not all zero.
+    pub fn with_attenuation(mut self, kc: f32, kl: f32, kq: f32) -> Result<Self> {
+        let k = [kc, kl, kq];
+        if k.iter().any(|v| !v.is_finite() || *v < 0.0) || k.iter().all(|&v| v == 0.0) {
+            return Err(RasterError::invalid(format!(
+                "attenuation (kc, kl, kq) must be finite, >= 0 and not all zero, got {k:?}"
+            )));
+        }
+        self.attenuation = k;
+        Ok(self)
+    }
+
+    /// Whether the attenuation is not the identity `(1, 0, 0)`.
+    pub fn is_attenuated(&self) -> bool {
+        self.attenuation != [1.0, 0.0, 0.0]
     }
 }
 
@@ -118,5 +175,11 @@ mod tests {
         assert_eq!(d.direction(), -Vec3::Y);
         assert!(PointLight::new(Vec3::NAN, Vec3::ONE, 1.0).is_err());
         assert!(PointLight::new(Vec3::ZERO, Vec3::new(1.0, f32::NAN, 0.0), 1.0).is_err());
+        let p = PointLight::new(Vec3::ZERO, Vec3::ONE, 1.0).unwrap();
+        assert!(!p.is_attenuated());
+        assert!(p.with_attenuation(0.0, 0.0, 0.0).is_err());
+        assert!(p.with_attenuation(1.0, -1.0, 0.0).is_err());
+        assert!(p.with_attenuation(0.0, 0.0, 1.0).unwrap().is_attenuated());
+        assert!(p.with_ambient(Vec3::new(-1.0, 0.0, 0.0)).is_err());
     }
 }

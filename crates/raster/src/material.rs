@@ -16,6 +16,8 @@ pub struct Material {
     pub specular: Vec3,
     /// Specular exponent `f` (≥ 0).
     pub shininess: f32,
+    /// Emitted colour `ke` (RGB), added unlit (OpenGL's `GL_EMISSION`); black by default.
+    pub emission: Vec3,
 }
 
 impl Default for Material {
@@ -26,6 +28,7 @@ impl Default for Material {
             diffuse: Vec3::splat(0.8),
             specular: Vec3::splat(0.5),
             shininess: 32.0,
+            emission: Vec3::ZERO,
         }
     }
 }
@@ -55,7 +58,20 @@ impl Material {
             diffuse,
             specular,
             shininess,
+            emission: Vec3::ZERO,
         })
+    }
+
+    /// The same material emitting `emission` (finite, ≥ 0).
+    pub fn with_emission(mut self, emission: Vec3) -> Result<Self> {
+        if !emission.is_finite() || emission.min_element() < 0.0 {
+            return Err(RasterError::invalid(format!(
+                "material emission must be finite and >= 0, got {:?}",
+                emission.to_array()
+            )));
+        }
+        self.emission = emission;
+        Ok(self)
     }
 
     /// The preset called `name` (case-insensitive; spaces, `_` and `-` are interchangeable).
@@ -102,6 +118,7 @@ impl Preset {
             diffuse: Vec3::from_array(self.diffuse),
             specular: Vec3::from_array(self.specular),
             shininess: self.shininess,
+            emission: Vec3::ZERO,
         }
     }
 }

@@ -1,7 +1,7 @@
 //! Wavefront OBJ (+ MTL) loading through tobj.
 //!
 //! Polygons are triangulated (fan), positions/normals/UVs are re-indexed to one index per
-//! distinct corner, and `Ka`/`Kd`/`Ks`/`Ns` from the MTL file become [`Material`]s. Recovery
+//! distinct corner, and `Ka`/`Kd`/`Ks`/`Ns`/`Ke` from the MTL file become [`Material`]s. Recovery
 //! rules: a missing or unreadable MTL file leaves the parts without material (geometry still
 //! loads); normals are used only when every face corner of a group has one, otherwise they
 //! are generated per OBJ position (shared across UV seams); points and lines are ignored. Parse errors name the file and, where a line can
@@ -203,6 +203,7 @@ fn material_from_mtl(path: &Path, m: &tobj::Material) -> Result<Material> {
         v(m.specular, d.specular),
         m.shininess.unwrap_or(d.shininess),
     )
+    .and_then(|mat| mat.with_emission(v(m.emissive, Vec3::ZERO)))
     .map_err(|e| RasterError::Parse {
         path: path.to_path_buf(),
         line: None,
@@ -382,7 +383,7 @@ mod tests {
     fn reads_mtl_and_tolerates_missing_mtl() {
         write(
             "m.mtl",
-            "newmtl shiny\nKa 0.1 0.2 0.3\nKd 0.4 0.5 0.6\nKs 1 1 1\nNs 64\n",
+            "newmtl shiny\nKa 0.1 0.2 0.3\nKd 0.4 0.5 0.6\nKs 1 1 1\nNs 64\nKe 0.5 0 0\n",
         );
         let p = write(
             "withmtl.obj",
@@ -392,6 +393,7 @@ mod tests {
         let m = parts[0].material.unwrap();
         assert_eq!(m.diffuse, Vec3::new(0.4, 0.5, 0.6));
         assert_eq!(m.shininess, 64.0);
+        assert_eq!(m.emission, Vec3::new(0.5, 0.0, 0.0));
         let p = write(
             "nomtl.obj",
             "mtllib missing.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl x\nf 1 2 3\n",

@@ -16,7 +16,7 @@ use std::str::FromStr;
 use glam::Vec3;
 
 use crate::error::RasterError;
-use crate::light::Light;
+use crate::light::{Light, MIN_ATTENUATION_DENOMINATOR};
 use crate::material::Material;
 
 /// Where lighting is evaluated.
@@ -78,6 +78,16 @@ struct PreparedLight {
     geometry: LightGeometry,
     diffuse: Vec3,
     specular: Vec3,
+    /// `ka·Ia_i` of an attenuated light (unattenuated ones are folded into `base`).
+    ambient: Vec3,
+    /// `(kc, kl, kq)` of an attenuated point light; `None` costs nothing per pixel.
+    attenuation: Option<[f32; 3]>,
+}
+
+/// `1 / max(kc + kl·d + kq·d², MIN_ATTENUATION_DENOMINATOR)`.
+#[inline(always)]
+fn attenuation(k: [f32; 3], d: f32) -> f32 {
+    1.0 / (k[0] + d * (k[1] + d * k[2])).max(MIN_ATTENUATION_DENOMINATOR)
 }
 
 /// A material combined with the scene's lights: everything constant per render folded once.
@@ -93,25 +103,44 @@ pub struct PreparedMaterial {
 impl PreparedMaterial {
     /// Folds `material`, the scene ambient `ambient` and `lights` for one render.
     pub fn new(material: &Material, ambient: Vec3, lights: &[Light], model: SpecularModel) -> Self {
+        // c = ke + ka·Ia + Σ att·[ka·Ia_i + ...]: constant terms are summed once here.
+        let mut base = material.emission + material.ambient * ambient;
         let lights = lights
             .iter()
             .map(|l| {
-                let (geometry, radiance) = match l {
+                let (geometry, radiance, light_ambient, att) = match l {
                     Light::Directional(d) => (
                         LightGeometry::Directional(-d.direction()),
                         d.color * d.intensity,
+                        d.ambient,
+                        None,
                     ),
-                    Light::Point(p) => (LightGeometry::Point(p.position), p.color * p.intensity),
+                    Light::Point(p) => (
+                        LightGeometry::Point(p.position),
+                        p.color * p.intensity,
+                        p.ambient,
+                        p.is_attenuated().then_some(p.attenuation),
+                    ),
                 };
+                let light_ambient = material.ambient * light_ambient;
+                if att.is_none() {
+                    base += light_ambient;
+                }
                 PreparedLight {
                     geometry,
                     diffuse: material.diffuse * radiance,
                     specular: material.specular * radiance,
+                    ambient: if att.is_some() {
+                        light_ambient
+                    } else {
+                        Vec3::ZERO
+                    },
+                    attenuation: att,
                 }
             })
             .collect();
         PreparedMaterial {
-            base: material.ambient * ambient,
+            base,
             lights,
             shininess: material.shininess,
             specular_on: material.has_specular(),
@@ -146,13 +175,24 @@ impl PreparedMaterial {
             Vec3::ZERO
         };
         for light in &self.lights {
-            let l = match light.geometry {
-                LightGeometry::Directional(l) => l,
-                LightGeometry::Point(pos) => (pos - p).normalize_or_zero(),
+            let (l, att) = match light.geometry {
+                LightGeometry::Directional(l) => (l, 1.0),
+                LightGeometry::Point(pos) => {
+                    let to_light = pos - p;
+                    let att = match light.attenuation {
+                        Some(k) => {
+                            let a = attenuation(k, to_light.length());
+                            c += light.ambient * a;
+                            a
+                        }
+                        None => 1.0,
+                    };
+                    (to_light.normalize_or_zero(), att)
+                }
             };
             let n_dot_l = n.dot(l);
             if n_dot_l > 0.0 {
-                c += light.diffuse * n_dot_l;
+                c += light.diffuse * (n_dot_l * att);
                 if SPECULAR {
                     let s = if BLINN {
                         let h = l + v;
@@ -169,7 +209,7 @@ impl PreparedMaterial {
                     // `s` is in [0, 1] (or NaN → skipped), so powf never sees a negative base;
                     // 0^0 = 1 by IEEE pow.
                     if s >= 0.0 {
-                        c += light.specular * pow01(s, self.shininess);
+                        c += light.specular * (pow01(s, self.shininess) * att);
                     }
                 }
             }
@@ -260,13 +300,27 @@ impl PreparedMaterial {
             });
         }
         let mut l = [[0.0; LANES]; 3];
+        let mut att = [1.0; LANES];
         for light in &self.lights {
             match light.geometry {
                 LightGeometry::Directional(d) => {
                     l = [[d.x; LANES], [d.y; LANES], [d.z; LANES]];
+                    att = [1.0; LANES];
                 }
                 LightGeometry::Point(q) => {
                     normalize_lanes(&mut l, |k| (q.x - p[0][k], q.y - p[1][k], q.z - p[2][k]));
+                    match light.attenuation {
+                        Some(kk) => {
+                            for k in 0..LANES {
+                                let (dx, dy, dz) = (q.x - p[0][k], q.y - p[1][k], q.z - p[2][k]);
+                                att[k] = attenuation(kk, (dx * dx + dy * dy + dz * dz).sqrt());
+                                c[0][k] += light.ambient.x * att[k];
+                                c[1][k] += light.ambient.y * att[k];
+                                c[2][k] += light.ambient.z * att[k];
+                            }
+                        }
+                        None => att = [1.0; LANES],
+                    }
                 }
             }
             for k in 0..LANES {
@@ -274,7 +328,7 @@ impl PreparedMaterial {
                 let (lx, ly, lz) = (l[0][k], l[1][k], l[2][k]);
                 let ndl = nx * lx + ny * ly + nz * lz;
                 let lit = ndl > 0.0;
-                let d = if lit { ndl } else { 0.0 };
+                let d = if lit { ndl * att[k] } else { 0.0 };
                 c[0][k] += light.diffuse.x * d;
                 c[1][k] += light.diffuse.y * d;
                 c[2][k] += light.diffuse.z * d;
@@ -294,7 +348,7 @@ impl PreparedMaterial {
                         ((rx * vx + ry * vy + rz * vz).max(0.0), true)
                     };
                     let sp = pow01(s, self.shininess);
-                    let sp = if lit && ok { sp } else { 0.0 };
+                    let sp = if lit && ok { sp * att[k] } else { 0.0 };
                     c[0][k] += light.specular.x * sp;
                     c[1][k] += light.specular.y * sp;
                     c[2][k] += light.specular.z * sp;
@@ -325,8 +379,53 @@ mod tests {
     use crate::light::{DirectionalLight, PointLight};
 
     #[test]
+    fn attenuation_emission_and_light_ambient_hand_computed() {
+        // Light 2 units above the point: d = 2, att = 1 / (0.5 + 0.25·2 + 0.125·4) = 2/3.
+        let light = PointLight::new(Vec3::new(0.0, 0.0, 2.0), Vec3::ONE, 3.0)
+            .unwrap()
+            .with_attenuation(0.5, 0.25, 0.125)
+            .unwrap()
+            .with_ambient(Vec3::splat(0.3))
+            .unwrap();
+        let sun = DirectionalLight::new(Vec3::X, Vec3::ONE, 1.0) // grazing: n·l = 0
+            .unwrap()
+            .with_ambient(Vec3::splat(0.1))
+            .unwrap();
+        let m = Material::new(Vec3::splat(0.5), Vec3::splat(0.4), Vec3::ZERO, 1.0)
+            .unwrap()
+            .with_emission(Vec3::new(0.01, 0.02, 0.03))
+            .unwrap();
+        let pm = PreparedMaterial::new(
+            &m,
+            Vec3::splat(0.2),
+            &[light.into(), sun.into()],
+            SpecularModel::BlinnPhong,
+        );
+        let c = pm.shade(Vec3::Z, Vec3::ZERO, Vec3::new(0.0, 0.0, 5.0));
+        let att = 2.0 / 3.0;
+        // ke + ka·Ia + ka·Ia_sun + att·(ka·Ia_point + kd·Id·1)
+        let want = Vec3::new(0.01, 0.02, 0.03)
+            + Vec3::splat(0.5 * 0.2 + 0.5 * 0.1 + att * (0.5 * 0.3 + 0.4 * 3.0));
+        assert!((c - want).abs().max_element() < 1e-6, "{c} vs {want}");
+        // Light exactly at the surface with kc = 0: large but finite.
+        let at = PointLight::new(Vec3::ZERO, Vec3::ONE, 1.0)
+            .unwrap()
+            .with_attenuation(0.0, 0.0, 1.0)
+            .unwrap();
+        let pm = PreparedMaterial::new(&m, Vec3::ZERO, &[at.into()], SpecularModel::BlinnPhong);
+        assert!(pm.shade(Vec3::Z, Vec3::ZERO, Vec3::Z).is_finite());
+    }
+
+    #[test]
     fn lanes_match_scalar() {
         let lights: Vec<Light> = vec![
+            PointLight::new(Vec3::new(-1.0, 1.0, 2.0), Vec3::new(0.9, 0.8, 0.7), 2.0)
+                .unwrap()
+                .with_attenuation(0.5, 0.2, 0.1)
+                .unwrap()
+                .with_ambient(Vec3::splat(0.2))
+                .unwrap()
+                .into(),
             DirectionalLight::new(Vec3::new(-1.0, -0.5, -1.0), Vec3::new(1.0, 0.9, 0.8), 1.0)
                 .unwrap()
                 .into(),
@@ -334,7 +433,10 @@ mod tests {
                 .unwrap()
                 .into(),
         ];
-        let m = Material::preset("brass").unwrap();
+        let m = Material::preset("brass")
+            .unwrap()
+            .with_emission(Vec3::new(0.1, 0.0, 0.05))
+            .unwrap();
         let eye = Vec3::new(0.2, 0.3, 3.0);
         for model in [SpecularModel::BlinnPhong, SpecularModel::Phong] {
             let pm = PreparedMaterial::new(&m, Vec3::splat(0.2), &lights, model);
