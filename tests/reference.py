@@ -91,6 +91,24 @@ class PointLight:
 
 
 @dataclass
+class SpotLight:
+    """Spot light: a :class:`PointLight` restricted to a cone. Spot factor
+    ``max(-l.d, 0)**exponent`` where ``-l.d >= cos(cutoff)`` (degrees), else 0; ``cutoff``
+    180 means no cone. With ``inner`` (degrees) the factor is further multiplied by
+    ``smoothstep(cos(cutoff), cos(inner), -l.d)``."""
+
+    position: Vec3
+    direction: Vec3
+    cutoff: float = 30.0
+    exponent: float = 0.0
+    color: Vec3 = (1.0, 1.0, 1.0)
+    intensity: float = 1.0
+    attenuation: Vec3 = (1.0, 0.0, 0.0)
+    ambient: Vec3 = (0.0, 0.0, 0.0)
+    inner: float | None = None
+
+
+@dataclass
 class Material:
     """Phong material: RGB ambient/diffuse/specular reflectances, shininess, emission."""
 
@@ -357,7 +375,7 @@ def lighting(
     """
     if specular not in ("blinn", "phong"):
         raise ValueError(f"unknown specular model {specular!r}")
-    if isinstance(lights, (DirectionalLight, PointLight)):
+    if isinstance(lights, (DirectionalLight, PointLight, SpotLight)):
         lights = [lights]
     p = np.asarray(p, dtype=np.float64)
     n = np.asarray(n, dtype=np.float64)
@@ -375,12 +393,23 @@ def lighting(
         att = np.ones(shape[:-1])
         if isinstance(light, DirectionalLight):
             lv = np.broadcast_to(_normalize(-_vec3(light.direction)), shape)
-        elif isinstance(light, PointLight):
+        elif isinstance(light, (PointLight, SpotLight)):
             to_light = _vec3(light.position) - p
             lv = _normalize(to_light)
             kc, kl, kq = (float(k) for k in light.attenuation)
             d = np.sqrt(_dot(to_light, to_light))
             att = 1.0 / np.maximum(kc + kl * d + kq * d * d, 1e-6)
+            if isinstance(light, SpotLight) and light.cutoff != 180:
+                cos_a = -_dot(lv, _normalize(_vec3(light.direction)))
+                cos_c = np.cos(np.radians(light.cutoff))
+                spot = np.where(
+                    cos_a >= cos_c, np.power(np.maximum(cos_a, 0.0), light.exponent), 0.0
+                )
+                if light.inner is not None:
+                    cos_i = np.cos(np.radians(light.inner))
+                    t = np.clip((cos_a - cos_c) / (cos_i - cos_c), 0.0, 1.0)
+                    spot = spot * t * t * (3 - 2 * t)
+                att = att * spot
         else:
             raise TypeError(f"unsupported light {light!r}")
         intensity = _vec3(light.color, "color") * float(light.intensity)
@@ -545,7 +574,7 @@ def render_reference(
     near, far = float(camera.near), float(camera.far)
     if not camera.is_ortho and near <= 0:
         raise ValueError("perspective near plane must be > 0")
-    if isinstance(lights, (DirectionalLight, PointLight)):
+    if isinstance(lights, (DirectionalLight, PointLight, SpotLight)):
         lights = [lights]
 
     v_obj = np.asarray(vertices, dtype=np.float64).reshape(-1, 3)

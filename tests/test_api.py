@@ -848,3 +848,20 @@ def test_emission_alone_lights_an_unlit_scene():
     s.add(sl.Mesh(v, [[0, 1, 2], [0, 2, 3]]), material=sl.Material(emission=(0.25, 0.5, 1.0)))
     img = sl.render(s, sl.Camera.look_at((0, 0, 0), (0, 0, -1)), 16, 12, dtype="float32")
     np.testing.assert_array_equal(img, np.broadcast_to([0.25, 0.5, 1.0], img.shape))
+
+
+def test_spot_light_round_trip_and_cone():
+    s = sl.SpotLight((0, 0, 2), (0, 0, -3), cutoff=30.0, exponent=2.0, inner=20.0)
+    assert s.direction == (0.0, 0.0, -1.0)
+    assert (s.cutoff, s.exponent, s.inner) == (30.0, 2.0, 20.0)
+    assert sl.SpotLight((0, 0, 2), (0, 0, -1)).inner is None
+    # A lit disc on a floor: radius 2·tan(30°) = 1.155 around the spot's foot.
+    v = np.array([[-3, -3, 0], [3, -3, 0], [3, 3, 0], [-3, 3, 0]], float)
+    scene = sl.Scene(ambient=(0, 0, 0))
+    scene.add(sl.Mesh(v, [[0, 1, 2], [0, 2, 3]]), material=sl.Material(specular=(0, 0, 0)))
+    scene.add_light(sl.SpotLight((0, 0, 2), (0, 0, -1), cutoff=30.0))
+    cam = sl.Camera.orthographic((0, 0, 5), (0, 0, 0), height=6.0)
+    img = sl.render(scene, cam, 120, 120, dtype="float32")
+    lit = img[..., 0] > 0
+    area = lit.sum() * (6.0 / 120) ** 2
+    assert abs(area - np.pi * (2 * np.tan(np.radians(30))) ** 2) < 0.05

@@ -145,6 +145,28 @@ SPHERE_CASES = {
             "copper",
             emission=(0.05, 0.0, 0.1),
         ),
+        # Two spot lights whose cone edges cross the sphere: a hard one and a smooth one.
+        Case(
+            "persp-spots",
+            "sphere",
+            PERSP,
+            (
+                ref.SpotLight(
+                    (0.3, 0.4, 3.0), (-0.1, -0.1, -1.0), cutoff=14.0, exponent=8.0, intensity=1.5
+                ),
+                ref.SpotLight(
+                    (2.5, 1.0, 1.0),
+                    (-1.0, -0.3, -0.3),
+                    cutoff=20.0,
+                    exponent=2.0,
+                    color=(0.4, 0.6, 1.0),
+                    attenuation=(0.2, 0.1, 0.05),
+                    ambient=(0.1, 0.1, 0.1),
+                    inner=12.0,
+                ),
+            ),
+            "pewter",
+        ),
         # Intensities > 1 drive channels above 1: float32 keeps them, uint8 clamps.
         Case(
             "ortho-xform-2lights-bright",
@@ -191,6 +213,18 @@ def _mesh_arrays(name):
 
 
 def _sl_light(light):
+    if isinstance(light, ref.SpotLight):
+        return sl.SpotLight(
+            light.position,
+            light.direction,
+            cutoff=light.cutoff,
+            exponent=light.exponent,
+            color=light.color,
+            intensity=light.intensity,
+            attenuation=light.attenuation,
+            ambient=light.ambient,
+            inner=light.inner,
+        )
     if isinstance(light, ref.DirectionalLight):
         return sl.DirectionalLight(
             light.direction, color=light.color, intensity=light.intensity, ambient=light.ambient

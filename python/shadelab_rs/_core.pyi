@@ -25,6 +25,7 @@ __all__ = [
     "ObjParseError",
     "PointLight",
     "Scene",
+    "SpotLight",
     "__version__",
     "load_obj",
     "load_obj_parts",
@@ -203,6 +204,55 @@ class PointLight:
         """Multiplier of ``color``."""
 
 @final
+class SpotLight:
+    """A point light restricted to a cone, with OpenGL's GL_SPOT_CUTOFF / GL_SPOT_EXPONENT
+    meaning: the spot factor is ``max(-l.d, 0)**exponent`` inside the cone
+    (``-l.d >= cos(cutoff)``) and 0 outside (l: surface to light, d: ``direction``).
+    ``cutoff`` is in degrees, in (0, 90] or exactly 180 (no cone). ``inner`` (degrees,
+    < cutoff) fades the edge with a smoothstep from the cutoff in to ``inner``. The other
+    arguments are those of PointLight; ambient is scaled by the spot factor too."""
+
+    def __new__(
+        cls,
+        position: _Vec3Like,
+        direction: _Vec3Like,
+        cutoff: float = 30.0,
+        exponent: float = 0.0,
+        color: _Vec3Like | None = None,
+        intensity: float = 1.0,
+        attenuation: _Vec3Like | None = None,
+        ambient: _Vec3Like | None = None,
+        inner: float | None = None,
+    ) -> SpotLight: ...
+    @property
+    def position(self) -> _Vec3:
+        """World position."""
+    @property
+    def direction(self) -> _Vec3:
+        """Unit direction the cone points."""
+    @property
+    def cutoff(self) -> float:
+        """Cone half-angle in degrees (180: no cone)."""
+    @property
+    def exponent(self) -> float:
+        """Fall-off exponent."""
+    @property
+    def inner(self) -> float | None:
+        """Inner angle of the smooth edge in degrees, or None."""
+    @property
+    def color(self) -> _Vec3:
+        """RGB colour."""
+    @property
+    def intensity(self) -> float:
+        """Multiplier of ``color``."""
+    @property
+    def attenuation(self) -> _Vec3:
+        """(kc, kl, kq)."""
+    @property
+    def ambient(self) -> _Vec3:
+        """The light's own ambient colour."""
+
+@final
 class Scene:
     """Objects, lights and the global ambient light (default ``(0.2, 0.2, 0.2)``)."""
 
@@ -213,8 +263,8 @@ class Scene:
         """Adds ``mesh`` with ``material`` (default: grey plastic) placed by the 4x4 model
         matrix ``transform`` (column vectors: ``p_world = transform @ [x, y, z, 1]``; it must
         be affine and invertible). The mesh is shared, not copied."""
-    def add_light(self, light: DirectionalLight | PointLight) -> None:
-        """Adds a DirectionalLight or PointLight."""
+    def add_light(self, light: DirectionalLight | PointLight | SpotLight) -> None:
+        """Adds a DirectionalLight, PointLight or SpotLight."""
     @property
     def ambient(self) -> _Vec3:
         """Global ambient light (r, g, b)."""

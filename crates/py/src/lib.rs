@@ -21,6 +21,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<material::PyMaterial>()?;
     m.add_class::<light::PyDirectionalLight>()?;
     m.add_class::<light::PyPointLight>()?;
+    m.add_class::<light::PySpotLight>()?;
     m.add_class::<scene::PyScene>()?;
     m.add_class::<camera::PyCamera>()?;
     m.add_function(wrap_pyfunction!(mesh::load_obj, m)?)?;

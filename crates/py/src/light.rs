@@ -135,3 +135,105 @@ impl PyPointLight {
         )
     }
 }
+
+/// A point light restricted to a cone (OpenGL's GL_SPOT_CUTOFF / GL_SPOT_EXPONENT).
+#[pyclass(name = "SpotLight", module = "shadelab_rs._core", frozen)]
+#[derive(Clone)]
+pub struct PySpotLight {
+    pub inner: core::SpotLight,
+}
+
+#[pymethods]
+impl PySpotLight {
+    #[new]
+    #[pyo3(signature = (position, direction, cutoff=30.0, exponent=0.0, color=None, intensity=1.0,
+                        attenuation=None, ambient=None, inner=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        position: &Bound<'_, PyAny>,
+        direction: &Bound<'_, PyAny>,
+        cutoff: f64,
+        exponent: f64,
+        color: Option<&Bound<'_, PyAny>>,
+        intensity: f64,
+        attenuation: Option<&Bound<'_, PyAny>>,
+        ambient: Option<&Bound<'_, PyAny>>,
+        inner: Option<f64>,
+    ) -> PyResult<Self> {
+        let point = PyPointLight::new(position, color, intensity, attenuation, ambient)?.inner;
+        let direction = convert::vec3(direction, "direction")?;
+        let spot = core::SpotLight::new(point, direction, cutoff as f32, exponent as f32)
+            .and_then(|s| match inner {
+                Some(i) => s.with_inner(i as f32),
+                None => Ok(s),
+            })
+            .map_err(to_py)?;
+        Ok(Self { inner: spot })
+    }
+
+    /// World position.
+    #[getter]
+    fn position(&self) -> (f32, f32, f32) {
+        self.inner.point.position.into()
+    }
+
+    /// Unit direction the cone points.
+    #[getter]
+    fn direction(&self) -> (f32, f32, f32) {
+        self.inner.direction().into()
+    }
+
+    /// Cone half-angle in degrees (180: no cone).
+    #[getter]
+    fn cutoff(&self) -> f32 {
+        self.inner.cutoff()
+    }
+
+    /// Fall-off exponent.
+    #[getter]
+    fn exponent(&self) -> f32 {
+        self.inner.exponent()
+    }
+
+    /// Inner angle of the smooth edge in degrees, or None.
+    #[getter]
+    fn inner(&self) -> Option<f32> {
+        self.inner.inner()
+    }
+
+    /// RGB colour.
+    #[getter]
+    fn color(&self) -> (f32, f32, f32) {
+        self.inner.point.color.into()
+    }
+
+    /// Multiplier of `color`.
+    #[getter]
+    fn intensity(&self) -> f32 {
+        self.inner.point.intensity
+    }
+
+    /// Distance attenuation (kc, kl, kq).
+    #[getter]
+    fn attenuation(&self) -> (f32, f32, f32) {
+        let [a, b, c] = self.inner.point.attenuation;
+        (a, b, c)
+    }
+
+    /// The light's own ambient colour, scaled by attenuation and the spot factor.
+    #[getter]
+    fn ambient(&self) -> (f32, f32, f32) {
+        self.inner.point.ambient.into()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "SpotLight(position={:?}, direction={:?}, cutoff={}, exponent={}, inner={:?})",
+            self.inner.point.position.to_array(),
+            self.inner.direction().to_array(),
+            self.inner.cutoff(),
+            self.inner.exponent(),
+            self.inner.inner()
+        )
+    }
+}

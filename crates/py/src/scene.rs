@@ -7,7 +7,7 @@ use shadelab_raster as core;
 
 use crate::convert;
 use crate::errors::to_py;
-use crate::light::{PyDirectionalLight, PyPointLight};
+use crate::light::{PyDirectionalLight, PyPointLight, PySpotLight};
 use crate::material::PyMaterial;
 use crate::mesh::PyMesh;
 
@@ -45,15 +45,17 @@ impl PyScene {
             .map_err(to_py)
     }
 
-    /// Adds a DirectionalLight or PointLight.
+    /// Adds a DirectionalLight, PointLight or SpotLight.
     fn add_light(&mut self, light: &Bound<'_, PyAny>) -> PyResult<()> {
         if let Ok(l) = light.extract::<PyRef<'_, PyDirectionalLight>>() {
             self.inner.add_light(l.inner);
         } else if let Ok(l) = light.extract::<PyRef<'_, PyPointLight>>() {
             self.inner.add_light(l.inner);
+        } else if let Ok(l) = light.extract::<PyRef<'_, PySpotLight>>() {
+            self.inner.add_light(l.inner);
         } else {
             return Err(PyTypeError::new_err(format!(
-                "add_light expects a DirectionalLight or PointLight, got {}",
+                "add_light expects a DirectionalLight, PointLight or SpotLight, got {}",
                 light.get_type().name()?
             )));
         }

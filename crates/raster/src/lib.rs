@@ -37,7 +37,7 @@ mod shading;
 
 pub use camera::{Camera, Projection};
 pub use error::{RasterError, Result};
-pub use light::{DirectionalLight, Light, PointLight};
+pub use light::{DirectionalLight, Light, PointLight, SpotLight, MIN_ATTENUATION_DENOMINATOR};
 pub use material::{preset_names, Material, Preset, PRESETS};
 pub use mesh::{face_normal, generate_vertex_normals, Mesh};
 pub use obj::{load_obj, load_obj_parts, ObjPart};

@@ -16,7 +16,7 @@ use std::str::FromStr;
 use glam::Vec3;
 
 use crate::error::RasterError;
-use crate::light::{Light, MIN_ATTENUATION_DENOMINATOR};
+use crate::light::{Light, SpotLight, MIN_ATTENUATION_DENOMINATOR};
 use crate::material::Material;
 
 /// Where lighting is evaluated.
@@ -71,6 +71,15 @@ enum LightGeometry {
     /// Unit vector toward the light.
     Directional(Vec3),
     Point(Vec3),
+    Spot {
+        position: Vec3,
+        /// Unit direction the cone points.
+        direction: Vec3,
+        cos_cutoff: f32,
+        /// cos of the smooth edge's inner angle; > 1 when there is none.
+        cos_inner: f32,
+        exponent: f32,
+    },
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -78,7 +87,8 @@ struct PreparedLight {
     geometry: LightGeometry,
     diffuse: Vec3,
     specular: Vec3,
-    /// `ka·Ia_i` of an attenuated light (unattenuated ones are folded into `base`).
+    /// `ka·Ia_i` of an attenuated or spot light, scaled per pixel (the others' is folded
+    /// into `base`, and this is zero).
     ambient: Vec3,
     /// `(kc, kl, kq)` of an attenuated point light; `None` costs nothing per pixel.
     attenuation: Option<[f32; 3]>,
@@ -108,33 +118,46 @@ impl PreparedMaterial {
         let lights = lights
             .iter()
             .map(|l| {
-                let (geometry, radiance, light_ambient, att) = match l {
-                    Light::Directional(d) => (
-                        LightGeometry::Directional(-d.direction()),
-                        d.color * d.intensity,
-                        d.ambient,
-                        None,
-                    ),
-                    Light::Point(p) => (
-                        LightGeometry::Point(p.position),
+                let point = |p: &crate::light::PointLight| {
+                    (
                         p.color * p.intensity,
                         p.ambient,
                         p.is_attenuated().then_some(p.attenuation),
+                    )
+                };
+                let (geometry, (radiance, light_ambient, att)) = match l {
+                    Light::Directional(d) => (
+                        LightGeometry::Directional(-d.direction()),
+                        (d.color * d.intensity, d.ambient, None),
+                    ),
+                    Light::Point(p) => (LightGeometry::Point(p.position), point(p)),
+                    // OpenGL: a cutoff of 180 is no cone at all, whatever the exponent.
+                    Light::Spot(s) if s.cutoff() == 180.0 => {
+                        (LightGeometry::Point(s.point.position), point(&s.point))
+                    }
+                    Light::Spot(s) => (
+                        LightGeometry::Spot {
+                            position: s.point.position,
+                            direction: s.direction(),
+                            cos_cutoff: (s.cutoff() as f64).to_radians().cos() as f32,
+                            cos_inner: s
+                                .inner()
+                                .map_or(2.0, |i| (i as f64).to_radians().cos() as f32),
+                            exponent: s.exponent(),
+                        },
+                        point(&s.point),
                     ),
                 };
+                let per_pixel = att.is_some() || matches!(geometry, LightGeometry::Spot { .. });
                 let light_ambient = material.ambient * light_ambient;
-                if att.is_none() {
+                if !per_pixel {
                     base += light_ambient;
                 }
                 PreparedLight {
                     geometry,
                     diffuse: material.diffuse * radiance,
                     specular: material.specular * radiance,
-                    ambient: if att.is_some() {
-                        light_ambient
-                    } else {
-                        Vec3::ZERO
-                    },
+                    ambient: if per_pixel { light_ambient } else { Vec3::ZERO },
                     attenuation: att,
                 }
             })
@@ -179,17 +202,29 @@ impl PreparedMaterial {
                 LightGeometry::Directional(l) => (l, 1.0),
                 LightGeometry::Point(pos) => {
                     let to_light = pos - p;
-                    let att = match light.attenuation {
-                        Some(k) => {
-                            let a = attenuation(k, to_light.length());
-                            c += light.ambient * a;
-                            a
-                        }
-                        None => 1.0,
-                    };
+                    let att = light
+                        .attenuation
+                        .map_or(1.0, |k| attenuation(k, to_light.length()));
                     (to_light.normalize_or_zero(), att)
                 }
+                LightGeometry::Spot {
+                    position,
+                    direction,
+                    cos_cutoff,
+                    cos_inner,
+                    exponent,
+                } => {
+                    let to_light = position - p;
+                    let l = to_light.normalize_or_zero();
+                    let spot =
+                        SpotLight::factor(-l.dot(direction), cos_cutoff, cos_inner, exponent);
+                    let att = light
+                        .attenuation
+                        .map_or(1.0, |k| attenuation(k, to_light.length()));
+                    (l, att * spot)
+                }
             };
+            c += light.ambient * att; // zero unless the light is attenuated or a spot
             let n_dot_l = n.dot(l);
             if n_dot_l > 0.0 {
                 c += light.diffuse * (n_dot_l * att);
@@ -307,19 +342,34 @@ impl PreparedMaterial {
                     l = [[d.x; LANES], [d.y; LANES], [d.z; LANES]];
                     att = [1.0; LANES];
                 }
-                LightGeometry::Point(q) => {
+                LightGeometry::Point(q) | LightGeometry::Spot { position: q, .. } => {
                     normalize_lanes(&mut l, |k| (q.x - p[0][k], q.y - p[1][k], q.z - p[2][k]));
                     match light.attenuation {
                         Some(kk) => {
                             for k in 0..LANES {
                                 let (dx, dy, dz) = (q.x - p[0][k], q.y - p[1][k], q.z - p[2][k]);
                                 att[k] = attenuation(kk, (dx * dx + dy * dy + dz * dz).sqrt());
-                                c[0][k] += light.ambient.x * att[k];
-                                c[1][k] += light.ambient.y * att[k];
-                                c[2][k] += light.ambient.z * att[k];
                             }
                         }
                         None => att = [1.0; LANES],
+                    }
+                    if let LightGeometry::Spot {
+                        direction: d,
+                        cos_cutoff,
+                        cos_inner,
+                        exponent,
+                        ..
+                    } = light.geometry
+                    {
+                        for k in 0..LANES {
+                            let cos_angle = -(l[0][k] * d.x + l[1][k] * d.y + l[2][k] * d.z);
+                            att[k] *= SpotLight::factor(cos_angle, cos_cutoff, cos_inner, exponent);
+                        }
+                    }
+                    for k in 0..LANES {
+                        c[0][k] += light.ambient.x * att[k];
+                        c[1][k] += light.ambient.y * att[k];
+                        c[2][k] += light.ambient.z * att[k];
                     }
                 }
             }
@@ -376,7 +426,7 @@ pub(crate) fn normalize_lanes(out: &mut [Lanes; 3], f: impl Fn(usize) -> (f32, f
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::light::{DirectionalLight, PointLight};
+    use crate::light::{DirectionalLight, PointLight, SpotLight};
 
     #[test]
     fn attenuation_emission_and_light_ambient_hand_computed() {
@@ -417,8 +467,58 @@ mod tests {
     }
 
     #[test]
+    fn spot_cone_edge_hand_computed() {
+        // Spot 2 above the plane z = 0 pointing down, cutoff 30°, exponent 2. At (x, 0, 0),
+        // cos(angle) = 2 / sqrt(x² + 4): inside the cone for x ≤ 2·tan 30° = 1.1547.
+        let point = PointLight::new(Vec3::new(0.0, 0.0, 2.0), Vec3::ONE, 1.0).unwrap();
+        let spot = SpotLight::new(point, -Vec3::Z, 30.0, 2.0).unwrap();
+        let m = Material::new(Vec3::ZERO, Vec3::ONE, Vec3::ZERO, 1.0).unwrap();
+        let pm = PreparedMaterial::new(&m, Vec3::ZERO, &[spot.into()], SpecularModel::BlinnPhong);
+        let eye = Vec3::new(0.0, 0.0, 5.0);
+        for (x, inside) in [(0.0f32, true), (1.15, true), (1.16, false), (3.0, false)] {
+            let c = pm.shade(Vec3::Z, Vec3::new(x, 0.0, 0.0), eye).x;
+            let cos = 2.0 / (x * x + 4.0).sqrt();
+            let want = if inside { cos * cos * cos } else { 0.0 }; // spot cos² × n·l = cos
+            assert!((c - want).abs() < 1e-5, "x = {x}: {c} vs {want}");
+        }
+        // A 180° cutoff is a plain point light, whatever the exponent.
+        let flood = SpotLight::new(point, -Vec3::Z, 180.0, 50.0).unwrap();
+        let a = PreparedMaterial::new(&m, Vec3::ZERO, &[flood.into()], SpecularModel::BlinnPhong);
+        let b = PreparedMaterial::new(&m, Vec3::ZERO, &[point.into()], SpecularModel::BlinnPhong);
+        let q = Vec3::new(5.0, 0.0, 0.0);
+        assert_eq!(a.shade(Vec3::Z, q, eye), b.shade(Vec3::Z, q, eye));
+        // Smooth edge: full inside the inner cone, 0 at the cutoff, in between monotone.
+        let soft = spot.with_inner(20.0).unwrap();
+        let pm = PreparedMaterial::new(&m, Vec3::ZERO, &[soft.into()], SpecularModel::BlinnPhong);
+        let at = |deg: f32| {
+            pm.shade(
+                Vec3::Z,
+                Vec3::new(2.0 * deg.to_radians().tan(), 0.0, 0.0),
+                eye,
+            )
+            .x
+        };
+        let cos = |deg: f32| deg.to_radians().cos();
+        assert!((at(10.0) - cos(10.0).powi(3)).abs() < 1e-5);
+        assert!(at(29.99) < 1e-3 && at(25.0) < cos(25.0).powi(3) && at(25.0) > 0.0);
+    }
+
+    #[test]
     fn lanes_match_scalar() {
         let lights: Vec<Light> = vec![
+            SpotLight::new(
+                PointLight::new(Vec3::new(0.5, 2.0, 0.5), Vec3::ONE, 2.0)
+                    .unwrap()
+                    .with_ambient(Vec3::splat(0.1))
+                    .unwrap(),
+                Vec3::new(-0.2, -1.0, -0.1),
+                60.0,
+                3.0,
+            )
+            .unwrap()
+            .with_inner(30.0)
+            .unwrap()
+            .into(),
             PointLight::new(Vec3::new(-1.0, 1.0, 2.0), Vec3::new(0.9, 0.8, 0.7), 2.0)
                 .unwrap()
                 .with_attenuation(0.5, 0.2, 0.1)
