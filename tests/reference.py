@@ -109,6 +109,31 @@ class SpotLight:
 
 
 @dataclass
+class Fog:
+    """Depth cueing by Euclidean eye distance d: f = (end - d)/(end - start) ("linear"),
+    exp(-density*d) ("exp"), exp(-(density*d)**2) ("exp2"), clamped to [0, 1]; the pixel
+    becomes f*c + (1 - f)*color."""
+
+    mode: str = "linear"
+    start: float = 0.0
+    end: float = 1.0
+    density: float = 1.0
+    color: Vec3 = (0.5, 0.5, 0.5)
+
+    def factor(self, d):
+        d = np.asarray(d, dtype=np.float64)
+        if self.mode == "linear":
+            f = (self.end - d) / (self.end - self.start)
+        elif self.mode == "exp":
+            f = np.exp(-self.density * d)
+        elif self.mode == "exp2":
+            f = np.exp(-((self.density * d) ** 2))
+        else:
+            raise ValueError(f"unknown fog mode {self.mode!r}")
+        return np.clip(f, 0.0, 1.0)
+
+
+@dataclass
 class Material:
     """Phong material: RGB ambient/diffuse/specular reflectances, shininess, emission."""
 
@@ -538,6 +563,7 @@ def render_reference(
     specular: str = "blinn",
     background=(0.0, 0.0, 0.0),
     cull_backfaces: bool = False,
+    fog: Fog | None = None,
 ) -> RefImage:
     """Render a triangle mesh exactly (float64 ray casting per pixel centre).
 
@@ -739,6 +765,12 @@ def render_reference(
         s = np.clip(s, 0.0, 1.0)
         diff = ap - s[..., None] * ab
         edge_dist[sel] = np.sqrt(_dot(diff, diff)).min(axis=1)
+
+    if fog is not None:
+        hit = np.isfinite(position[:, 0])
+        dist = np.linalg.norm(position[hit] - np.asarray(camera.eye, dtype=np.float64), axis=1)
+        f = fog.factor(dist)[:, None]
+        color[hit] = f * color[hit] + (1.0 - f) * _vec3(fog.color, "fog color")
 
     return RefImage(
         color=color.reshape(height, width, 3),

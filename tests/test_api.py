@@ -865,3 +865,28 @@ def test_spot_light_round_trip_and_cone():
     lit = img[..., 0] > 0
     area = lit.sum() * (6.0 / 120) ** 2
     assert abs(area - np.pi * (2 * np.tan(np.radians(30))) ** 2) < 0.05
+
+
+def test_fog_round_trip_and_hand_computed_blend():
+    f = sl.Fog("linear", start=2.0, end=6.0, color=(1.0, 0.5, 0.0))
+    assert (f.mode, f.start, f.end, f.density) == ("linear", 2.0, 6.0, None)
+    assert f.factor(3.0) == 0.75 and f.factor(1.0) == 1.0 and f.factor(9.0) == 0.0
+    assert sl.Fog("exp2", density=0.5).density == 0.5
+    scene = sl.Scene(ambient=(1, 1, 1), fog=f)
+    assert scene.fog is not None and scene.fog.end == 6.0
+    # An unlit white wall at distance 3 straight ahead: f = 0.75 at the centre pixel.
+    v = np.array([[-9, -9, -3], [9, -9, -3], [9, 9, -3], [-9, 9, -3]], float)
+    white = sl.Material(ambient=(1, 1, 1), diffuse=(0, 0, 0), specular=(0, 0, 0))
+    scene.add(sl.Mesh(v, [[0, 1, 2], [0, 2, 3]]), material=white)
+    cam = sl.Camera.orthographic((0, 0, 0), (0, 0, -1), height=2.0, near=0.5, far=10)
+    for mode in ("flat", "gouraud", "phong"):
+        img = sl.render(scene, cam, 8, 8, shading=mode, dtype="float32")
+        # Orthographic: the pixel at (x, y) sees the wall at distance sqrt(3² + x_e² + y_e²).
+        xe = (np.arange(8) + 0.5) / 8 * 2 - 1
+        d = np.sqrt(9 + xe[None, :] ** 2 + xe[:, None] ** 2)
+        fog_f = np.clip((6 - d) / 4, 0, 1)
+        want = fog_f[..., None] * 1 + (1 - fog_f[..., None]) * np.array([1.0, 0.5, 0.0])
+        np.testing.assert_allclose(img, want, atol=2e-6)
+    scene.fog = None
+    assert scene.fog is None
+    assert (sl.render(scene, cam, 8, 8, dtype="float32") == 1).all()

@@ -626,3 +626,13 @@ def test_spot_light_parameters_are_validated():
     expect_error(ValueError, "inner", sl.SpotLight, p, d, cutoff=180.0, inner=10.0)
     expect_error(ValueError, r"position\[0\]", sl.SpotLight, (np.nan, 0, 0), d)
     expect_error(TypeError, "SpotLight", sl.Scene().add_light, "a lamp")
+
+
+def test_fog_parameters_are_validated():
+    expect_error(ValueError, "unknown fog mode 'fast'", sl.Fog, "fast")
+    expect_error(ValueError, "start < end", sl.Fog, "linear", start=5.0, end=5.0)
+    expect_error(ValueError, "start < end", sl.Fog, "linear", start=np.nan, end=5.0)
+    expect_error(ValueError, "density", sl.Fog, "exp", density=-0.1)
+    expect_error(ValueError, "density", sl.Fog, "exp2", density=np.inf)
+    expect_error(ValueError, r"color\[1\]", sl.Fog, color=(0, np.nan, 0))
+    expect_error(TypeError, "fog", sl.Scene, fog="thick")

@@ -20,6 +20,7 @@ __all__ = [
     "MAX_IMAGE_SIZE",
     "Camera",
     "DirectionalLight",
+    "Fog",
     "Material",
     "Mesh",
     "ObjParseError",
@@ -253,10 +254,50 @@ class SpotLight:
         """The light's own ambient colour."""
 
 @final
-class Scene:
-    """Objects, lights and the global ambient light (default ``(0.2, 0.2, 0.2)``)."""
+class Fog:
+    """Depth cueing: each pixel's colour c becomes ``f*c + (1 - f)*color`` with d the
+    Euclidean distance from the eye to the surface and f, clamped to [0, 1], given by
+    ``mode``: "linear" ``(end - d)/(end - start)`` (start < end), "exp" ``exp(-density*d)``,
+    "exp2" ``exp(-(density*d)**2)`` (density >= 0). Applied per pixel in every shading
+    mode; the background is not fogged."""
 
-    def __new__(cls, ambient: _Vec3Like | None = None) -> Scene: ...
+    def __new__(
+        cls,
+        mode: Literal["linear", "exp", "exp2"] = "linear",
+        start: float = 0.0,
+        end: float = 1.0,
+        density: float = 1.0,
+        color: _Vec3Like | None = None,
+    ) -> Fog: ...
+    @property
+    def mode(self) -> Literal["linear", "exp", "exp2"]:
+        """The fall-off."""
+    @property
+    def start(self) -> float | None:
+        """Linear fog: where it starts (None otherwise)."""
+    @property
+    def end(self) -> float | None:
+        """Linear fog: where only fog is left (None otherwise)."""
+    @property
+    def density(self) -> float | None:
+        """Exp/exp2 fog: the density (None for linear)."""
+    @property
+    def color(self) -> _Vec3:
+        """The colour far objects fade to (default (0.5, 0.5, 0.5))."""
+    def factor(self, d: float) -> float:
+        """The fog factor f in [0, 1] at eye distance ``d`` (1: no fog)."""
+
+@final
+class Scene:
+    """Objects, lights, the global ambient light (default ``(0.2, 0.2, 0.2)``) and an
+    optional fog."""
+
+    def __new__(cls, ambient: _Vec3Like | None = None, fog: Fog | None = None) -> Scene: ...
+    @property
+    def fog(self) -> Fog | None:
+        """The fog, or None; assignable."""
+    @fog.setter
+    def fog(self, fog: Fog | None) -> None: ...
     def add(
         self, mesh: Mesh, material: Material | None = None, transform: ArrayLike | None = None
     ) -> None:

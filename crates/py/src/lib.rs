@@ -4,6 +4,7 @@
 mod camera;
 mod convert;
 mod errors;
+mod fog;
 mod light;
 mod material;
 mod mesh;
@@ -23,6 +24,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<light::PyPointLight>()?;
     m.add_class::<light::PySpotLight>()?;
     m.add_class::<scene::PyScene>()?;
+    m.add_class::<fog::PyFog>()?;
     m.add_class::<camera::PyCamera>()?;
     m.add_function(wrap_pyfunction!(mesh::load_obj, m)?)?;
     m.add_function(wrap_pyfunction!(mesh::load_obj_parts, m)?)?;

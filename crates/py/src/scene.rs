@@ -7,6 +7,7 @@ use shadelab_raster as core;
 
 use crate::convert;
 use crate::errors::to_py;
+use crate::fog::PyFog;
 use crate::light::{PyDirectionalLight, PyPointLight, PySpotLight};
 use crate::material::PyMaterial;
 use crate::mesh::PyMesh;
@@ -20,13 +21,24 @@ pub struct PyScene {
 #[pymethods]
 impl PyScene {
     #[new]
-    #[pyo3(signature = (ambient=None))]
-    fn new(ambient: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
+    #[pyo3(signature = (ambient=None, fog=None))]
+    fn new(ambient: Option<&Bound<'_, PyAny>>, fog: Option<PyFog>) -> PyResult<Self> {
         let ambient =
             ambient.map_or(Ok(glam::Vec3::splat(0.2)), |a| convert::vec3(a, "ambient"))?;
-        Ok(PyScene {
-            inner: core::Scene::new(ambient).map_err(to_py)?,
-        })
+        let mut inner = core::Scene::new(ambient).map_err(to_py)?;
+        inner.set_fog(fog.map(|f| f.inner));
+        Ok(PyScene { inner })
+    }
+
+    /// The fog (a Fog) or None; assignable.
+    #[getter]
+    fn get_fog(&self) -> Option<PyFog> {
+        self.inner.fog().map(|f| PyFog { inner: *f })
+    }
+
+    #[setter]
+    fn set_fog(&mut self, fog: Option<PyFog>) {
+        self.inner.set_fog(fog.map(|f| f.inner));
     }
 
     /// Adds `mesh` with `material` (default: grey plastic) placed by the 4x4 model matrix

@@ -200,6 +200,26 @@ impl Camera {
         }
     }
 
+    /// Per-render constants turning a pixel centre and its eye depth into the Euclidean
+    /// distance from the eye (for fog): see [`EyeDistance::at`].
+    pub(crate) fn eye_distance(&self, width: u32, height: u32) -> EyeDistance {
+        let aspect = width as f64 / height as f64;
+        let (sx, sy, ortho) = match self.projection {
+            Projection::Perspective { fov_y } => {
+                let t = (fov_y.to_radians() * 0.5).tan();
+                (t * aspect, t, false)
+            }
+            Projection::Orthographic { height: h } => (h * aspect * 0.5, h * 0.5, true),
+        };
+        EyeDistance {
+            sx: sx as f32,
+            sy: sy as f32,
+            ortho,
+            inv_w: 2.0 / width as f32,
+            inv_h: 2.0 / height as f32,
+        }
+    }
+
     /// Eye-space depth (distance along the view axis) from a stored reversed-Z value and,
     /// for perspective, the interpolated 1/w.
     pub(crate) fn eye_depth(&self, z_ndc: f32, inv_w: f32) -> f32 {
@@ -209,6 +229,31 @@ impl Camera {
                 (self.far - z_ndc as f64 * (self.far - self.near)) as f32
             }
         }
+    }
+}
+
+/// See [`Camera::eye_distance`].
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct EyeDistance {
+    sx: f32,
+    sy: f32,
+    ortho: bool,
+    inv_w: f32,
+    inv_h: f32,
+}
+
+impl EyeDistance {
+    /// Distance from the eye to the point seen at pixel (x, y) at eye depth `depth`.
+    #[inline]
+    pub fn at(&self, x: usize, y: usize, depth: f32) -> f32 {
+        let nx = (x as f32 + 0.5) * self.inv_w - 1.0;
+        let ny = 1.0 - (y as f32 + 0.5) * self.inv_h;
+        let (ex, ey) = if self.ortho {
+            (nx * self.sx, ny * self.sy)
+        } else {
+            (nx * self.sx * depth, ny * self.sy * depth)
+        };
+        (ex * ex + ey * ey + depth * depth).sqrt()
     }
 }
 

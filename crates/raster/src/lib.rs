@@ -24,6 +24,7 @@
 
 mod camera;
 mod error;
+mod fog;
 mod light;
 mod material;
 mod mesh;
@@ -37,6 +38,7 @@ mod shading;
 
 pub use camera::{Camera, Projection};
 pub use error::{RasterError, Result};
+pub use fog::{Fog, FogMode};
 pub use light::{DirectionalLight, Light, PointLight, SpotLight, MIN_ATTENUATION_DENOMINATOR};
 pub use material::{preset_names, Material, Preset, PRESETS};
 pub use mesh::{face_normal, generate_vertex_normals, Mesh};

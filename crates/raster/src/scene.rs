@@ -5,6 +5,7 @@ use std::sync::Arc;
 use glam::{DMat3, Mat3, Mat4, Vec3};
 
 use crate::error::{RasterError, Result};
+use crate::fog::Fog;
 use crate::light::Light;
 use crate::material::Material;
 use crate::mesh::Mesh;
@@ -79,6 +80,7 @@ pub struct Scene {
     ambient: Vec3,
     objects: Vec<Object>,
     lights: Vec<Light>,
+    fog: Option<Fog>,
 }
 
 impl Scene {
@@ -94,6 +96,7 @@ impl Scene {
             ambient,
             objects: Vec::new(),
             lights: Vec::new(),
+            fog: None,
         })
     }
 
@@ -106,6 +109,16 @@ impl Scene {
     /// Adds a light.
     pub fn add_light(&mut self, light: impl Into<Light>) {
         self.lights.push(light.into());
+    }
+
+    /// Sets (or with `None` removes) the fog.
+    pub fn set_fog(&mut self, fog: Option<Fog>) {
+        self.fog = fog;
+    }
+
+    /// The fog, if any.
+    pub fn fog(&self) -> Option<&Fog> {
+        self.fog.as_ref()
     }
 
     /// The global ambient.

@@ -339,6 +339,9 @@ pub(crate) fn run<P: Pixel>(
         camera,
         eye: prep.eye,
         background: options.background,
+        fog: scene
+            .fog()
+            .map(|f| (*f, camera.eye_distance(options.width, options.height))),
     };
     rects
         .par_iter()

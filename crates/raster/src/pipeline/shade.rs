@@ -11,7 +11,8 @@ use super::raster::{TileBuffers, NO_TRIANGLE};
 use super::setup::{Edges, SetupTri, HALF, ONE};
 use super::tiles::{TileRect, TILE};
 use super::vertex::Vertices;
-use crate::camera::Camera;
+use crate::camera::{Camera, EyeDistance};
+use crate::fog::Fog;
 use crate::shading::{normalize_lanes, Lanes, PreparedMaterial, ShadingMode, LANES};
 
 /// An output sample type: how a linear RGB colour is stored.
@@ -49,6 +50,19 @@ pub(crate) struct ShadeContext<'a> {
     pub camera: &'a Camera,
     pub eye: Vec3,
     pub background: Vec3,
+    /// The scene's fog and the per-render constants to find eye distances.
+    pub fog: Option<(Fog, EyeDistance)>,
+}
+
+impl ShadeContext<'_> {
+    /// `c` seen through the fog at pixel (x, y) with eye depth `depth` (unchanged without fog).
+    #[inline(always)]
+    fn fogged(&self, c: Vec3, x: usize, y: usize, depth: f32) -> Vec3 {
+        match &self.fog {
+            Some((fog, dist)) => fog.apply(c, dist.at(x, y, depth)),
+            None => c,
+        }
+    }
 }
 
 const FLAT: u8 = 0;
@@ -146,7 +160,8 @@ fn shade_impl<P: Pixel, const MODE: u8>(
     color: &mut [&mut [P]],
     mut depth: Option<&mut [&mut [f32]]>,
 ) {
-    let want_depth = depth.is_some();
+    // Fog needs every pixel's eye depth, like the depth output.
+    let want_depth = depth.is_some() || ctx.fog.is_some();
     let mut cur = Current::empty();
     // Stored samples of the background and of the last flat colour, converted once.
     let mut background = [P::default(); 3];
@@ -183,21 +198,32 @@ fn shade_impl<P: Pixel, const MODE: u8>(
             }
             let [q0, q1, q2] = cur.weights((rect.x0 + i) as i64 * ONE + HALF, py);
             let inv_w = q0 + q1 + q2;
+            // Only depth output and fog read it: a division saved per pixel otherwise.
+            let eye_depth = if want_depth {
+                ctx.camera.eye_depth(buf.depth[slot], inv_w)
+            } else {
+                0.0
+            };
             if let Some(d) = depth.as_deref_mut() {
-                d[j][i] = ctx.camera.eye_depth(buf.depth[slot], inv_w);
+                d[j][i] = eye_depth;
             }
-            if MODE == FLAT {
-                let entry = &mut flat_cache[id as usize % FLAT_CACHE];
-                if entry.0 != id {
-                    entry.0 = id;
-                    P::store(&mut entry.1, t.flat);
+            let c = if MODE == FLAT {
+                if ctx.fog.is_none() {
+                    let entry = &mut flat_cache[id as usize % FLAT_CACHE];
+                    if entry.0 != id {
+                        entry.0 = id;
+                        P::store(&mut entry.1, t.flat);
+                    }
+                    out.copy_from_slice(&entry.1);
+                    continue;
                 }
-                out.copy_from_slice(&entry.1);
-                continue;
-            }
-            let r = 1.0 / inv_w;
-            let a = &cur.attr;
-            P::store(out, a[0] * (q0 * r) + a[1] * (q1 * r) + a[2] * (q2 * r));
+                t.flat
+            } else {
+                let r = 1.0 / inv_w;
+                let a = &cur.attr;
+                a[0] * (q0 * r) + a[1] * (q1 * r) + a[2] * (q2 * r)
+            };
+            P::store(out, ctx.fogged(c, rect.x0 + i, rect.y0 + j, eye_depth));
         }
     }
 }
@@ -209,47 +235,53 @@ struct PhongBatch<'a> {
     p: [Lanes; 3],
     /// (row in tile, column in tile) of each lane.
     at: [(usize, usize); LANES],
+    /// Eye depth of each lane (for fog).
+    depth: Lanes,
     len: usize,
     material: Option<&'a PreparedMaterial>,
 }
 
 impl<'a> PhongBatch<'a> {
-    fn flush<P: Pixel>(&mut self, eye: Vec3, color: &mut [&mut [P]]) {
+    fn flush<P: Pixel>(&mut self, ctx: &ShadeContext<'_>, rect: TileRect, color: &mut [&mut [P]]) {
+        let eye = ctx.eye;
         if let Some(m) = self.material.filter(|_| self.len > 0) {
             let mut n = [[0.0; LANES]; 3];
             let raw = &self.n;
             normalize_lanes(&mut n, |k| (raw[0][k], raw[1][k], raw[2][k]));
             let c = m.shade_lanes(&n, &self.p, eye);
             for (k, &(j, i)) in self.at[..self.len].iter().enumerate() {
-                P::store(
-                    &mut color[j][i * 3..i * 3 + 3],
-                    Vec3::new(c[0][k], c[1][k], c[2][k]),
-                );
+                let lit = Vec3::new(c[0][k], c[1][k], c[2][k]);
+                let lit = ctx.fogged(lit, rect.x0 + i, rect.y0 + j, self.depth[k]);
+                P::store(&mut color[j][i * 3..i * 3 + 3], lit);
             }
         }
         self.len = 0;
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn push<P: Pixel>(
         &mut self,
+        ctx: &ShadeContext<'_>,
+        rect: TileRect,
         m: &'a PreparedMaterial,
         n: Vec3,
         p: Vec3,
         at: (usize, usize),
-        eye: Vec3,
+        depth: f32,
         color: &mut [&mut [P]],
     ) {
         if self.len > 0 && !std::ptr::eq(m, self.material.unwrap_or(m)) {
-            self.flush(eye, color);
+            self.flush(ctx, rect, color);
         }
         self.material = Some(m);
         let k = self.len;
         (self.n[0][k], self.n[1][k], self.n[2][k]) = (n.x, n.y, n.z);
         (self.p[0][k], self.p[1][k], self.p[2][k]) = (p.x, p.y, p.z);
         self.at[k] = at;
+        self.depth[k] = depth;
         self.len += 1;
         if self.len == LANES {
-            self.flush(eye, color);
+            self.flush(ctx, rect, color);
         }
     }
 }
@@ -262,6 +294,7 @@ fn shade_phong<P: Pixel>(
     color: &mut [&mut [P]],
     mut depth: Option<&mut [&mut [f32]]>,
 ) {
+    let want_depth = depth.is_some() || ctx.fog.is_some();
     let mut cur = Current::empty();
     let mut background = [P::default(); 3];
     P::store(&mut background, ctx.background);
@@ -269,6 +302,7 @@ fn shade_phong<P: Pixel>(
         n: [[0.0; LANES]; 3],
         p: [[0.0; LANES]; 3],
         at: [(0, 0); LANES],
+        depth: [0.0; LANES],
         len: 0,
         material: None,
     };
@@ -290,8 +324,14 @@ fn shade_phong<P: Pixel>(
             }
             let [q0, q1, q2] = cur.weights((rect.x0 + i) as i64 * ONE + HALF, py);
             let inv_w = q0 + q1 + q2;
+            // Only depth output and fog read it: a division saved per pixel otherwise.
+            let eye_depth = if want_depth {
+                ctx.camera.eye_depth(buf.depth[slot], inv_w)
+            } else {
+                0.0
+            };
             if let Some(d) = depth.as_deref_mut() {
-                d[j][i] = ctx.camera.eye_depth(buf.depth[slot], inv_w);
+                d[j][i] = eye_depth;
             }
             let r = 1.0 / inv_w;
             let (b0, b1, b2) = (q0 * r, q1 * r, q2 * r);
@@ -307,10 +347,10 @@ fn shade_phong<P: Pixel>(
             };
             let p = cur.pos[0] * b0 + cur.pos[1] * b1 + cur.pos[2] * b2;
             let m = cur.material.expect("loaded for phong");
-            batch.push(m, n, p, (j, i), ctx.eye, color);
+            batch.push(ctx, rect, m, n, p, (j, i), eye_depth, color);
         }
     }
-    batch.flush(ctx.eye, color);
+    batch.flush(ctx, rect, color);
 }
 
 /// The world-space face normal in the triangle's original winding (zero if degenerate).
