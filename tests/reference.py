@@ -373,6 +373,7 @@ def lighting(
     lights,
     ambient=(0.2, 0.2, 0.2),
     specular: str = "blinn",
+    view_dir=None,
 ) -> np.ndarray:
     """Evaluate the OpenGL 2.1 local-viewer lighting equation (world space).
 
@@ -413,7 +414,10 @@ def lighting(
     ia = _vec3(ambient, "ambient")
     ke = _vec3(getattr(material, "emission", (0.0, 0.0, 0.0)), "emission")
     color = np.broadcast_to(ke + ka * ia, shape).copy()
-    v = _normalize(_vec3(eye, "eye") - p)
+    if view_dir is None:
+        v = _normalize(_vec3(eye, "eye") - p)
+    else:  # infinite viewer: one direction toward the eye for every point
+        v = np.broadcast_to(_normalize(_vec3(view_dir, "view_dir")), shape)
     for light in lights:
         att = np.ones(shape[:-1])
         if isinstance(light, DirectionalLight):
@@ -564,6 +568,8 @@ def render_reference(
     background=(0.0, 0.0, 0.0),
     cull_backfaces: bool = False,
     fog: Fog | None = None,
+    two_sided: bool = False,
+    local_viewer: bool = True,
 ) -> RefImage:
     """Render a triangle mesh exactly (float64 ray casting per pixel centre).
 
@@ -736,20 +742,31 @@ def render_reference(
         pos = np.einsum("pk,pkc->pc", b, vw[fv])
         bary[sel] = b
         position[sel] = pos
+        # Two-sided lighting: back faces (clockwise on screen) use the flipped normal.
+        flip = np.where(two_sided & (facing[ts] < 0), -1.0, 1.0)[:, None]
+        view_dir = None
+        if not local_viewer:
+            view_dir = np.asarray(camera.eye, float) - np.asarray(camera.target, float)
+        args = (eye_w, material, lights, ambient, specular, view_dir)
         if shading == "flat":
             uniq, inv_idx = np.unique(ts, return_inverse=True)
             cent = vw[f[uniq]].mean(axis=1)
-            fcol = lighting(cent, fnw[uniq], eye_w, material, lights, ambient, specular)
-            color[sel] = fcol[inv_idx.reshape(-1)]
+            fcol = lighting(cent, fnw[uniq], *args)
+            fcol_back = lighting(cent, -fnw[uniq], *args)
+            inv_idx = inv_idx.reshape(-1)
+            color[sel] = np.where(flip > 0, fcol[inv_idx], fcol_back[inv_idx])
         elif shading == "gouraud":
-            vcol = lighting(vw, nw, eye_w, material, lights, ambient, specular)
-            color[sel] = np.einsum("pk,pkc->pc", b, vcol[fv])
+            vcol = lighting(vw, nw, *args)
+            vcol_back = lighting(vw, -nw, *args)
+            front = np.einsum("pk,pkc->pc", b, vcol[fv])
+            back = np.einsum("pk,pkc->pc", b, vcol_back[fv])
+            color[sel] = np.where(flip > 0, front, back)
         else:
             nrm = np.einsum("pk,pkc->pc", b, nw[fv])
             nn = np.linalg.norm(nrm, axis=1)
             with np.errstate(divide="ignore", invalid="ignore"):
                 nrm = np.where(nn[:, None] > 0, nrm / nn[:, None], fnw[ts])
-            color[sel] = lighting(pos, nrm, eye_w, material, lights, ambient, specular)
+            color[sel] = lighting(pos, nrm * flip, *args)
 
         # Distance (pixels) from the pixel centre to the clipped screen polygon.
         cx = (sel % width).astype(np.float64) + 0.5

@@ -890,3 +890,22 @@ def test_fog_round_trip_and_hand_computed_blend():
     scene.fog = None
     assert scene.fog is None
     assert (sl.render(scene, cam, 8, 8, dtype="float32") == 1).all()
+
+
+def test_two_sided_and_local_viewer_flags():
+    s = sl.Scene()
+    assert (s.two_sided, s.local_viewer) == (False, True)
+    s.two_sided, s.local_viewer = True, False
+    assert (s.two_sided, s.local_viewer) == (True, False)
+    assert sl.Scene(two_sided=True).two_sided
+    # A clockwise (back-facing) wall lit from the front: dark one-sided, lit two-sided.
+    v = np.array([[-9, -9, -3], [-9, 9, -3], [9, 9, -3], [9, -9, -3]], float)  # clockwise
+    m = sl.Material(ambient=(0, 0, 0), diffuse=(1, 1, 1), specular=(0, 0, 0))
+    for mode in ("flat", "gouraud", "phong"):
+        out = []
+        for two in (False, True):
+            scene = sl.Scene(ambient=(0, 0, 0), two_sided=two)
+            scene.add(sl.Mesh(v, [[0, 1, 2], [0, 2, 3]]), material=m)
+            scene.add_light(sl.DirectionalLight((0, 0, -1)))
+            out.append(sl.render(scene, sl.Camera.look_at((0, 0, 0), (0, 0, -1)), 8, 8))
+        assert (out[0] == 0).all() and (out[1] == 255).all(), mode

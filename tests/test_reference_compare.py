@@ -27,6 +27,7 @@ centre), so every difference is the Rust renderer's approximation error:
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from dataclasses import dataclass
@@ -78,6 +79,8 @@ class Case:
     height: int = 120
     emission: tuple = (0.0, 0.0, 0.0)
     fog: ref.Fog | None = None
+    two_sided: bool = False
+    local_viewer: bool = True
 
 
 def _rotation(axis, degrees):
@@ -194,6 +197,15 @@ SPHERE_CASES = {
             "bronze",
             fog=ref.Fog("exp2", density=0.3, color=(1.0, 1.0, 1.0)),
         ),
+        # OpenGL's infinite viewer: one view vector for every point.
+        Case(
+            "persp-infinite-viewer",
+            "sphere",
+            PERSP_TILTED,
+            (KEY, BULB),
+            "chrome",
+            local_viewer=False,
+        ),
         # Intensities > 1 drive channels above 1: float32 keeps them, uint8 clamps.
         Case(
             "ortho-xform-2lights-bright",
@@ -302,7 +314,12 @@ def _world_vertices(case):
 def render_sl(case, shading, specular, dtype):
     """The Rust renderer's (image, depth) for ``case``."""
     v, f, n = _mesh_arrays(case.mesh)
-    scene = sl.Scene(ambient=case.ambient, fog=_sl_fog(case.fog))
+    scene = sl.Scene(
+        ambient=case.ambient,
+        fog=_sl_fog(case.fog),
+        two_sided=case.two_sided,
+        local_viewer=case.local_viewer,
+    )
     mesh = sl.Mesh(v, f, normals=n)
     scene.add(mesh, material=_sl_material(case), transform=case.transform)
     for light in case.lights:
@@ -339,6 +356,8 @@ def render_ref(case, shading, specular):
         specular=specular,
         background=case.background,
         fog=case.fog,
+        two_sided=case.two_sided,
+        local_viewer=case.local_viewer,
     )
 
 
@@ -569,6 +588,20 @@ INSIDE = Case(
     (ref.DirectionalLight((-0.3, -0.2, 1.0)), ref.PointLight((0.0, 0.3, -0.2))),
     "bronze",
 )
+
+
+INSIDE_TWO_SIDED = dataclasses.replace(INSIDE, label="inside-sphere-two-sided", two_sided=True)
+
+
+@pytest.mark.parametrize("shading", SHADINGS)
+def test_inside_a_sphere_two_sided_lights_back_faces_with_flipped_normals(shading):
+    """From inside a closed sphere every visible face is a back face: two-sided lighting
+    lights them with the flipped (inward) normal, so the image differs from one-sided and
+    matches the reference."""
+    compare(INSIDE_TWO_SIDED, shading, "blinn")
+    one, _ = render_sl(INSIDE, shading, "blinn", "float32")
+    two, _ = render_sl(INSIDE_TWO_SIDED, shading, "blinn", "float32")
+    assert two.mean() > one.mean() + 0.05
 
 
 @pytest.mark.parametrize("shading", SHADINGS)

@@ -292,7 +292,25 @@ class Scene:
     """Objects, lights, the global ambient light (default ``(0.2, 0.2, 0.2)``) and an
     optional fog."""
 
-    def __new__(cls, ambient: _Vec3Like | None = None, fog: Fog | None = None) -> Scene: ...
+    def __new__(
+        cls,
+        ambient: _Vec3Like | None = None,
+        fog: Fog | None = None,
+        two_sided: bool = False,
+        local_viewer: bool = True,
+    ) -> Scene: ...
+    @property
+    def two_sided(self) -> bool:
+        """Two-sided lighting: back faces (clockwise on screen) are lit with the flipped
+        normal (OpenGL's GL_LIGHT_MODEL_TWO_SIDE); assignable. Off: the normal as given."""
+    @two_sided.setter
+    def two_sided(self, on: bool) -> None: ...
+    @property
+    def local_viewer(self) -> bool:
+        """True (default): v points from each surface point to the eye. False: OpenGL's
+        infinite viewer, v is the constant direction toward the eye; assignable."""
+    @local_viewer.setter
+    def local_viewer(self, local: bool) -> None: ...
     @property
     def fog(self) -> Fog | None:
         """The fog, or None; assignable."""

@@ -21,13 +21,42 @@ pub struct PyScene {
 #[pymethods]
 impl PyScene {
     #[new]
-    #[pyo3(signature = (ambient=None, fog=None))]
-    fn new(ambient: Option<&Bound<'_, PyAny>>, fog: Option<PyFog>) -> PyResult<Self> {
+    #[pyo3(signature = (ambient=None, fog=None, two_sided=false, local_viewer=true))]
+    fn new(
+        ambient: Option<&Bound<'_, PyAny>>,
+        fog: Option<PyFog>,
+        two_sided: bool,
+        local_viewer: bool,
+    ) -> PyResult<Self> {
         let ambient =
             ambient.map_or(Ok(glam::Vec3::splat(0.2)), |a| convert::vec3(a, "ambient"))?;
         let mut inner = core::Scene::new(ambient).map_err(to_py)?;
         inner.set_fog(fog.map(|f| f.inner));
+        inner.set_two_sided(two_sided);
+        inner.set_local_viewer(local_viewer);
         Ok(PyScene { inner })
+    }
+
+    /// Two-sided lighting: back faces (clockwise on screen) lit with the flipped normal.
+    #[getter]
+    fn get_two_sided(&self) -> bool {
+        self.inner.two_sided()
+    }
+
+    #[setter]
+    fn set_two_sided(&mut self, on: bool) {
+        self.inner.set_two_sided(on);
+    }
+
+    /// Local viewer (True, default) or OpenGL's infinite viewer (False).
+    #[getter]
+    fn get_local_viewer(&self) -> bool {
+        self.inner.local_viewer()
+    }
+
+    #[setter]
+    fn set_local_viewer(&mut self, local: bool) {
+        self.inner.set_local_viewer(local);
     }
 
     /// The fog (a Fog) or None; assignable.
@@ -100,8 +129,11 @@ impl PyScene {
 
     fn __repr__(&self) -> String {
         format!(
-            "Scene(ambient={:?}, objects={}, lights={}, triangles={})",
+            "Scene(ambient={:?}, two_sided={}, local_viewer={}, fog={}, objects={}, lights={}, triangles={})",
             self.inner.ambient().to_array(),
+            self.inner.two_sided(),
+            self.inner.local_viewer(),
+            self.inner.fog().is_some(),
             self.inner.objects().len(),
             self.inner.lights().len(),
             self.inner.triangle_count()

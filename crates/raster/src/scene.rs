@@ -81,6 +81,8 @@ pub struct Scene {
     objects: Vec<Object>,
     lights: Vec<Light>,
     fog: Option<Fog>,
+    two_sided: bool,
+    infinite_viewer: bool,
 }
 
 impl Scene {
@@ -97,6 +99,8 @@ impl Scene {
             objects: Vec::new(),
             lights: Vec::new(),
             fog: None,
+            two_sided: false,
+            infinite_viewer: false,
         })
     }
 
@@ -109,6 +113,30 @@ impl Scene {
     /// Adds a light.
     pub fn add_light(&mut self, light: impl Into<Light>) {
         self.lights.push(light.into());
+    }
+
+    /// Two-sided lighting (OpenGL's `GL_LIGHT_MODEL_TWO_SIDE`): back faces (clockwise on
+    /// screen) are lit with the flipped normal. Off by default: they are lit with the normal
+    /// as given.
+    pub fn set_two_sided(&mut self, on: bool) {
+        self.two_sided = on;
+    }
+
+    /// Whether back faces are lit with the flipped normal.
+    pub fn two_sided(&self) -> bool {
+        self.two_sided
+    }
+
+    /// The local viewer (default, `true`): `v` points from each surface point to the eye.
+    /// `false` is OpenGL's infinite viewer: `v` is the constant direction toward the eye
+    /// along the view axis.
+    pub fn set_local_viewer(&mut self, local: bool) {
+        self.infinite_viewer = !local;
+    }
+
+    /// Whether the viewer is local.
+    pub fn local_viewer(&self) -> bool {
+        !self.infinite_viewer
     }
 
     /// Sets (or with `None` removes) the fog.

@@ -108,6 +108,8 @@ pub struct PreparedMaterial {
     shininess: f32,
     specular_on: bool,
     model: SpecularModel,
+    /// Infinite viewer: the constant unit view vector; `None` for the local viewer.
+    infinite_view: Option<Vec3>,
 }
 
 impl PreparedMaterial {
@@ -168,7 +170,15 @@ impl PreparedMaterial {
             shininess: material.shininess,
             specular_on: material.has_specular(),
             model,
+            infinite_view: None,
         }
+    }
+
+    /// Uses an infinite viewer (OpenGL's `GL_LIGHT_MODEL_LOCAL_VIEWER` off): `v` is the
+    /// constant unit vector `toward_eye` instead of the direction from each point to the eye.
+    pub fn with_infinite_viewer(mut self, toward_eye: Vec3) -> Self {
+        self.infinite_view = Some(toward_eye.normalize_or_zero());
+        self
     }
 
     /// Colour at a point with unit (or zero) normal `n`, position `p`, eye `eye`.
@@ -192,10 +202,10 @@ impl PreparedMaterial {
         eye: Vec3,
     ) -> Vec3 {
         let mut c = self.base;
-        let v = if SPECULAR {
-            (eye - p).normalize_or_zero()
-        } else {
-            Vec3::ZERO
+        let v = match (SPECULAR, self.infinite_view) {
+            (false, _) => Vec3::ZERO,
+            (true, Some(v)) => v,
+            (true, None) => (eye - p).normalize_or_zero(),
         };
         for light in &self.lights {
             let (l, att) = match light.geometry {
@@ -329,7 +339,9 @@ impl PreparedMaterial {
             [self.base.z; LANES],
         ];
         let mut v = [[0.0; LANES]; 3];
-        if SPECULAR {
+        if let (true, Some(d)) = (SPECULAR, self.infinite_view) {
+            v = [[d.x; LANES], [d.y; LANES], [d.z; LANES]];
+        } else if SPECULAR {
             normalize_lanes(&mut v, |k| {
                 (eye.x - p[0][k], eye.y - p[1][k], eye.z - p[2][k])
             });

@@ -53,13 +53,16 @@ struct PrimitiveContext<'a> {
     eye: Vec3,
     options: &'a RenderOptions,
     tiles: (usize, usize),
+    two_sided: bool,
 }
 
 impl PrimitiveContext<'_> {
-    /// The flat-shaded colour of original triangle `v`: face normal at the centroid.
-    fn flat_color(&self, v: [u32; 3], object: u32) -> Vec3 {
+    /// The flat-shaded colour of original triangle `v`: face normal (flipped when `flip`)
+    /// at the centroid.
+    fn flat_color(&self, v: [u32; 3], object: u32, flip: bool) -> Vec3 {
         let [a, b, c] = v.map(|i| self.verts.world[i as usize]);
         let n = (b - a).cross(c - a).normalize_or_zero();
+        let n = if flip { -n } else { n };
         let centroid = (a + b + c) / 3.0;
         self.materials[object as usize].shade(n, centroid, self.eye)
     }
@@ -79,6 +82,7 @@ impl PrimitiveContext<'_> {
         };
         let cull = self.options.cull_backfaces;
         let flat_mode = self.options.shading == ShadingMode::Flat;
+        let two_sided = self.two_sided;
         // Sets up one triangle. Clipped pieces (`flat` is Some) carry their original
         // triangle's flat colour, computed once and cached across the pieces; the others are
         // flat-lit together by `light_flat` when the chunk is done.
@@ -92,7 +96,8 @@ impl PrimitiveContext<'_> {
                     if let Some(flat) = flat {
                         t.clipped = true;
                         if flat_mode {
-                            t.flat = *flat.get_or_insert_with(|| self.flat_color(v, object));
+                            let flip = two_sided && !t.front;
+                            t.flat = *flat.get_or_insert_with(|| self.flat_color(v, object, flip));
                         }
                     }
                     out.chunk.tris.push(t);
@@ -173,6 +178,8 @@ impl PrimitiveContext<'_> {
                 } else {
                     (b - a).cross(c - a)
                 };
+                // Two-sided lighting lights back faces with the flipped normal.
+                let n = if self.two_sided && !t.front { -n } else { n };
                 let centroid = (a + b + c) / 3.0;
                 for ax in 0..3 {
                     raw[ax][k] = n[ax];
@@ -235,12 +242,17 @@ pub(crate) fn prepare(scene: &Scene, camera: &Camera, options: &RenderOptions) -
         .objects()
         .iter()
         .map(|o| {
-            PreparedMaterial::new(
+            let pm = PreparedMaterial::new(
                 o.material(),
                 scene.ambient(),
                 scene.lights(),
                 options.specular,
-            )
+            );
+            if scene.local_viewer() {
+                pm
+            } else {
+                pm.with_infinite_viewer((camera.eye() - camera.target()).as_vec3())
+            }
         })
         .collect();
     let planes = ClipPlanes::new(options.width, options.height);
@@ -271,6 +283,7 @@ pub(crate) fn prepare(scene: &Scene, camera: &Camera, options: &RenderOptions) -
         eye,
         options,
         tiles: tiles::tile_counts(w, h),
+        two_sided: scene.two_sided(),
     };
     let mut outs: Vec<ChunkOut> = work
         .par_iter()
@@ -339,6 +352,7 @@ pub(crate) fn run<P: Pixel>(
         camera,
         eye: prep.eye,
         background: options.background,
+        two_sided: scene.two_sided(),
         fog: scene
             .fog()
             .map(|f| (*f, camera.eye_distance(options.width, options.height))),

@@ -50,6 +50,8 @@ pub(crate) struct ShadeContext<'a> {
     pub camera: &'a Camera,
     pub eye: Vec3,
     pub background: Vec3,
+    /// Back faces (clockwise on screen) are lit with the flipped normal.
+    pub two_sided: bool,
     /// The scene's fog and the per-render constants to find eye distances.
     pub fog: Option<(Fog, EyeDistance)>,
 }
@@ -134,7 +136,14 @@ impl<'a> Current<'a> {
         let inv_area = 1.0 / t.area2 as f64;
         let v = t.v.map(|k| k as usize);
         let (attr, pos, material) = match MODE {
-            GOURAUD => (v.map(|k| ctx.verts.color[k]), [Vec3::ZERO; 3], None),
+            GOURAUD => {
+                let colors = if ctx.two_sided && !t.front {
+                    &ctx.verts.color_back
+                } else {
+                    &ctx.verts.color
+                };
+                (v.map(|k| colors[k]), [Vec3::ZERO; 3], None)
+            }
             PHONG => {
                 let n = v.map(|k| ctx.verts.normal[k]);
                 let p = v.map(|k| ctx.verts.world[k]);
@@ -345,6 +354,7 @@ fn shade_phong<P: Pixel>(
             } else {
                 face_normal(t, &ctx.verts.world)
             };
+            let n = if ctx.two_sided && !t.front { -n } else { n };
             let p = cur.pos[0] * b0 + cur.pos[1] * b1 + cur.pos[2] * b2;
             let m = cur.material.expect("loaded for phong");
             batch.push(ctx, rect, m, n, p, (j, i), eye_depth, color);

@@ -26,6 +26,8 @@ pub(crate) struct Vertices {
     pub world: Vec<Vec3>,
     pub normal: Vec<Vec3>,
     pub color: Vec<Vec3>,
+    /// Gouraud with two-sided lighting: colours lit with the flipped normal.
+    pub color_back: Vec<Vec3>,
 }
 
 impl Vertices {
@@ -45,6 +47,9 @@ impl Vertices {
         if !from.color.is_empty() {
             self.color.push(blend(&from.color, v, w));
         }
+        if !from.color_back.is_empty() {
+            self.color_back.push(blend(&from.color_back, v, w));
+        }
     }
 
     /// Appends all of `other`.
@@ -53,6 +58,7 @@ impl Vertices {
         self.world.append(&mut other.world);
         self.normal.append(&mut other.normal);
         self.color.append(&mut other.color);
+        self.color_back.append(&mut other.color_back);
     }
 }
 
@@ -134,16 +140,17 @@ pub(crate) fn transform(
             ShadingMode::Gouraud => {
                 let nm = obj.normal_matrix();
                 let normals = mesh.vertex_normals();
-                // Lit LANES vertices at a time (SIMD lane loops), in order.
-                out.color.par_extend(
+                // Lit LANES vertices at a time (SIMD lane loops), in order; with two-sided
+                // lighting a second colour per vertex, lit with the flipped normal.
+                let light = |flip: f32| {
                     pos.par_chunks(LANES)
                         .zip(normals.par_chunks(LANES))
                         .with_min_len(CHUNK / LANES)
-                        .flat_map_iter(|(p, n)| {
+                        .flat_map_iter(move |(p, n)| {
                             let mut nl = [[0.0; LANES]; 3];
                             let mut pl = [[0.0; LANES]; 3];
                             for (k, (p, n)) in p.iter().zip(n).enumerate() {
-                                let n = (nm * *n).normalize_or_zero();
+                                let n = (nm * *n).normalize_or_zero() * flip;
                                 let p = model.transform_point3(*p);
                                 for ax in 0..3 {
                                     nl[ax][k] = n[ax];
@@ -152,8 +159,12 @@ pub(crate) fn transform(
                             }
                             let c = pm.shade_lanes(&nl, &pl, eye);
                             (0..p.len()).map(move |k| Vec3::new(c[0][k], c[1][k], c[2][k]))
-                        }),
-                );
+                        })
+                };
+                out.color.par_extend(light(1.0));
+                if scene.two_sided() {
+                    out.color_back.par_extend(light(-1.0));
+                }
             }
         }
     }
