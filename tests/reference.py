@@ -399,7 +399,7 @@ def lighting(
     Returns:
         ``(..., 3)`` float64 colours, unclamped.
     """
-    if specular not in ("blinn", "phong"):
+    if specular not in ("blinn", "phong", "blinn-normalized"):
         raise ValueError(f"unknown specular model {specular!r}")
     if isinstance(lights, (DirectionalLight, PointLight, SpotLight)):
         lights = [lights]
@@ -444,7 +444,7 @@ def lighting(
         intensity = _vec3(light.color, "color") * float(light.intensity)
         ndotl = _dot(n, lv)
         diff = np.maximum(ndotl, 0.0)
-        if specular == "blinn":
+        if specular in ("blinn", "blinn-normalized"):
             hsum = lv + v
             h = _normalize(hsum)
             s = np.power(np.maximum(_dot(n, h), 0.0), shin)
@@ -452,6 +452,8 @@ def lighting(
         else:
             r = 2.0 * ndotl[..., None] * n - lv
             s = np.power(np.maximum(_dot(r, v), 0.0), shin)
+        if specular == "blinn-normalized":  # energy-normalised lobe: (f + 8) / 8 pi
+            s = s * (shin + 8.0) / (8.0 * np.pi)
         s = np.where(ndotl > 0, s, 0.0)
         lit = ka * _vec3(light.ambient, "ambient") + kd * intensity * diff[..., None]
         color += att[..., None] * (lit + ks * intensity * s[..., None])
@@ -598,7 +600,7 @@ def render_reference(
     """
     if shading not in ("flat", "gouraud", "phong"):
         raise ValueError(f"unknown shading mode {shading!r}")
-    if specular not in ("blinn", "phong"):
+    if specular not in ("blinn", "phong", "blinn-normalized"):
         raise ValueError(f"unknown specular model {specular!r}")
     width, height = int(width), int(height)
     if width <= 0 or height <= 0:

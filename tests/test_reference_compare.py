@@ -55,7 +55,7 @@ DEPTH_RTOL = 1e-5
 SNAP_PX = 1.0 / 512.0
 
 SHADINGS = ("flat", "gouraud", "phong")
-SPECULARS = ("blinn", "phong")
+SPECULARS = ("blinn", "phong", "blinn-normalized")
 
 
 # --------------------------------------------------------------------------------------------

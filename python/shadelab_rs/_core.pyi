@@ -45,7 +45,7 @@ _U8: TypeAlias = Literal["uint8"] | type[np.uint8] | np.dtype[np.uint8]
 #: The ``dtype`` argument of :func:`render` selecting float32 output.
 _F32: TypeAlias = Literal["float32"] | type[np.float32] | np.dtype[np.float32]
 _Shading: TypeAlias = Literal["flat", "gouraud", "phong"] | str
-_Specular: TypeAlias = Literal["blinn", "phong"] | str
+_Specular: TypeAlias = Literal["blinn", "phong", "blinn-normalized"] | str
 
 __version__: Final[str]
 #: Largest supported image width or height in pixels (16384).

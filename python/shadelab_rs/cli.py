@@ -34,7 +34,7 @@ def _render_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("-o", "--output", default="out.png", help="image file to write (PNG, JPEG)")
     p.add_argument("--size", type=_size, default=(800, 600), help="WIDTHxHEIGHT (800x600)")
     p.add_argument("--shading", choices=["flat", "gouraud", "phong"], default="phong")
-    p.add_argument("--specular", choices=["blinn", "phong"], default="blinn")
+    p.add_argument("--specular", choices=["blinn", "phong", "blinn-normalized"], default="blinn")
     p.add_argument("--background", type=_triple, default=(0.0, 0.0, 0.0), help="r,g,b in [0,1]")
     p.add_argument("--threads", type=int, default=None, help="worker threads (default: all)")
     p.add_argument("--cull-backfaces", action="store_true")

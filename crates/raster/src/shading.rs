@@ -37,6 +37,10 @@ pub enum SpecularModel {
     BlinnPhong,
     /// Phong's own `max(r·v, 0)^f`.
     Phong,
+    /// Blinn-Phong scaled by `(f + 8) / 8π`, so the highlight's total energy stays about the
+    /// same as the shininess changes (sharper highlights get brighter peaks). The classic
+    /// form's highlight instead dims as it narrows.
+    NormalizedBlinnPhong,
 }
 
 impl FromStr for ShadingMode {
@@ -58,9 +62,12 @@ impl FromStr for SpecularModel {
     fn from_str(s: &str) -> Result<Self, RasterError> {
         match s.to_ascii_lowercase().as_str() {
             "blinn" | "blinn-phong" | "blinn_phong" => Ok(SpecularModel::BlinnPhong),
+            "blinn-normalized" | "blinn_normalized" | "normalized-blinn" => {
+                Ok(SpecularModel::NormalizedBlinnPhong)
+            }
             "phong" => Ok(SpecularModel::Phong),
             _ => Err(RasterError::invalid(format!(
-                "unknown specular model '{s}'; expected 'blinn' or 'phong'"
+                "unknown specular model '{s}'; expected 'blinn', 'phong' or 'blinn-normalized'"
             ))),
         }
     }
@@ -116,6 +123,13 @@ impl PreparedMaterial {
     /// Folds `material`, the scene ambient `ambient` and `lights` for one render.
     pub fn new(material: &Material, ambient: Vec3, lights: &[Light], model: SpecularModel) -> Self {
         // c = ke + ka·Ia + Σ att·[ka·Ia_i + ...]: constant terms are summed once here.
+        // The normalised lobe's (f + 8)/8π is a constant too: folded into ks·Is.
+        let spec_scale = match model {
+            SpecularModel::NormalizedBlinnPhong => {
+                ((material.shininess as f64 + 8.0) / (8.0 * std::f64::consts::PI)) as f32
+            }
+            _ => 1.0,
+        };
         let mut base = material.emission + material.ambient * ambient;
         let lights = lights
             .iter()
@@ -158,7 +172,7 @@ impl PreparedMaterial {
                 PreparedLight {
                     geometry,
                     diffuse: material.diffuse * radiance,
-                    specular: material.specular * radiance,
+                    specular: material.specular * radiance * spec_scale,
                     ambient: if per_pixel { light_ambient } else { Vec3::ZERO },
                     attenuation: att,
                 }
@@ -186,7 +200,9 @@ impl PreparedMaterial {
     pub fn shade(&self, n: Vec3, p: Vec3, eye: Vec3) -> Vec3 {
         if self.specular_on {
             match self.model {
-                SpecularModel::BlinnPhong => self.shade_with::<true, true>(n, p, eye),
+                SpecularModel::BlinnPhong | SpecularModel::NormalizedBlinnPhong => {
+                    self.shade_with::<true, true>(n, p, eye)
+                }
                 SpecularModel::Phong => self.shade_with::<true, false>(n, p, eye),
             }
         } else {
@@ -317,7 +333,9 @@ impl PreparedMaterial {
     pub(crate) fn shade_lanes(&self, n: &[Lanes; 3], p: &[Lanes; 3], eye: Vec3) -> [Lanes; 3] {
         if self.specular_on {
             match self.model {
-                SpecularModel::BlinnPhong => self.lanes_with::<true, true>(n, p, eye),
+                SpecularModel::BlinnPhong | SpecularModel::NormalizedBlinnPhong => {
+                    self.lanes_with::<true, true>(n, p, eye)
+                }
                 SpecularModel::Phong => self.lanes_with::<true, false>(n, p, eye),
             }
         } else {
@@ -532,6 +550,29 @@ mod tests {
             .unwrap();
         let pm = PreparedMaterial::new(&m, Vec3::ZERO, &[at.into()], SpecularModel::BlinnPhong);
         assert!(pm.shade(Vec3::Z, Vec3::ZERO, Vec3::Z).is_finite());
+    }
+
+    #[test]
+    fn normalized_blinn_scales_the_lobe_by_f_plus_8_over_8_pi() {
+        let l: Light = DirectionalLight::new(-Vec3::Z, Vec3::ONE, 1.0)
+            .unwrap()
+            .into();
+        for f in [1.0f32, 32.0, 512.0] {
+            let m = Material::new(Vec3::ZERO, Vec3::ZERO, Vec3::ONE, f).unwrap();
+            let plain = PreparedMaterial::new(&m, Vec3::ZERO, &[l], SpecularModel::BlinnPhong);
+            let norm =
+                PreparedMaterial::new(&m, Vec3::ZERO, &[l], SpecularModel::NormalizedBlinnPhong);
+            let (n, eye) = (
+                Vec3::new(0.1, 0.0, 1.0).normalize(),
+                Vec3::new(0.0, 0.0, 4.0),
+            );
+            let ratio = norm.shade(n, Vec3::ZERO, eye).x / plain.shade(n, Vec3::ZERO, eye).x;
+            let want = (f + 8.0) / (8.0 * std::f32::consts::PI);
+            assert!(
+                (ratio - want).abs() < 1e-5 * want,
+                "f = {f}: {ratio} vs {want}"
+            );
+        }
     }
 
     #[test]
