@@ -909,3 +909,30 @@ def test_two_sided_and_local_viewer_flags():
             scene.add_light(sl.DirectionalLight((0, 0, -1)))
             out.append(sl.render(scene, sl.Camera.look_at((0, 0, 0), (0, 0, -1)), 8, 8))
         assert (out[0] == 0).all() and (out[1] == 255).all(), mode
+
+
+def test_builtin_primitives_have_exact_normals():
+    s = sl.Mesh.uv_sphere(8, 16)
+    assert s.n_faces == 2 * 16 * 7 and s.n_vertices == 2 + 7 * 16
+    assert s.has_normals
+    np.testing.assert_allclose(s.normals, s.vertices, atol=1e-6)
+    np.testing.assert_allclose(np.linalg.norm(s.vertices, axis=1), 1.0, atol=1e-6)
+    c = sl.Mesh.cube()
+    assert (c.n_vertices, c.n_faces) == (24, 12) and c.uvs is not None
+    v, f = c.vertices, c.faces
+    fn = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
+    fn /= np.linalg.norm(fn, axis=1, keepdims=True)
+    np.testing.assert_allclose(fn, c.normals[f[:, 0]], atol=1e-6)
+    assert (np.sum(fn * v[f].mean(axis=1), axis=1) > 0).all()  # outward
+    p = sl.Mesh.plane()
+    assert p.n_faces == 2 and (p.normals == [0, 1, 0]).all()
+    expect = sl.Mesh.uv_sphere()
+    assert expect.n_faces == 2 * 32 * 15
+
+
+def test_builtin_primitive_arguments_are_checked():
+    for rings, segments in [(1, 8), (8, 2), (-5, 8)]:
+        with pytest.raises(ValueError, match="rings >= 2 and segments >= 3"):
+            sl.Mesh.uv_sphere(rings, segments)
+    with pytest.raises(ValueError, match="50 million"):
+        sl.Mesh.uv_sphere(100_000, 100_000)

@@ -81,6 +81,42 @@ impl PyMesh {
         PyMesh::new(&vertices, &faces, normals.as_ref(), uvs.as_ref())
     }
 
+    /// A unit UV sphere at the origin with exact normals: `rings` latitude bands (>= 2) and
+    /// `segments` longitude segments (>= 3), 2·segments·(rings − 1) triangles.
+    #[staticmethod]
+    #[pyo3(signature = (rings=16, segments=32))]
+    fn uv_sphere(rings: i64, segments: i64) -> PyResult<Self> {
+        if rings < 2 || segments < 3 {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "uv_sphere needs rings >= 2 and segments >= 3, got rings={rings}, segments={segments}"
+            )));
+        }
+        if rings.saturating_mul(segments) > 50_000_000 {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "uv_sphere with rings={rings}, segments={segments} would have more than 50 million vertices"
+            )));
+        }
+        Ok(PyMesh {
+            inner: Arc::new(core::primitives::uv_sphere(rings as u32, segments as u32)),
+        })
+    }
+
+    /// The cube [-1, 1]³: 24 vertices (4 per face) with exact face normals and UVs.
+    #[staticmethod]
+    fn cube() -> Self {
+        PyMesh {
+            inner: Arc::new(core::primitives::cube()),
+        }
+    }
+
+    /// The square [-1, 1]² in the xz plane at y = 0, facing +y (two triangles, with UVs).
+    #[staticmethod]
+    fn plane() -> Self {
+        PyMesh {
+            inner: Arc::new(core::primitives::plane()),
+        }
+    }
+
     /// Vertex positions, float32 (N, 3).
     #[getter]
     fn vertices<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f32>> {
