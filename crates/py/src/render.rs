@@ -89,7 +89,7 @@ fn render_impl<'py>(
     shading: &str,
     specular: &str,
     background: Option<&Bound<'py, PyAny>>,
-    dtype: &Bound<'py, PyAny>,
+    dtype: Option<&Bound<'py, PyAny>>,
     return_depth: bool,
     cull_backfaces: bool,
     threads: Option<&Bound<'py, PyAny>>,
@@ -103,7 +103,10 @@ fn render_impl<'py>(
     }
     options.cull_backfaces = cull_backfaces;
     options.threads = threads_arg(threads)?;
-    let format = format_of(dtype)?;
+    let format = match dtype {
+        Some(d) => format_of(d)?,
+        None => core::ColorFormat::U8,
+    };
     let scene_copy = scene.inner.clone();
     let cam = camera.inner;
     let frame = py
@@ -158,7 +161,6 @@ pub fn render<'py>(
     cull_backfaces: bool,
     threads: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let default_dtype = "uint8".into_pyobject(py)?.into_any();
     let r = render_impl(
         py,
         scene,
@@ -168,7 +170,7 @@ pub fn render<'py>(
         shading,
         specular,
         background,
-        dtype.unwrap_or(&default_dtype),
+        dtype,
         return_depth,
         cull_backfaces,
         threads,
@@ -201,7 +203,6 @@ pub fn render_frame<'py>(
     cull_backfaces: bool,
     threads: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let default_dtype = "uint8".into_pyobject(py)?.into_any();
     let r = render_impl(
         py,
         scene,
@@ -211,7 +212,7 @@ pub fn render_frame<'py>(
         shading,
         specular,
         background,
-        dtype.unwrap_or(&default_dtype),
+        dtype,
         return_depth,
         cull_backfaces,
         threads,

@@ -57,6 +57,17 @@ pub(crate) struct ShadeContext<'a> {
 }
 
 impl ShadeContext<'_> {
+    /// Eye depth of a pixel from its stored z and interpolated 1/w, when `wanted` (depth
+    /// output or fog); 0 otherwise, saving a division per pixel.
+    #[inline(always)]
+    fn eye_depth(&self, wanted: bool, z: f32, inv_w: f32) -> f32 {
+        if wanted {
+            self.camera.eye_depth(z, inv_w)
+        } else {
+            0.0
+        }
+    }
+
     /// `c` seen through the fog at pixel (x, y) with eye depth `depth` (unchanged without fog).
     #[inline(always)]
     fn fogged(&self, c: Vec3, x: usize, y: usize, depth: f32) -> Vec3 {
@@ -207,12 +218,7 @@ fn shade_impl<P: Pixel, const MODE: u8>(
             }
             let [q0, q1, q2] = cur.weights((rect.x0 + i) as i64 * ONE + HALF, py);
             let inv_w = q0 + q1 + q2;
-            // Only depth output and fog read it: a division saved per pixel otherwise.
-            let eye_depth = if want_depth {
-                ctx.camera.eye_depth(buf.depth[slot], inv_w)
-            } else {
-                0.0
-            };
+            let eye_depth = ctx.eye_depth(want_depth, buf.depth[slot], inv_w);
             if let Some(d) = depth.as_deref_mut() {
                 d[j][i] = eye_depth;
             }
@@ -333,12 +339,7 @@ fn shade_phong<P: Pixel>(
             }
             let [q0, q1, q2] = cur.weights((rect.x0 + i) as i64 * ONE + HALF, py);
             let inv_w = q0 + q1 + q2;
-            // Only depth output and fog read it: a division saved per pixel otherwise.
-            let eye_depth = if want_depth {
-                ctx.camera.eye_depth(buf.depth[slot], inv_w)
-            } else {
-                0.0
-            };
+            let eye_depth = ctx.eye_depth(want_depth, buf.depth[slot], inv_w);
             if let Some(d) = depth.as_deref_mut() {
                 d[j][i] = eye_depth;
             }
