@@ -61,6 +61,70 @@ PRESETS = {
     ),
 }
 
+# The rest of the classic table, as published (Kilgard's teapots.c via devernay.free.fr, and
+# McReynolds & Blythe 1998 for the polished metals): shininess as a fraction of 128.
+CLASSIC_FRACTIONS = {
+    "emerald": (
+        (0.0215, 0.1745, 0.0215),
+        (0.07568, 0.61424, 0.07568),
+        (0.633, 0.727811, 0.633),
+        0.6,
+    ),
+    "jade": ((0.135, 0.2225, 0.1575), (0.54, 0.89, 0.63), (0.316228,) * 3, 0.1),
+    "obsidian": (
+        (0.05375, 0.05, 0.06625),
+        (0.18275, 0.17, 0.22525),
+        (0.332741, 0.328634, 0.346435),
+        0.3,
+    ),
+    "pearl": ((0.25, 0.20725, 0.20725), (1, 0.829, 0.829), (0.296648,) * 3, 0.088),
+    "ruby": (
+        (0.1745, 0.01175, 0.01175),
+        (0.61424, 0.04136, 0.04136),
+        (0.727811, 0.626959, 0.626959),
+        0.6,
+    ),
+    "turquoise": (
+        (0.1, 0.18725, 0.1745),
+        (0.396, 0.74151, 0.69102),
+        (0.297254, 0.30829, 0.306678),
+        0.1,
+    ),
+    "polished bronze": (
+        (0.25, 0.148, 0.06475),
+        (0.4, 0.2368, 0.1036),
+        (0.774597, 0.458561, 0.200621),
+        0.6,
+    ),
+    "polished copper": (
+        (0.2295, 0.08825, 0.0275),
+        (0.5508, 0.2118, 0.066),
+        (0.580594, 0.223257, 0.0695701),
+        0.4,
+    ),
+    "polished gold": (
+        (0.24725, 0.2245, 0.0645),
+        (0.34615, 0.3143, 0.0903),
+        (0.797357, 0.723991, 0.208006),
+        0.65,
+    ),
+    "cyan plastic": ((0, 0.1, 0.06), (0, 0.50980392, 0.50980392), (0.50196078,) * 3, 0.25),
+    "green plastic": ((0, 0, 0), (0.1, 0.35, 0.1), (0.45, 0.55, 0.45), 0.25),
+    "red plastic": ((0, 0, 0), (0.5, 0, 0), (0.7, 0.6, 0.6), 0.25),
+    "white plastic": ((0, 0, 0), (0.55, 0.55, 0.55), (0.7, 0.7, 0.7), 0.25),
+    "yellow plastic": ((0, 0, 0), (0.5, 0.5, 0), (0.6, 0.6, 0.5), 0.25),
+    "black rubber": ((0.02, 0.02, 0.02), (0.01, 0.01, 0.01), (0.4, 0.4, 0.4), 0.078125),
+    "cyan rubber": ((0, 0.05, 0.05), (0.4, 0.5, 0.5), (0.04, 0.7, 0.7), 0.078125),
+    "green rubber": ((0, 0.05, 0), (0.4, 0.5, 0.4), (0.04, 0.7, 0.04), 0.078125),
+    "red rubber": ((0.05, 0, 0), (0.5, 0.4, 0.4), (0.7, 0.04, 0.04), 0.078125),
+    "white rubber": ((0.05, 0.05, 0.05), (0.5, 0.5, 0.5), (0.7, 0.7, 0.7), 0.078125),
+    "yellow rubber": ((0.05, 0.05, 0), (0.5, 0.5, 0.4), (0.7, 0.7, 0.04), 0.078125),
+}
+ALL_PRESETS = {
+    **PRESETS,
+    **{k: (a, d, s, f * 128) for k, (a, d, s, f) in CLASSIC_FRACTIONS.items()},
+}
+
 # render_frame's stats: these counters, and wall times in milliseconds under "*_ms" keys
 # (at least these three stages; the set of timed stages may grow).
 STATS_COUNTERS = {
@@ -468,12 +532,12 @@ def test_load_mesh_stl_and_obj(tmp_path):
 def test_preset_names():
     names = sl.Material.preset_names()
     assert isinstance(names, list)
-    assert names == list(PRESETS)  # all nine, in the table's order
+    assert names == list(ALL_PRESETS)  # the seed nine first, then the rest of the table
 
 
-@pytest.mark.parametrize("name", list(PRESETS))
+@pytest.mark.parametrize("name", list(ALL_PRESETS))
 def test_preset_exact_values(name):
-    ambient, diffuse, specular, shininess = PRESETS[name]
+    ambient, diffuse, specular, shininess = ALL_PRESETS[name]
     m = sl.Material.preset(name)
     assert m.ambient == tuple(np.float32(ambient).tolist())
     assert m.diffuse == tuple(np.float32(diffuse).tolist())

@@ -121,13 +121,43 @@ def test_materials():
     r = run("materials")
     assert r.returncode == 0, r.stderr
     rows = r.stdout.strip().splitlines()
-    assert len(rows) == 9
+    assert len(rows) == len(sl.Material.preset_names()) == 29
     names = sl.Material.preset_names()
     for row, name in zip(rows, names):
         assert row.startswith(name)
     gold = next(row for row in rows if row.startswith("gold"))
     for value in ("0.24725", "0.75164", "0.628281", "51.2"):
         assert value in gold
+
+
+def test_materials_sheet(tmp_path):
+    out = tmp_path / "sheet.png"
+    r = run("materials", "--sheet", out, "--cell", "32", "--columns", "10")
+    assert r.returncode == 0, r.stderr
+    img = read_png(out)
+    label = 14
+    assert img.shape == (3 * (32 + label), 10 * 32, 3)  # 29 presets: 3 rows of 10
+    # Every swatch shows a sphere: its centre pixel differs from the cell's corner (the grey
+    # background); the unused 30th cell stays black.
+    for i in range(29):
+        y, x = divmod(i, 10)
+        y, x = y * (32 + label), x * 32
+        assert img[y + 16, x + 16].tolist() != img[y, x].tolist(), sl.Material.preset_names()[i]
+        assert img[y, x].tolist() == [56, 56, 61]
+    assert not img[2 * (32 + label) : 2 * (32 + label) + 32, 9 * 32 :].any()
+
+
+def test_materials_sheet_matches_swatch_scene():
+    from shadelab_rs.swatch import material_sheet, swatch_scene
+
+    sheet = material_sheet(["ruby", "jade"], cell=40, labels=False)
+    assert sheet.shape == (40, 80, 3)
+    for k, name in enumerate(["ruby", "jade"]):
+        scene, camera = swatch_scene(sl.Material.preset(name))
+        alone = sl.render(scene, camera, width=40, height=40, background=(0.22, 0.22, 0.24))
+        np.testing.assert_array_equal(sheet[:, 40 * k : 40 * (k + 1)], alone)
+    with pytest.raises(ValueError, match="cell"):
+        material_sheet(cell=4)
 
 
 def test_version():

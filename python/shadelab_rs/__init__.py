@@ -28,6 +28,7 @@ from ._core import (
 )
 from .demo import data_path, demo_scene, frame_mesh
 from .io import load_mesh, save_image, to_uint8
+from .swatch import material_sheet
 
 __all__ = [
     "MAX_IMAGE_SIZE",
@@ -47,6 +48,7 @@ __all__ = [
     "load_mesh",
     "load_obj",
     "load_obj_parts",
+    "material_sheet",
     "render",
     "render_frame",
     "save_image",

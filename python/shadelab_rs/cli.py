@@ -10,6 +10,7 @@ from collections.abc import Sequence
 from . import _core as core
 from .demo import demo_scene, frame_mesh
 from .io import load_mesh, save_image
+from .swatch import material_sheet
 
 
 def _size(text: str) -> tuple[int, int]:
@@ -93,6 +94,11 @@ def cmd_materials(args: argparse.Namespace) -> None:
             f"{name:16s} ambient {fmt(m.ambient):28s} diffuse {fmt(m.diffuse):28s} "
             f"specular {fmt(m.specular):28s} shininess {m.shininess:g}"
         )
+    if args.sheet is not None:
+        sheet = material_sheet(cell=args.cell, columns=args.columns)
+        save_image(sheet, args.sheet)
+        h, w = sheet.shape[:2]
+        print(f"wrote {args.sheet} ({w}x{h}, one sphere per preset)", file=sys.stderr)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -128,7 +134,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     _render_args(d)
     d.set_defaults(func=cmd_demo, output="demo.png")
 
-    m = sub.add_parser("materials", help="list the material presets")
+    m = sub.add_parser("materials", help="list the material presets (and render a swatch sheet)")
+    m.add_argument("--sheet", default=None, help="also write an image with a sphere per preset")
+    m.add_argument("--cell", type=int, default=128, help="pixels per swatch (128)")
+    m.add_argument("--columns", type=int, default=6, help="swatches per row (6)")
     m.set_defaults(func=cmd_materials)
 
     args = parser.parse_args(argv)

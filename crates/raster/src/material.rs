@@ -139,7 +139,11 @@ const fn p(
     }
 }
 
-/// The nine presets of the seed lecture table (the classic OpenGL material values).
+/// The classic OpenGL material table: the nine presets of the seed lecture table first, then
+/// the rest of Kilgard's `teapots.c` table (SGI, 1994; also Table 3 of McReynolds & Blythe,
+/// "Advanced Graphics Programming Techniques Using OpenGL", SIGGRAPH 1998 course notes, which
+/// adds the polished metals). The source tables give shininess as a fraction of 128; here it
+/// is already multiplied (0.6 → 76.8).
 pub const PRESETS: &[Preset] = &[
     p(
         "black plastic",
@@ -204,6 +208,146 @@ pub const PRESETS: &[Preset] = &[
         [0.773911, 0.773911, 0.773911],
         89.6,
     ),
+    p(
+        "emerald",
+        [0.0215, 0.1745, 0.0215],
+        [0.07568, 0.61424, 0.07568],
+        [0.633, 0.727811, 0.633],
+        76.8,
+    ),
+    p(
+        "jade",
+        [0.135, 0.2225, 0.1575],
+        [0.54, 0.89, 0.63],
+        [0.316228, 0.316228, 0.316228],
+        12.8,
+    ),
+    p(
+        "obsidian",
+        [0.05375, 0.05, 0.06625],
+        [0.18275, 0.17, 0.22525],
+        [0.332741, 0.328634, 0.346435],
+        38.4,
+    ),
+    p(
+        "pearl",
+        [0.25, 0.20725, 0.20725],
+        [1.0, 0.829, 0.829],
+        [0.296648, 0.296648, 0.296648],
+        11.264,
+    ),
+    p(
+        "ruby",
+        [0.1745, 0.01175, 0.01175],
+        [0.61424, 0.04136, 0.04136],
+        [0.727811, 0.626959, 0.626959],
+        76.8,
+    ),
+    p(
+        "turquoise",
+        [0.1, 0.18725, 0.1745],
+        [0.396, 0.74151, 0.69102],
+        [0.297254, 0.30829, 0.306678],
+        12.8,
+    ),
+    p(
+        "polished bronze",
+        [0.25, 0.148, 0.06475],
+        [0.4, 0.2368, 0.1036],
+        [0.774597, 0.458561, 0.200621],
+        76.8,
+    ),
+    p(
+        "polished copper",
+        [0.2295, 0.08825, 0.0275],
+        [0.5508, 0.2118, 0.066],
+        [0.580594, 0.223257, 0.0695701],
+        51.2,
+    ),
+    p(
+        "polished gold",
+        [0.24725, 0.2245, 0.0645],
+        [0.34615, 0.3143, 0.0903],
+        [0.797357, 0.723991, 0.208006],
+        83.2,
+    ),
+    p(
+        "cyan plastic",
+        [0.0, 0.1, 0.06],
+        [0.0, 0.50980392, 0.50980392],
+        [0.50196078, 0.50196078, 0.50196078],
+        32.0,
+    ),
+    p(
+        "green plastic",
+        [0.0, 0.0, 0.0],
+        [0.1, 0.35, 0.1],
+        [0.45, 0.55, 0.45],
+        32.0,
+    ),
+    p(
+        "red plastic",
+        [0.0, 0.0, 0.0],
+        [0.5, 0.0, 0.0],
+        [0.7, 0.6, 0.6],
+        32.0,
+    ),
+    p(
+        "white plastic",
+        [0.0, 0.0, 0.0],
+        [0.55, 0.55, 0.55],
+        [0.7, 0.7, 0.7],
+        32.0,
+    ),
+    p(
+        "yellow plastic",
+        [0.0, 0.0, 0.0],
+        [0.5, 0.5, 0.0],
+        [0.6, 0.6, 0.5],
+        32.0,
+    ),
+    p(
+        "black rubber",
+        [0.02, 0.02, 0.02],
+        [0.01, 0.01, 0.01],
+        [0.4, 0.4, 0.4],
+        10.0,
+    ),
+    p(
+        "cyan rubber",
+        [0.0, 0.05, 0.05],
+        [0.4, 0.5, 0.5],
+        [0.04, 0.7, 0.7],
+        10.0,
+    ),
+    p(
+        "green rubber",
+        [0.0, 0.05, 0.0],
+        [0.4, 0.5, 0.4],
+        [0.04, 0.7, 0.04],
+        10.0,
+    ),
+    p(
+        "red rubber",
+        [0.05, 0.0, 0.0],
+        [0.5, 0.4, 0.4],
+        [0.7, 0.04, 0.04],
+        10.0,
+    ),
+    p(
+        "white rubber",
+        [0.05, 0.05, 0.05],
+        [0.5, 0.5, 0.5],
+        [0.7, 0.7, 0.7],
+        10.0,
+    ),
+    p(
+        "yellow rubber",
+        [0.05, 0.05, 0.0],
+        [0.5, 0.5, 0.4],
+        [0.7, 0.7, 0.04],
+        10.0,
+    ),
 ];
 
 /// Names of all presets, in table order.
@@ -233,7 +377,8 @@ mod tests {
         assert_eq!(Material::preset("gold").unwrap().diffuse.x, 0.75164);
         let e = Material::preset("unobtainium").unwrap_err().to_string();
         assert!(e.contains("unobtainium") && e.contains("brass"), "{e}");
-        assert_eq!(preset_names().len(), 9);
+        assert_eq!(preset_names().len(), 29);
+        assert_eq!(Material::preset("Red-Rubber").unwrap().shininess, 10.0);
     }
 
     #[test]
