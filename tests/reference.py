@@ -109,6 +109,71 @@ class SpotLight:
 
 
 @dataclass
+class AreaLight:
+    """Rectangle or disk centred at ``position`` spanned by edges ``u`` and ``v``, standing
+    for ``samples**2`` point lights (see :func:`area_points`) that share the colour and
+    ambient equally; ``one_sided`` points are Lambertian emitters along ``u x v``."""
+
+    position: Vec3
+    u: Vec3
+    v: Vec3
+    shape: str = "rectangle"
+    samples: int = 4
+    color: Vec3 = (1.0, 1.0, 1.0)
+    intensity: float = 1.0
+    attenuation: Vec3 = (1.0, 0.0, 0.0)
+    ambient: Vec3 = (0.0, 0.0, 0.0)
+    one_sided: bool = False
+
+
+def area_points(light: AreaLight) -> np.ndarray:
+    """``(samples**2, 3)`` sample positions: rectangle cell centres (row-major, ``u`` fastest)
+    or a golden-angle spiral with equal-area radii ``sqrt((k + 1/2) / N)`` over the inscribed
+    ellipse."""
+    c, u, v = (np.asarray(x, dtype=np.float64) for x in (light.position, light.u, light.v))
+    n = int(light.samples)
+    if light.shape == "rectangle":
+        t, s = np.meshgrid(
+            (np.arange(n) + 0.5) / n - 0.5, (np.arange(n) + 0.5) / n - 0.5, indexing="ij"
+        )
+        s, t = s.ravel(), t.ravel()
+    elif light.shape == "disk":
+        k = np.arange(n * n, dtype=np.float64)
+        r = np.sqrt((k + 0.5) / (n * n))
+        a = k * np.pi * (3.0 - np.sqrt(5.0))
+        s, t = 0.5 * r * np.cos(a), 0.5 * r * np.sin(a)
+    else:
+        raise ValueError(f"unknown area shape {light.shape!r}")
+    return c + s[:, None] * u + t[:, None] * v
+
+
+def expand_area_lights(lights) -> list:
+    """``lights`` with every :class:`AreaLight` replaced by its point (or spot) lights."""
+    out = []
+    for light in lights:
+        if not isinstance(light, AreaLight):
+            out.append(light)
+            continue
+        pts = area_points(light)
+        share = 1.0 / len(pts)
+        normal = np.cross(light.u, light.v)
+        normal = tuple(normal / np.linalg.norm(normal))
+        amb = tuple(np.asarray(light.ambient, dtype=np.float64) * share)
+        for p in pts:
+            common = dict(
+                color=light.color,
+                intensity=light.intensity * share,
+                attenuation=light.attenuation,
+                ambient=amb,
+            )
+            if light.one_sided:
+                out.append(SpotLight(tuple(p), normal, cutoff=90.0, exponent=1.0, **common))
+            else:
+                out.append(PointLight(tuple(p), **common))
+    return out
+
+
+@dataclass
 class Fog:
     """Depth cueing by Euclidean eye distance d: f = (end - d)/(end - start) ("linear"),
     exp(-density*d) ("exp"), exp(-(density*d)**2) ("exp2"), clamped to [0, 1]; the pixel
@@ -401,8 +466,9 @@ def lighting(
     """
     if specular not in ("blinn", "phong", "blinn-normalized"):
         raise ValueError(f"unknown specular model {specular!r}")
-    if isinstance(lights, (DirectionalLight, PointLight, SpotLight)):
+    if isinstance(lights, (DirectionalLight, PointLight, SpotLight, AreaLight)):
         lights = [lights]
+    lights = expand_area_lights(lights)
     p = np.asarray(p, dtype=np.float64)
     n = np.asarray(n, dtype=np.float64)
     p, n = np.broadcast_arrays(p, n)
@@ -608,8 +674,9 @@ def render_reference(
     near, far = float(camera.near), float(camera.far)
     if not camera.is_ortho and near <= 0:
         raise ValueError("perspective near plane must be > 0")
-    if isinstance(lights, (DirectionalLight, PointLight, SpotLight)):
+    if isinstance(lights, (DirectionalLight, PointLight, SpotLight, AreaLight)):
         lights = [lights]
+    lights = expand_area_lights(lights)
 
     v_obj = np.asarray(vertices, dtype=np.float64).reshape(-1, 3)
     f = np.asarray(faces, dtype=np.int64).reshape(-1, 3)

@@ -133,6 +133,7 @@ STATS_COUNTERS = {
     "triangles_clipped",
     "triangles_culled",
     "triangles_dropped",
+    "light_sources",
 }
 STATS_TIMINGS = {"vertex_ms", "setup_ms", "raster_shade_ms"}
 
@@ -684,6 +685,7 @@ def test_render_frame(sphere_scene, camera):
     assert 0 < stats["triangles_setup"] <= stats["triangles_in"]
     assert stats["triangles_clipped"] == stats["triangles_culled"] == 0
     assert stats["triangles_dropped"] == 0
+    assert stats["light_sources"] == sphere_scene.n_lights
     for k in STATS_COUNTERS:
         assert isinstance(stats[k], int) and stats[k] >= 0, k
     for k in timings:

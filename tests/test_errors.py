@@ -266,9 +266,15 @@ def test_wrong_object_types():
     expect_error(TypeError, "mesh", scene.add, "mesh")
     expect_error(TypeError, "mesh", scene.add, (TRI_V, TRI_F))
     expect_error(TypeError, "material", scene.add, mesh, material="gold")
-    expect_error(TypeError, "DirectionalLight, PointLight or SpotLight", scene.add_light, "sun")
-    expect_error(TypeError, "DirectionalLight, PointLight or SpotLight", scene.add_light, None)
-    expect_error(TypeError, "DirectionalLight, PointLight or SpotLight", scene.add_light, mesh)
+    expect_error(
+        TypeError, "DirectionalLight, PointLight, SpotLight or AreaLight", scene.add_light, "sun"
+    )
+    expect_error(
+        TypeError, "DirectionalLight, PointLight, SpotLight or AreaLight", scene.add_light, None
+    )
+    expect_error(
+        TypeError, "DirectionalLight, PointLight, SpotLight or AreaLight", scene.add_light, mesh
+    )
     expect_error(TypeError, "scene", sl.render, None, CAM)
     expect_error(TypeError, "camera", sl.render, scene, None)
     expect_error(TypeError, "camera", sl.render, scene, (EYE, TARGET))

@@ -171,6 +171,34 @@ SPHERE_CASES = {
             ),
             "pewter",
         ),
+        # Area lights: a one-sided attenuated rectangle close to the sphere (its points light
+        # the surface from visibly different directions) and a two-sided disk.
+        Case(
+            "persp-area",
+            "sphere",
+            PERSP,
+            (
+                ref.AreaLight(
+                    (0.8, 1.6, 1.2),
+                    (1.5, 0.0, 0.0),
+                    (0.0, 0.6, -0.9),
+                    samples=5,
+                    intensity=3.0,
+                    attenuation=(0.5, 0.2, 0.1),
+                    ambient=(0.1, 0.1, 0.1),
+                    one_sided=True,
+                ),
+                ref.AreaLight(
+                    (-2.0, -0.5, 1.5),
+                    (0.0, 1.2, 0.0),
+                    (0.6, 0.0, 0.8),
+                    shape="disk",
+                    samples=3,
+                    color=(0.5, 0.6, 1.0),
+                ),
+            ),
+            "jade",
+        ),
         # Fog of each kind, by Euclidean eye distance, over an orthographic and a perspective
         # view (the sphere spans distances from about 2.3 to 4.4).
         Case(
@@ -252,6 +280,19 @@ def _mesh_arrays(name):
 
 
 def _sl_light(light):
+    if isinstance(light, ref.AreaLight):
+        return sl.AreaLight(
+            light.position,
+            light.u,
+            light.v,
+            shape=light.shape,
+            samples=light.samples,
+            color=light.color,
+            intensity=light.intensity,
+            attenuation=light.attenuation,
+            ambient=light.ambient,
+            one_sided=light.one_sided,
+        )
     if isinstance(light, ref.SpotLight):
         return sl.SpotLight(
             light.position,

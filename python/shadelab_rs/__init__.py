@@ -10,7 +10,9 @@ this package adds file helpers, the bundled demo scene and the command line.
 """
 
 from ._core import (
+    MAX_AREA_SAMPLES,
     MAX_IMAGE_SIZE,
+    AreaLight,
     Camera,
     DirectionalLight,
     Fog,
@@ -31,7 +33,9 @@ from .io import load_mesh, save_image, to_uint8
 from .swatch import material_sheet
 
 __all__ = [
+    "MAX_AREA_SAMPLES",
     "MAX_IMAGE_SIZE",
+    "AreaLight",
     "Camera",
     "DirectionalLight",
     "Fog",

@@ -17,7 +17,9 @@ from numpy.typing import ArrayLike, NDArray
 from typing_extensions import TypeAlias
 
 __all__ = [
+    "MAX_AREA_SAMPLES",
     "MAX_IMAGE_SIZE",
+    "AreaLight",
     "Camera",
     "DirectionalLight",
     "Fog",
@@ -50,6 +52,8 @@ _Specular: TypeAlias = Literal["blinn", "phong", "blinn-normalized"] | str
 __version__: Final[str]
 #: Largest supported image width or height in pixels (16384).
 MAX_IMAGE_SIZE: Final[int]
+#: Largest ``samples`` per side of an :class:`AreaLight` (64, i.e. 4096 point sources).
+MAX_AREA_SAMPLES: Final[int]
 
 class ObjParseError(ValueError):
     """A mesh file was read but its content is malformed (a ValueError).
@@ -264,6 +268,72 @@ class SpotLight:
         """The light's own ambient colour."""
 
 @final
+class AreaLight:
+    """A rectangle or disk light modelled, as in the lecture model, by ``samples**2`` point
+    sources spread evenly over it, each carrying ``1 / samples**2`` of the colour and
+    ambient (so the total light does not depend on ``samples``, the speed/accuracy knob).
+
+    The outline is centred at ``position`` and spanned by the edge vectors ``u`` and ``v``
+    (finite, non-zero, not parallel): a rectangle is ``position + s*u + t*v`` for ``s, t`` in
+    ``[-1/2, 1/2]`` with one point at the centre of each cell of a ``samples x samples``
+    grid; a disk is the ellipse inscribed in it, sampled by a golden-angle spiral at
+    equal-area radii. Each point is a point light with this light's ``attenuation``;
+    ``one_sided=True`` makes each a Lambertian emitter (a spot light with cutoff 90 and
+    exponent 1 along ``normal = u x v / |u x v|``), dark behind the light."""
+
+    def __new__(
+        cls,
+        position: _Vec3Like,
+        u: _Vec3Like,
+        v: _Vec3Like,
+        shape: Literal["rectangle", "disk"] = "rectangle",
+        samples: int | None = None,
+        color: _Vec3Like | None = None,
+        intensity: float = 1.0,
+        attenuation: _Vec3Like | None = None,
+        ambient: _Vec3Like | None = None,
+        one_sided: bool = False,
+    ) -> AreaLight: ...
+    @property
+    def position(self) -> _Vec3:
+        """Centre."""
+    @property
+    def u(self) -> _Vec3:
+        """First edge vector."""
+    @property
+    def v(self) -> _Vec3:
+        """Second edge vector."""
+    @property
+    def normal(self) -> _Vec3:
+        """Unit normal ``u x v / |u x v|``: the emitting side of a one-sided light."""
+    @property
+    def shape(self) -> Literal["rectangle", "disk"]:
+        """``"rectangle"`` or ``"disk"``."""
+    @property
+    def samples(self) -> int:
+        """Points per side (default 4; 1 to ``MAX_AREA_SAMPLES``)."""
+    @property
+    def n_points(self) -> int:
+        """Number of point sources, ``samples**2``: the per-pixel cost in point lights."""
+    @property
+    def one_sided(self) -> bool:
+        """Whether only the side ``normal`` points to emits (with a cosine fall-off)."""
+    @property
+    def color(self) -> _Vec3:
+        """RGB colour of the whole light."""
+    @property
+    def intensity(self) -> float:
+        """Multiplier of ``color``, shared equally by the points."""
+    @property
+    def attenuation(self) -> _Vec3:
+        """Distance attenuation (kc, kl, kq), applied to each point with its own distance."""
+    @property
+    def ambient(self) -> _Vec3:
+        """The light's own ambient colour, shared by the points."""
+    def points(self) -> NDArray[np.float32]:
+        """The sample positions, an ``(n_points, 3)`` float32 array."""
+
+@final
 class Fog:
     """Depth cueing: each pixel's colour c becomes ``f*c + (1 - f)*color`` with d the
     Euclidean distance from the eye to the surface and f, clamped to [0, 1], given by
@@ -332,8 +402,8 @@ class Scene:
         """Adds ``mesh`` with ``material`` (default: grey plastic) placed by the 4x4 model
         matrix ``transform`` (column vectors: ``p_world = transform @ [x, y, z, 1]``; it must
         be affine and invertible). The mesh is shared, not copied."""
-    def add_light(self, light: DirectionalLight | PointLight | SpotLight) -> None:
-        """Adds a DirectionalLight, PointLight or SpotLight."""
+    def add_light(self, light: DirectionalLight | PointLight | SpotLight | AreaLight) -> None:
+        """Adds a DirectionalLight, PointLight, SpotLight or AreaLight."""
     @property
     def ambient(self) -> _Vec3:
         """Global ambient light (r, g, b)."""
@@ -515,5 +585,6 @@ def render_frame(
 ) -> _Frame:
     """Like :func:`render`, returning a dict with "image", "depth" (or None) and "stats":
     triangle counters (``triangles_in``, ``triangles_setup``, ``triangles_clipped``,
-    ``triangles_culled``, ``triangles_dropped``) and per-stage wall times in milliseconds
-    (keys ending in ``_ms``)."""
+    ``triangles_culled``, ``triangles_dropped``), ``light_sources`` (point sources lit per
+    shaded point; an area light counts its ``n_points``) and per-stage wall times in
+    milliseconds (keys ending in ``_ms``)."""

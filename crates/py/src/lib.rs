@@ -1,6 +1,7 @@
 //! Python bindings of shadelab_rs: conversion of arguments and mapping of errors only; all
 //! rendering lives in the `shadelab-raster` crate.
 
+mod area_light;
 mod camera;
 mod convert;
 mod errors;
@@ -23,6 +24,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<light::PyDirectionalLight>()?;
     m.add_class::<light::PyPointLight>()?;
     m.add_class::<light::PySpotLight>()?;
+    m.add_class::<area_light::PyAreaLight>()?;
+    m.add("MAX_AREA_SAMPLES", shadelab_raster::MAX_AREA_SAMPLES)?;
     m.add_class::<scene::PyScene>()?;
     m.add_class::<fog::PyFog>()?;
     m.add_class::<camera::PyCamera>()?;

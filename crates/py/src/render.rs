@@ -224,6 +224,7 @@ pub fn render_frame<'py>(
     stats.set_item("triangles_clipped", s.triangles_clipped)?;
     stats.set_item("triangles_culled", s.triangles_culled)?;
     stats.set_item("triangles_dropped", s.triangles_dropped)?;
+    stats.set_item("light_sources", s.light_sources)?;
     let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
     stats.set_item("vertex_ms", ms(s.timings.vertex))?;
     stats.set_item("setup_ms", ms(s.timings.setup))?;

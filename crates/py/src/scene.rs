@@ -5,6 +5,7 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use shadelab_raster as core;
 
+use crate::area_light::PyAreaLight;
 use crate::convert;
 use crate::errors::to_py;
 use crate::fog::PyFog;
@@ -86,7 +87,7 @@ impl PyScene {
             .map_err(to_py)
     }
 
-    /// Adds a DirectionalLight, PointLight or SpotLight.
+    /// Adds a DirectionalLight, PointLight, SpotLight or AreaLight.
     fn add_light(&mut self, light: &Bound<'_, PyAny>) -> PyResult<()> {
         if let Ok(l) = light.extract::<PyRef<'_, PyDirectionalLight>>() {
             self.inner.add_light(l.inner);
@@ -94,9 +95,11 @@ impl PyScene {
             self.inner.add_light(l.inner);
         } else if let Ok(l) = light.extract::<PyRef<'_, PySpotLight>>() {
             self.inner.add_light(l.inner);
+        } else if let Ok(l) = light.extract::<PyRef<'_, PyAreaLight>>() {
+            self.inner.add_light(l.inner);
         } else {
             return Err(PyTypeError::new_err(format!(
-                "add_light expects a DirectionalLight, PointLight or SpotLight, got {}",
+                "add_light expects a DirectionalLight, PointLight, SpotLight or AreaLight, got {}",
                 light.get_type().name()?
             )));
         }

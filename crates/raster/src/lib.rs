@@ -22,6 +22,7 @@
 //! ```
 #![warn(missing_docs)]
 
+mod area_light;
 mod camera;
 mod error;
 mod fog;
@@ -36,6 +37,7 @@ mod render;
 mod scene;
 mod shading;
 
+pub use area_light::{AreaLight, AreaShape, MAX_AREA_SAMPLES};
 pub use camera::{Camera, Projection};
 pub use error::{RasterError, Result};
 pub use fog::{Fog, FogMode};

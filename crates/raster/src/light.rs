@@ -56,6 +56,8 @@ pub enum Light {
     Point(PointLight),
     /// See [`SpotLight`].
     Spot(SpotLight),
+    /// See [`AreaLight`](crate::AreaLight): shaded as its point sources.
+    Area(crate::area_light::AreaLight),
 }
 
 /// A point light restricted to a cone, with OpenGL's `GL_SPOT_CUTOFF` / `GL_SPOT_EXPONENT`
@@ -264,6 +266,12 @@ impl From<DirectionalLight> for Light {
 impl From<PointLight> for Light {
     fn from(l: PointLight) -> Self {
         Light::Point(l)
+    }
+}
+
+impl From<crate::area_light::AreaLight> for Light {
+    fn from(l: crate::area_light::AreaLight) -> Self {
+        Light::Area(l)
     }
 }
 

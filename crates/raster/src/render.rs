@@ -97,6 +97,9 @@ pub struct RenderStats {
     pub triangles_culled: usize,
     /// Triangles dropped because a transformed coordinate overflowed to a non-finite value.
     pub triangles_dropped: usize,
+    /// Point sources lit per shaded point: one per directional, point or spot light, and
+    /// [`AreaLight::n_points`](crate::AreaLight::n_points) per area light.
+    pub light_sources: usize,
     /// Per-stage wall times.
     pub timings: StageTimings,
 }

@@ -164,6 +164,17 @@ impl Scene {
         &self.lights
     }
 
+    /// Point sources each shaded point evaluates: an area light counts its points.
+    pub fn light_source_count(&self) -> usize {
+        self.lights
+            .iter()
+            .map(|l| match l {
+                Light::Area(a) => a.n_points(),
+                _ => 1,
+            })
+            .sum()
+    }
+
     /// Total triangle count over all objects.
     pub fn triangle_count(&self) -> usize {
         self.objects.iter().map(|o| o.mesh.triangle_count()).sum()

@@ -131,53 +131,60 @@ impl PreparedMaterial {
             _ => 1.0,
         };
         let mut base = material.emission + material.ambient * ambient;
-        let lights = lights
-            .iter()
-            .map(|l| {
-                let point = |p: &crate::light::PointLight| {
-                    (
-                        p.color * p.intensity,
-                        p.ambient,
-                        p.is_attenuated().then_some(p.attenuation),
-                    )
-                };
-                let (geometry, (radiance, light_ambient, att)) = match l {
-                    Light::Directional(d) => (
-                        LightGeometry::Directional(-d.direction()),
-                        (d.color * d.intensity, d.ambient, None),
-                    ),
-                    Light::Point(p) => (LightGeometry::Point(p.position), point(p)),
-                    // OpenGL: a cutoff of 180 is no cone at all, whatever the exponent.
-                    Light::Spot(s) if s.cutoff() == 180.0 => {
-                        (LightGeometry::Point(s.point.position), point(&s.point))
-                    }
-                    Light::Spot(s) => (
-                        LightGeometry::Spot {
-                            position: s.point.position,
-                            direction: s.direction(),
-                            cos_cutoff: (s.cutoff() as f64).to_radians().cos() as f32,
-                            cos_inner: s
-                                .inner()
-                                .map_or(2.0, |i| (i as f64).to_radians().cos() as f32),
-                            exponent: s.exponent(),
-                        },
-                        point(&s.point),
-                    ),
-                };
-                let per_pixel = att.is_some() || matches!(geometry, LightGeometry::Spot { .. });
-                let light_ambient = material.ambient * light_ambient;
-                if !per_pixel {
-                    base += light_ambient;
+        let mut prepare = |l: &Light| {
+            let point = |p: &crate::light::PointLight| {
+                (
+                    p.color * p.intensity,
+                    p.ambient,
+                    p.is_attenuated().then_some(p.attenuation),
+                )
+            };
+            let (geometry, (radiance, light_ambient, att)) = match l {
+                Light::Directional(d) => (
+                    LightGeometry::Directional(-d.direction()),
+                    (d.color * d.intensity, d.ambient, None),
+                ),
+                Light::Point(p) => (LightGeometry::Point(p.position), point(p)),
+                // OpenGL: a cutoff of 180 is no cone at all, whatever the exponent.
+                Light::Spot(s) if s.cutoff() == 180.0 => {
+                    (LightGeometry::Point(s.point.position), point(&s.point))
                 }
-                PreparedLight {
-                    geometry,
-                    diffuse: material.diffuse * radiance,
-                    specular: material.specular * radiance * spec_scale,
-                    ambient: if per_pixel { light_ambient } else { Vec3::ZERO },
-                    attenuation: att,
-                }
-            })
-            .collect();
+                Light::Area(_) => unreachable!("area lights are expanded by the caller"),
+                Light::Spot(s) => (
+                    LightGeometry::Spot {
+                        position: s.point.position,
+                        direction: s.direction(),
+                        cos_cutoff: (s.cutoff() as f64).to_radians().cos() as f32,
+                        cos_inner: s
+                            .inner()
+                            .map_or(2.0, |i| (i as f64).to_radians().cos() as f32),
+                        exponent: s.exponent(),
+                    },
+                    point(&s.point),
+                ),
+            };
+            let per_pixel = att.is_some() || matches!(geometry, LightGeometry::Spot { .. });
+            let light_ambient = material.ambient * light_ambient;
+            if !per_pixel {
+                base += light_ambient;
+            }
+            PreparedLight {
+                geometry,
+                diffuse: material.diffuse * radiance,
+                specular: material.specular * radiance * spec_scale,
+                ambient: if per_pixel { light_ambient } else { Vec3::ZERO },
+                attenuation: att,
+            }
+        };
+        let mut prepared = Vec::with_capacity(lights.len());
+        for l in lights {
+            match l {
+                // An area light is its point sources: no per-pixel code of its own.
+                Light::Area(a) => prepared.extend(a.point_lights().iter().map(&mut prepare)),
+                _ => prepared.push(prepare(l)),
+            }
+        }
+        let lights = prepared;
         PreparedMaterial {
             base,
             lights,
@@ -550,6 +557,51 @@ mod tests {
             .unwrap();
         let pm = PreparedMaterial::new(&m, Vec3::ZERO, &[at.into()], SpecularModel::BlinnPhong);
         assert!(pm.shade(Vec3::Z, Vec3::ZERO, Vec3::Z).is_finite());
+    }
+
+    #[test]
+    fn area_light_shades_as_its_point_sources() {
+        use crate::area_light::{AreaLight, AreaShape};
+        let m = Material::preset("gold").unwrap();
+        let area = AreaLight::new(
+            Vec3::new(0.0, 0.0, 2.0),
+            Vec3::X,
+            Vec3::Y,
+            AreaShape::Rectangle,
+            2,
+        )
+        .unwrap()
+        .with_color(Vec3::new(1.0, 0.9, 0.8), 4.0)
+        .unwrap();
+        let points: Vec<Light> = [(-0.25, -0.25), (0.25, -0.25), (-0.25, 0.25), (0.25, 0.25)]
+            .map(|(x, y)| {
+                PointLight::new(Vec3::new(x, y, 2.0), Vec3::new(1.0, 0.9, 0.8), 1.0)
+                    .unwrap()
+                    .into()
+            })
+            .to_vec();
+        let a = PreparedMaterial::new(&m, Vec3::splat(0.2), &[area.into()], SpecularModel::Phong);
+        let b = PreparedMaterial::new(&m, Vec3::splat(0.2), &points, SpecularModel::Phong);
+        let eye = Vec3::new(0.3, 0.2, 3.0);
+        for p in [Vec3::ZERO, Vec3::new(0.4, -0.3, 0.1)] {
+            let n = Vec3::new(0.1, 0.2, 1.0).normalize();
+            assert_eq!(a.shade(n, p, eye), b.shade(n, p, eye));
+        }
+        // One-sided: the same light seen from behind (n faces the back) gives no direct light,
+        // and in front each point is scaled by the cosine of its emission angle: a point on
+        // the axis far away gets ≈ the unscaled light.
+        let one = area.with_one_sided(true); // normal x × y = +z: emits upward
+        let pm = PreparedMaterial::new(&m, Vec3::ZERO, &[one.into()], SpecularModel::Phong);
+        let below = pm.shade(Vec3::Z, Vec3::ZERO, eye);
+        assert_eq!(below, m.emission);
+        let above = Vec3::new(0.0, 0.0, 1e3);
+        let lit = pm.shade(-Vec3::Z, above, above + Vec3::Z);
+        let two = PreparedMaterial::new(&m, Vec3::ZERO, &[area.into()], SpecularModel::Phong);
+        let both = two.shade(-Vec3::Z, above, above + Vec3::Z);
+        assert!(
+            (lit - both).abs().max_element() < 1e-6 * both.max_element(),
+            "{lit} {both}"
+        );
     }
 
     #[test]

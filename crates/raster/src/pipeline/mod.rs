@@ -212,6 +212,7 @@ pub(crate) fn prepare(scene: &Scene, camera: &Camera, options: &RenderOptions) -
     let (w, h) = (options.width as usize, options.height as usize);
     let mut stats = RenderStats {
         triangles_in: scene.triangle_count(),
+        light_sources: scene.light_source_count(),
         ..RenderStats::default()
     };
     let total_vertices: usize = scene
