@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 from collections.abc import Sequence
+
+import numpy as np
 
 from . import _core as core
 from .demo import demo_scene, frame_mesh
@@ -60,12 +63,26 @@ def _render(scene: core.Scene, camera: core.Camera, args: argparse.Namespace) ->
     print(f"wrote {args.output} ({w}x{h}, {scene.n_triangles} triangles, {dt:.1f} ms)")
 
 
+def _add_model(scene: core.Scene, path: str, preset: str | None) -> np.ndarray:
+    """Adds the model at ``path`` to ``scene``; returns all its vertices (for framing).
+
+    An OBJ keeps its MTL materials, one per group and ``usemtl`` run, unless a preset is
+    given; parts without one (and other formats) get the preset, gold by default."""
+    fallback = core.Material.preset(preset or "gold")
+    if os.fspath(path).lower().endswith(".obj"):
+        parts = core.load_obj_parts(path)
+        for _, mesh, mtl in parts:
+            scene.add(mesh, material=fallback if preset or mtl is None else mtl)
+        return np.concatenate([mesh.vertices for _, mesh, _ in parts])
+    mesh = load_mesh(path)
+    scene.add(mesh, material=fallback)
+    return mesh.vertices
+
+
 def cmd_render(args: argparse.Namespace) -> None:
-    mesh = load_mesh(args.model)
-    material = core.Material.preset(args.material)
     scene = core.Scene(ambient=args.ambient)
-    scene.add(mesh, material=material)
-    camera = frame_mesh(mesh.vertices, fov_y=args.fov, direction=args.view)
+    vertices = _add_model(scene, args.model, args.material)
+    camera = frame_mesh(vertices, fov_y=args.fov, direction=args.view)
     if args.eye is not None:
         target = args.target if args.target is not None else camera.target
         camera = core.Camera.look_at(
@@ -109,7 +126,12 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     r = sub.add_parser("render", help="render a mesh file (OBJ, or anything trimesh reads)")
     r.add_argument("model", help="mesh file")
-    r.add_argument("--material", default="gold", help="preset name (see 'shadelab materials')")
+    r.add_argument(
+        "--material",
+        default=None,
+        help="preset for the whole model (see 'shadelab materials'); default: the OBJ's MTL "
+        "materials, gold where it has none",
+    )
     r.add_argument("--ambient", type=_triple, default=(0.2, 0.2, 0.2), help="scene ambient r,g,b")
     r.add_argument("--fov", type=float, default=35.0, help="vertical field of view, degrees")
     r.add_argument(
