@@ -672,7 +672,7 @@ def markdown(
         out += [
             "## The baseline against the build before the lighting work",
             "",
-            f"Before = `{meta['before']}` ({meta['before_subject']}), the parent of the first "
+            f"Before = `{meta['before']}` (“{meta['before_subject']}”), the parent of the first "
             "lighting commit of issue 3. Both builds rendered the baseline scene in their own "
             "worker process (the same script, `--worker`, under each build's venv), frame by "
             "frame in alternation, the first of each pair alternating too. Ratio = median over "
@@ -817,7 +817,7 @@ def main(argv: list[str] | None = None) -> int:
         }
         if a.against_commit:
             meta["before"] = _git("rev-parse", "--short", a.against_commit)
-            meta["before_subject"] = _git("log", "-1", "--format=%s", a.against_commit)[:90]
+            meta["before_subject"] = _git("log", "-1", "--format=%s", a.against_commit)
         a.write.write_text(markdown(meta, rs, cmp))
         print(f"wrote {a.write}", file=sys.stderr)
     return 0
