@@ -317,18 +317,22 @@ class Series:
     variant: Variant
     covered_px: int = 0
     light_sources: int = 0
-    times_ms: list[float] = field(default_factory=list)
-    cores: list[float] = field(default_factory=list)
+    wall_ms: list[float] = field(default_factory=list)
+    cpu_ms: list[float] = field(default_factory=list)
+    # Variant minus the nearest baseline frame (same mode, same round), per frame.
+    diff_wall: list[float] = field(default_factory=list)
+    diff_cpu: list[float] = field(default_factory=list)
 
 
 def _render(scene: Any, kw: dict[str, Any], mode: str, threads: int) -> tuple[float, float]:
-    """Wall ms of one render_frame call and the cores it kept busy (CPU / wall time)."""
+    """Wall ms and process CPU ms of one render_frame call. CPU time leaves out the time the
+    renderer's threads waited for a core that other work held, so on a loaded machine it is
+    the steadier measure of the work itself."""
     sl = _sl()
     cam = _CAMERA.setdefault("c", camera())
     c0, t0 = time.process_time(), time.perf_counter()
     sl.render_frame(scene, cam, width=WIDTH, height=HEIGHT, shading=mode, threads=threads, **kw)
-    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
-    return wall * 1e3, cpu / wall
+    return (time.perf_counter() - t0) * 1e3, (time.process_time() - c0) * 1e3
 
 
 _CAMERA: dict[str, Any] = {}
@@ -343,11 +347,22 @@ def covered(scene: Any, kw: dict[str, Any], mode: str) -> tuple[int, int]:
     return int(np.isfinite(frame["depth"]).sum()), int(frame["stats"].get("light_sources", -1))
 
 
+def round_order(series: list[Series], rng: random.Random) -> list[int]:
+    """One round: every variant once in a shuffled order, with the baseline of each mode at
+    the start, the middle and the end, so every variant frame has a baseline frame of its
+    mode close to it in time."""
+    base = [i for i, s in enumerate(series) if s.variant.name == "baseline"]
+    rest = [i for i, s in enumerate(series) if s.variant.name != "baseline"]
+    rng.shuffle(rest)
+    half = len(rest) // 2
+    return [*base, *rest[:half], *base[::-1], *rest[half:], *base]
+
+
 def measure(
     configs: list[tuple[str, Variant]], threads: int, min_rounds: int, seconds: float, seed: int
-) -> list[Series]:
-    """Round-robin over every configuration, one frame each per round in a shuffled order,
-    until ``min_rounds`` are done and ``seconds`` have passed."""
+) -> tuple[list[Series], int]:
+    """Rounds of :func:`round_order` until ``min_rounds`` are done and ``seconds`` have
+    passed. Returns the series and the number of rounds."""
     series, scenes = [], []
     for mode, v in configs:
         scene, kw = v.build()
@@ -357,24 +372,36 @@ def measure(
         series.append(s)
         scenes.append((scene, kw))
     rng = random.Random(seed)
-    order = list(range(len(series)))
     start = time.perf_counter()
     rounds = 0
     while rounds < min_rounds or time.perf_counter() - start < seconds:
-        rng.shuffle(order)
+        order = round_order(series, rng)
+        frames = []  # (position, series index, wall, cpu)
         gc.collect()
         gc.disable()
         try:
-            for i in order:
-                ms, cores = _render(*scenes[i], series[i].mode, threads)
-                series[i].times_ms.append(ms)
-                series[i].cores.append(cores)
+            for pos, i in enumerate(order):
+                wall, cpu = _render(*scenes[i], series[i].mode, threads)
+                frames.append((pos, i, wall, cpu))
         finally:
             gc.enable()
+        for pos, i, wall, cpu in frames:
+            s = series[i]
+            s.wall_ms.append(wall)
+            s.cpu_ms.append(cpu)
+            if s.variant.name == "baseline":
+                continue
+            near = min(
+                (f for f in frames if series[f[1]].variant.name == "baseline"
+                 and series[f[1]].mode == s.mode),
+                key=lambda f: abs(f[0] - pos),
+            )  # fmt: skip
+            s.diff_wall.append(wall - near[2])
+            s.diff_cpu.append(cpu - near[3])
         rounds += 1
         print(f"\rround {rounds} ({time.perf_counter() - start:.0f} s)", end="", file=sys.stderr)
     print(file=sys.stderr)
-    return series
+    return series, rounds
 
 
 def _q(xs: list[float]) -> tuple[float, float, float]:
@@ -383,14 +410,15 @@ def _q(xs: list[float]) -> tuple[float, float, float]:
 
 
 def rows(series: list[Series], threads: int) -> list[dict[str, Any]]:
-    """One row per series: frame-time quartiles and the paired per-round cost vs baseline."""
-    base = {s.mode: s for s in series if s.variant.name == "baseline"}
+    """One row per series: wall and CPU time quartiles, and the cost against the nearest
+    baseline frames (CPU time; the wall-time figure is in the CSV too)."""
     out = []
     for s in series:
-        b = base[s.mode]
-        q1, med, q3 = _q(s.times_ms)
-        diffs = [t - u for t, u in zip(s.times_ms, b.times_ms)]
-        d1, dmed, d3 = _q(diffs)
+        w1, wmed, w3 = _q(s.wall_ms)
+        c1, cmed, c3 = _q(s.cpu_ms)
+        base = s.variant.name == "baseline"
+        d1, dmed, d3 = (0.0, 0.0, 0.0) if base else _q(s.diff_cpu)
+        dw = 0.0 if base else statistics.median(s.diff_wall)
         ns = 1e6 / s.covered_px  # ms per frame -> ns per covered pixel
         out.append(
             {
@@ -398,17 +426,19 @@ def rows(series: list[Series], threads: int) -> list[dict[str, Any]]:
                 "variant": s.variant.name,
                 "feature": s.variant.feature,
                 "threads": threads,
-                "frames": len(s.times_ms),
+                "frames": len(s.wall_ms),
                 "covered_px": s.covered_px,
                 "light_sources": s.light_sources,
-                "median_ms": round(med, 3),
-                "iqr_ms": round(q3 - q1, 3),
+                "wall_ms": round(wmed, 3),
+                "wall_iqr_ms": round(w3 - w1, 3),
+                "cpu_ms": round(cmed, 3),
+                "cpu_iqr_ms": round(c3 - c1, 3),
                 "added_ms": round(dmed, 3),
                 "added_iqr_ms": round(d3 - d1, 3),
+                "added_wall_ms": round(dw, 3),
                 "added_ns_px": round(dmed * ns, 2),
                 "added_ns_px_q1": round(d1 * ns, 2),
                 "added_ns_px_q3": round(d3 * ns, 2),
-                "cores": round(statistics.median(s.cores), 2),
             }
         )
     return out
@@ -480,8 +510,9 @@ class Worker:
         return json.loads(line)
 
     def frame(self, mode: str) -> tuple[float, float]:
+        """Wall and CPU ms of one baseline frame in ``mode``."""
         r = self._ask({"cmd": "frame", "mode": mode})
-        return r["ms"], r["cores"]
+        return r["wall_ms"], r["cpu_ms"]
 
     def close(self) -> None:
         assert self.proc.stdin
@@ -506,8 +537,8 @@ def worker_main(threads: int) -> int:
                 _render(scene, kw, msg["mode"], threads)
                 warmed.add(msg["mode"])
             gc.collect()
-            ms, cores = _render(scene, kw, msg["mode"], threads)
-            ans = {"ms": ms, "cores": cores}
+            wall, cpu = _render(scene, kw, msg["mode"], threads)
+            ans = {"wall_ms": wall, "cpu_ms": cpu}
         print(json.dumps(ans), flush=True)
     return 0
 
@@ -521,24 +552,31 @@ def compare_builds(
     try:
         out = []
         for mode in modes:
-            t: dict[str, list[float]] = {"now": [], "before": []}
+            t: dict[str, list[tuple[float, float]]] = {"now": [], "before": []}
             for r in range(rounds):
                 pair = [("now", now), ("before", before)]
                 for key, w in pair if r % 2 == 0 else pair[::-1]:
-                    t[key].append(w.frame(mode)[0])
-            ratio = [a / b for a, b in zip(t["now"], t["before"])]
-            qn, qb, qr = _q(t["now"]), _q(t["before"]), _q(ratio)
+                    t[key].append(w.frame(mode))
+            cpu_n, cpu_b = [c for _, c in t["now"]], [c for _, c in t["before"]]
+            wall_n, wall_b = [w for w, _ in t["now"]], [w for w, _ in t["before"]]
+            qn, qb = _q(cpu_n), _q(cpu_b)
+            qr = _q([a / b for a, b in zip(cpu_n, cpu_b)])
             out.append(
                 {
                     "mode": mode,
                     "frames": rounds,
-                    "now_ms": round(qn[1], 3),
-                    "now_iqr_ms": round(qn[2] - qn[0], 3),
-                    "before_ms": round(qb[1], 3),
-                    "before_iqr_ms": round(qb[2] - qb[0], 3),
+                    "now_cpu_ms": round(qn[1], 3),
+                    "now_cpu_iqr_ms": round(qn[2] - qn[0], 3),
+                    "before_cpu_ms": round(qb[1], 3),
+                    "before_cpu_iqr_ms": round(qb[2] - qb[0], 3),
                     "ratio": round(qr[1], 4),
                     "ratio_q1": round(qr[0], 4),
                     "ratio_q3": round(qr[2], 4),
+                    "now_wall_ms": round(statistics.median(wall_n), 3),
+                    "before_wall_ms": round(statistics.median(wall_b), 3),
+                    "wall_ratio": round(
+                        statistics.median(a / b for a, b in zip(wall_n, wall_b)), 4
+                    ),
                     "covered_now": now.info["covered_px"],
                     "covered_before": before.info["covered_px"],
                 }
@@ -591,8 +629,8 @@ def _f(x: float, digits: int = 2) -> str:
 
 def table(rs: list[dict[str, Any]]) -> list[str]:
     lines = [
-        "| mode | variant | what it adds | light sources | median ms (IQR) | added ms (IQR) | added ns/px [q1, q3] |",  # noqa: E501
-        "|---|---|---|---:|---:|---:|---:|",
+        "| mode | variant | what it adds | light sources | wall ms (IQR) | CPU ms (IQR) | added CPU ms (IQR) | added ns/px [q1, q3] |",  # noqa: E501
+        "|---|---|---|---:|---:|---:|---:|---:|",
     ]
     for r in rs:
         added = (
@@ -605,7 +643,8 @@ def table(rs: list[dict[str, Any]]) -> list[str]:
         )
         lines.append(
             f"| {r['mode']} | `{r['variant']}` | {r['feature']} | {r['light_sources']} | "
-            f"{r['median_ms']:.1f} ({r['iqr_ms']:.1f}) | {added} | {ns} |"
+            f"{r['wall_ms']:.1f} ({r['wall_iqr_ms']:.1f}) | {r['cpu_ms']:.1f} "
+            f"({r['cpu_iqr_ms']:.1f}) | {added} | {ns} |"
         )
     return lines
 
@@ -640,10 +679,11 @@ def markdown(
         f"| load average (1 min) at start / end | {meta['load'][0]:.2f} / {meta['load'][1]:.2f} |",
         f"| benchmark wall time | {meta['wall_s']:.0f} s |",
         "",
-        "A shared 2-core virtual machine: other engineers' builds may run at the same time. The "
-        "variants are interleaved so that such load hits all of them alike, costs are medians of "
-        "per-round differences, and the IQRs show how much noise is left. Differences of a "
-        "fraction of a ns/px are below what this machine resolves.",
+        "A shared 2-core virtual machine: other engineers' builds ran at the same time (see the "
+        "load average: above 2 means the cores were oversubscribed). Wall times are therefore "
+        "noisy; the costs are computed from the process's CPU time per frame, which leaves out "
+        "the time the renderer waited for a core, and from frames close together in time. The "
+        "IQRs show how much noise is left; costs whose brackets span zero are not resolved.",
         "",
         "## What is measured",
         "",
@@ -654,18 +694,19 @@ def markdown(
         "`render_frame(..., return_depth=True)`). The **baseline** is the scene ambient (0.2) "
         "plus one directional light, Blinn-Phong specular, local viewer, one-sided lighting, no "
         "fog. Every other variant changes exactly one thing (the *what it adds* column). "
-        f"Frames are u8 RGB with {meta['threads']} worker thread(s), timed as the wall time of "
-        "one `sl.render_frame` call.",
+        f"Frames are u8 RGB rendered with {meta['threads']} worker thread(s); each is one "
+        "`sl.render_frame` call, timed in wall time and in process CPU time.",
         "",
-        f"Method: build every (mode, variant) scene, count its covered pixels, render one "
-        f"warm-up frame, then {meta['rounds']} rounds; each round renders every configuration "
-        "once, in a freshly shuffled order. *Median ms (IQR)* is over the frames of that "
-        "variant; *added ms* is the median over rounds of (variant − baseline of the same mode "
-        "in the same round), with the IQR of those differences; *added ns/px* is that divided "
-        "by the covered pixels, with the first and third quartiles in brackets. *Light "
-        "sources* is `stats['light_sources']`: the point sources the renderer evaluates (an "
-        "area light counts samples²). Negative costs are savings (or noise, when the bracket "
-        "spans zero).",
+        "Method: build every (mode, variant) scene, count its covered pixels, render one "
+        f"warm-up frame, then {meta['rounds']} rounds. A round renders every variant once in a "
+        "freshly shuffled order, with the baseline of each mode at its start, middle and end. "
+        "*Wall ms* and *CPU ms* are medians (IQR) over a variant's frames. *Added CPU ms* is the "
+        "median over frames of (variant − the baseline frame of the same mode nearest to it in "
+        "the same round), in CPU time, with the IQR of those differences; *added ns/px* is that "
+        "divided by the covered pixels, with the first and third quartiles in brackets (the "
+        "median added wall time is in the CSV). *Light sources* is `stats['light_sources']`, the "
+        "point sources the renderer evaluates (an area light counts samples²). Negative costs are "
+        "savings, or noise when the bracket spans zero.",
         "",
     ]
     if cmp:
@@ -673,19 +714,22 @@ def markdown(
             "## The baseline against the build before the lighting work",
             "",
             f"Before = `{meta['before']}` (“{meta['before_subject']}”), the parent of the first "
-            "lighting commit of issue 3. Both builds rendered the baseline scene in their own "
-            "worker process (the same script, `--worker`, under each build's venv), frame by "
-            "frame in alternation, the first of each pair alternating too. Ratio = median over "
-            "pairs of now / before (below 1: now is faster).",
+            "lighting commit of issue 3 (9d219f3). Both builds rendered the baseline scene in "
+            "their own worker process (this script with `--worker`, under each build's venv), "
+            "one frame each in alternation, the first of each pair alternating too. Ratio = "
+            "median over pairs of now / before in CPU time (below 1: now is faster); the wall-time "
+            "ratio, noisier, is given for comparison.",
             "",
-            "| mode | frames each | now ms (IQR) | before ms (IQR) | now / before [q1, q3] |",
-            "|---|---:|---:|---:|---:|",
+            "| mode | frames each | now CPU ms (IQR) | before CPU ms (IQR) | now / before [q1, q3] "
+            "| wall-time ratio |",
+            "|---|---:|---:|---:|---:|---:|",
         ]
         for c in cmp:
             out.append(
-                f"| {c['mode']} | {c['frames']} | {c['now_ms']:.1f} ({c['now_iqr_ms']:.1f}) | "
-                f"{c['before_ms']:.1f} ({c['before_iqr_ms']:.1f}) | {c['ratio']:.3f} "
-                f"[{c['ratio_q1']:.3f}, {c['ratio_q3']:.3f}] |"
+                f"| {c['mode']} | {c['frames']} | {c['now_cpu_ms']:.1f} "
+                f"({c['now_cpu_iqr_ms']:.1f}) | {c['before_cpu_ms']:.1f} "
+                f"({c['before_cpu_iqr_ms']:.1f}) | {c['ratio']:.3f} [{c['ratio_q1']:.3f}, "
+                f"{c['ratio_q3']:.3f}] | {c['wall_ratio']:.3f} |"
             )
         same = {c["covered_now"] == c["covered_before"] for c in cmp}
         out += [
@@ -787,11 +831,11 @@ def main(argv: list[str] | None = None) -> int:
     before_py = build_commit(a.against_commit) if a.against_commit else None
     t0, load0 = time.time(), os.getloadavg()[0]
     seconds = a.seconds if a.seconds is not None else (2.0 if a.quick else 200.0)
-    series = measure(configurations(modes), a.threads, 2 if a.quick else 15, seconds, seed=3)
+    series, rounds = measure(configurations(modes), a.threads, 2 if a.quick else 12, seconds, 3)
     rs = rows(series, a.threads)
     cmp = None
     if before_py:
-        cmp = compare_builds(before_py, modes, a.threads, 4 if a.quick else 40)
+        cmp = compare_builds(before_py, modes, a.threads, 4 if a.quick else 60)
     wall, load1 = time.time() - t0, os.getloadavg()[0]
 
     for line in table(rs):
@@ -811,7 +855,7 @@ def main(argv: list[str] | None = None) -> int:
             "load": (load0, load1),
             "wall_s": wall,
             "threads": a.threads,
-            "rounds": len(series[0].times_ms),
+            "rounds": rounds,
             "triangles": 2 * (2 * SPHERE_RINGS) * (SPHERE_RINGS - 1),
             "reading": reading(rs),
         }
