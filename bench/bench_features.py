@@ -752,51 +752,84 @@ def markdown(
     return "\n".join(out)
 
 
-def reading(rs: list[dict[str, Any]]) -> list[str]:
-    """A few sentences computed from the numbers (so they stay true when regenerated)."""
-    ph = {r["variant"]: r for r in rs if r["mode"] == "phong"}
+def reading(rs: list[dict[str, Any]], cmp: list[dict[str, Any]] | None) -> list[str]:
+    """A few sentences computed from the numbers (so they stay true when regenerated): each
+    cost with its bracket, and "within noise" when the bracket spans zero."""
+    by = {(r["mode"], r["variant"]): r for r in rs}
 
-    def ns(name: str) -> str:
-        return f"{ph[name]['added_ns_px']:+.1f} ns/px" if name in ph else "n/a"
+    def ns(name: str, mode: str = "phong") -> str:
+        r = by.get((mode, name))
+        if r is None:
+            return "n/a"
+        lo, hi = r["added_ns_px_q1"], r["added_ns_px_q3"]
+        noise = " (within noise)" if lo <= 0 <= hi else ""
+        return f"{r['added_ns_px']:+.1f} ns/px{noise}"
 
-    free = [n for n in ("emission", "dir_ambient", "two_sided", "infinite_viewer") if n in ph]
+    def have(*names: str) -> bool:
+        return all(("phong", n) in by for n in names)
+
     lines = []
-    if free:
+    if cmp:
         lines.append(
-            "- Folded once per render, so free per pixel (within noise): "
-            + ", ".join(f"`{n}` {ns(n)}" for n in free)
-            + "."
+            "- The baseline against the build before the lighting work, now / before in CPU "
+            "time: "
+            + ", ".join(
+                f"{c['mode']} {c['ratio']:.3f} [{c['ratio_q1']:.3f}, {c['ratio_q3']:.3f}]"
+                for c in cmp
+            )
+            + " (1 = as fast; see the table above for the frame times)."
         )
-    if "no_specular" in ph:
+    if have("emission", "dir_ambient", "two_sided", "spec_blinn_norm"):
         lines.append(
-            f"- Dropping the specular term (ks = 0) takes the diffuse-only path: {ns('no_specular')}."  # noqa: E501
+            "- Folded once per render (constants, or a choice made once): emission "
+            f"{ns('emission')}, a directional light's own ambient {ns('dir_ambient')}, "
+            f"two_sided {ns('two_sided')} (the sphere shows no back faces), the normalised lobe "
+            f"{ns('spec_blinn_norm')}."
         )
-    if "dir_8" in ph and "point" in ph:
-        per_dir = ph["dir_8"]["added_ns_px"] / 7
+    if have("no_specular", "infinite_viewer", "spec_phong"):
         lines.append(
-            f"- Each extra directional light costs about {per_dir:.1f} ns/px (8 lights: "
-            f"{ns('dir_8')}); a point light {ns('point')} (it needs l and its length per pixel); "
-            f"attenuation on top: {ns('point_att')}; a spot light {ns('spot')}, with a smooth "
-            f"edge and exponent {ns('spot_smooth')}."
+            f"- Less work per pixel: ks = 0 skips the specular lobe ({ns('no_specular')}); the "
+            f"infinite viewer skips normalising v ({ns('infinite_viewer')}); Phong's r·v instead "
+            f"of the half vector: {ns('spec_phong')}."
         )
-    if "area_rect_8" in ph:
-        per_point = ph["area_rect_8"]["added_ns_px"] / 64
+    if have("dir_2", "dir_8", "point", "point_att", "spot", "spot_smooth"):
+        per_dir = by[("phong", "dir_8")]["added_ns_px"] / 7
+        lines.append(
+            f"- Lights, per pixel in Phong: each extra directional light about {per_dir:.1f} "
+            f"ns/px (2nd {ns('dir_2')}, 8 in all {ns('dir_8')}); a point light {ns('point')} (l "
+            f"and its length per pixel); with attenuation {ns('point_att')}, and ambient as well "
+            f"{ns('point_att_amb')}; a spot light {ns('spot')}, with an inner cone and exponent "
+            f"{ns('spot_smooth')}."
+        )
+    if have("area_rect_2", "area_rect_4", "area_rect_8", "area_disk_4", "area_one_sided_4"):
+        per_point = by[("phong", "area_rect_8")]["added_ns_px"] / 64
         lines.append(
             f"- An area light costs its samples² point lights: samples 2/4/8 add "
-            f"{ns('area_rect_2')} / {ns('area_rect_4')} / {ns('area_rect_8')} "
-            f"(about {per_point:.1f} ns/px per point source at 8×8)."
+            f"{ns('area_rect_2')} / {ns('area_rect_4')} / {ns('area_rect_8')}, about "
+            f"{per_point:.1f} ns/px per point at 8×8; a disk of 4×4 points "
+            f"{ns('area_disk_4')} (the rectangle: {ns('area_rect_4')}). One-sided, each point "
+            f"is a spot light (cutoff 90°, exponent 1) and the light costs "
+            f"{ns('area_one_sided_4')} at 4×4."
         )
-    if "fog_exp2" in ph:
+    if have("fog_linear", "fog_exp", "fog_exp2"):
         lines.append(
-            f"- Fog is per pixel in every mode: linear {ns('fog_linear')}, exp {ns('fog_exp')}, "
-            f"exp2 {ns('fog_exp2')} in Phong."
+            f"- Fog, per pixel in every mode: in Phong linear {ns('fog_linear')}, exp "
+            f"{ns('fog_exp')}, exp2 {ns('fog_exp2')}; in Gouraud (exp2) {ns('fog_exp2', 'gouraud')}"
+            f" and flat (exp2) {ns('fog_exp2', 'flat')}, which otherwise need no per-pixel "
+            "position."
         )
-    others = [r for r in rs if r["mode"] != "phong" and r["variant"] != "baseline"]
+    others = [
+        r for r in rs if r["mode"] != "phong" and r["variant"] not in ("baseline", "fog_exp2")
+    ]
     if others:
         lines.append(
-            "- In Gouraud and flat, lights cost per vertex or per triangle, not per pixel: "
-            + ", ".join(f"{r['mode']} `{r['variant']}` {r['added_ns_px']:+.1f}" for r in others)
-            + " ns/px."
+            "- Gouraud lights the vertices and flat the triangles (here ~50k vertices and ~100k "
+            "triangles for ~830k pixels), so their light costs are per vertex or triangle, "
+            "shown per pixel for comparison: "
+            + "; ".join(
+                f"{r['mode']} `{r['variant']}` {ns(r['variant'], r['mode'])}" for r in others
+            )
+            + "."
         )
     return lines
 
@@ -857,7 +890,7 @@ def main(argv: list[str] | None = None) -> int:
             "threads": a.threads,
             "rounds": rounds,
             "triangles": 2 * (2 * SPHERE_RINGS) * (SPHERE_RINGS - 1),
-            "reading": reading(rs),
+            "reading": reading(rs, cmp),
         }
         if a.against_commit:
             meta["before"] = _git("rev-parse", "--short", a.against_commit)
