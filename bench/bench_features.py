@@ -665,6 +665,8 @@ def markdown(
         "```sh",
         "make bench    # also runs: .venv/bin/python bench/bench_features.py --write docs/FEATURE_COSTS.md",  # noqa: E501
         "# with the before/after comparison (builds that commit once into target/bench-before/):",
+        f"make bench AGAINST={DEFAULT_BEFORE}",
+        "# or this benchmark alone:",
         f".venv/bin/python bench/bench_features.py --write docs/FEATURE_COSTS.md --against-commit {DEFAULT_BEFORE}",  # noqa: E501
         "```",
         "",
@@ -718,7 +720,8 @@ def markdown(
             "their own worker process (this script with `--worker`, under each build's venv), "
             "one frame each in alternation, the first of each pair alternating too. Ratio = "
             "median over pairs of now / before in CPU time (below 1: now is faster); the wall-time "
-            "ratio, noisier, is given for comparison.",
+            "ratio, noisier, is given for comparison. Raw numbers: "
+            f"`{meta['csv'].replace('.csv', '_before.csv')}`.",
             "",
             "| mode | frames each | now CPU ms (IQR) | before CPU ms (IQR) | now / before [q1, q3] "
             "| wall-time ratio |",
@@ -783,7 +786,7 @@ def reading(rs: list[dict[str, Any]], cmp: list[dict[str, Any]] | None) -> list[
         lines.append(
             "- Folded once per render (constants, or a choice made once): emission "
             f"{ns('emission')}, a directional light's own ambient {ns('dir_ambient')}, "
-            f"two_sided {ns('two_sided')} (the sphere shows no back faces), the normalised lobe "
+            f"two_sided on this closed sphere {ns('two_sided')}, the normalised lobe "
             f"{ns('spec_blinn_norm')}."
         )
     if have("no_specular", "infinite_viewer", "spec_phong"):
