@@ -228,6 +228,23 @@ def _light_ambient() -> list[Panel]:
     return out
 
 
+@figure("light_colors", "A light's own diffuse and specular colours (GL_DIFFUSE, GL_SPECULAR)")
+def _light_colors() -> list[Panel]:
+    out = []
+    for label, kw in (
+        ("color=(1, 1, 1)", {}),
+        (
+            "diffuse=(0.3, 0.5, 1), specular=(1, 1, 1)",
+            {"diffuse": (0.3, 0.5, 1.0), "specular": (1.0, 1.0, 1.0)},
+        ),
+        ("specular=(0, 0, 0)", {"specular": (0.0, 0.0, 0.0)}),
+    ):
+        scene = stage()
+        scene.add_light(sl.DirectionalLight(direction=(-0.5, -1.0, -0.6), **kw))
+        out.append(Panel(label, scene, stage_camera()))
+    return out
+
+
 @figure("emission", "Material emission: a constant added to the colour, lit or not")
 def _emission() -> list[Panel]:
     out = []
@@ -293,12 +310,17 @@ def bowl(rings: int = 32, segments: int = 64, keep: float = 0.6) -> sl.Mesh:
 @figure("two_sided", "two_sided lighting on an open bowl: its inside is back faces")
 def _two_sided() -> list[Panel]:
     out = []
-    for two in (False, True):
+    for two, back in ((False, None), (True, None), (True, "gold")):
         scene = sl.Scene(ambient=(0.1, 0.1, 0.1), two_sided=two)
-        scene.add(bowl(), material=sl.Material.preset("turquoise"))
+        scene.add(
+            bowl(),
+            material=sl.Material.preset("turquoise"),
+            back_material=sl.Material.preset(back) if back else None,
+        )
         scene.add_light(sl.DirectionalLight(direction=(0.4, -1.0, -0.5)))
         cam = sl.Camera.look_at(eye=(0.0, 2.6, 2.2), target=(0.0, -0.1, 0.0), fov_y=45.0)
-        out.append(Panel(f"Scene(two_sided={two})", scene, cam))
+        label = f"two_sided={two}" + (f', back_material="{back}"' if back else "")
+        out.append(Panel(label, scene, cam))
     return out
 
 
