@@ -21,6 +21,7 @@ from ._core import (
     ObjParseError,
     PointLight,
     Scene,
+    SceneObject,
     SpotLight,
     __version__,
     load_obj,
@@ -30,6 +31,16 @@ from ._core import (
 )
 from .demo import data_path, demo_scene, frame_mesh
 from .io import load_mesh, save_image, to_uint8
+from .scene_file import (
+    SceneFile,
+    SceneFileError,
+    frame_scene,
+    load_scene,
+    load_scene_dict,
+    save_scene,
+    scene_to_dict,
+    to_toml,
+)
 from .swatch import material_sheet
 
 __all__ = [
@@ -44,17 +55,26 @@ __all__ = [
     "ObjParseError",
     "PointLight",
     "Scene",
+    "SceneFile",
+    "SceneFileError",
+    "SceneObject",
     "SpotLight",
     "__version__",
     "data_path",
     "demo_scene",
     "frame_mesh",
+    "frame_scene",
     "load_mesh",
     "load_obj",
     "load_obj_parts",
+    "load_scene",
+    "load_scene_dict",
     "material_sheet",
     "render",
     "render_frame",
     "save_image",
+    "save_scene",
+    "scene_to_dict",
+    "to_toml",
     "to_uint8",
 ]

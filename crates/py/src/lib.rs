@@ -27,6 +27,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<area_light::PyAreaLight>()?;
     m.add("MAX_AREA_SAMPLES", shadelab_raster::MAX_AREA_SAMPLES)?;
     m.add_class::<scene::PyScene>()?;
+    m.add_class::<scene::PySceneObject>()?;
     m.add_class::<fog::PyFog>()?;
     m.add_class::<camera::PyCamera>()?;
     m.add_function(wrap_pyfunction!(mesh::load_obj, m)?)?;
