@@ -1002,3 +1002,87 @@ def test_builtin_primitive_arguments_are_checked():
             sl.Mesh.uv_sphere(rings, segments)
     with pytest.raises(ValueError, match="50 million"):
         sl.Mesh.uv_sphere(100_000, 100_000)
+
+
+def test_area_light_getters_points_and_repr():
+    a = sl.AreaLight((0, 2, 0), (2, 0, 0), (0, 0, 1), samples=3, color=(1, 0.5, 0.25))
+    assert (a.position, a.u, a.v) == ((0.0, 2.0, 0.0), (2.0, 0.0, 0.0), (0.0, 0.0, 1.0))
+    assert (a.shape, a.samples, a.n_points, a.one_sided) == ("rectangle", 3, 9, False)
+    assert a.normal == (0.0, -1.0, 0.0)  # u x v = x x z = -y
+    assert (a.color, a.intensity) == ((1.0, 0.5, 0.25), 1.0)
+    assert (a.attenuation, a.ambient) == ((1.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+    assert sl.AreaLight((0, 0, 0), (1, 0, 0), (0, 1, 0)).samples == 4
+    pts = a.points()
+    assert pts.shape == (9, 3) and pts.dtype == np.float32
+    # Cell centres of a 3 x 3 grid over [-1, 1] x [-0.5, 0.5], u fastest.
+    xs, zs = np.array([-2, 0, 2]) / 3, np.array([-1, 0, 1]) / 3
+    want = np.array([[x, 2.0, z] for z in zs for x in xs], np.float32)
+    np.testing.assert_allclose(pts, want, atol=1e-7)
+    disk = sl.AreaLight((1, 1, 1), (2, 0, 0), (0, 2, 0), shape="disk", samples=8, one_sided=True)
+    d = disk.points() - np.float32(1)
+    assert disk.shape == "disk" and disk.one_sided
+    assert d.shape == (64, 3) and np.all(d[:, 2] == 0)
+    assert np.all(np.hypot(d[:, 0], d[:, 1]) <= 1 + 1e-6)
+    assert "AreaLight(" in repr(disk) and "disk" in repr(disk)
+    assert sl.MAX_AREA_SAMPLES == 64
+
+
+def _floor_scene(light):
+    v = np.array([[-4, 0, -4], [4, 0, -4], [4, 0, 4], [-4, 0, 4]], float)
+    scene = sl.Scene(ambient=(0, 0, 0))
+    scene.add(sl.Mesh(v, [[0, 2, 1], [0, 3, 2]]), material=sl.Material.preset("jade"))
+    scene.add_light(light)
+    return scene
+
+
+def test_area_light_of_one_sample_is_its_centre_point_light():
+    cam = sl.Camera.look_at((0, 5, 6), (0, 0, 0))
+    kw = dict(color=(0.9, 0.8, 0.7), intensity=2.0, attenuation=(1, 0.2, 0.1), ambient=(0.1,) * 3)
+    area = sl.AreaLight((0.5, 2, 0), (3, 0, 0), (0, 0, 3), samples=1, **kw)
+    point = sl.PointLight((0.5, 2, 0), **kw)
+    for shading in ("flat", "gouraud", "phong"):
+        a = sl.render(_floor_scene(area), cam, 64, 48, shading=shading, dtype="float32")
+        b = sl.render(_floor_scene(point), cam, 64, 48, shading=shading, dtype="float32")
+        np.testing.assert_array_equal(a, b)
+    frame = sl.render_frame(_floor_scene(area), cam, 8, 8)
+    assert frame["stats"]["light_sources"] == 1
+    big = sl.AreaLight((0.5, 2, 0), (3, 0, 0), (0, 0, 3), samples=7)
+    assert sl.render_frame(_floor_scene(big), cam, 8, 8)["stats"]["light_sources"] == 49
+
+
+def test_area_light_total_light_does_not_depend_on_samples():
+    """Far from a small light, every sample count gives the point light's image (the points
+    share the colour); close to a large one, the sampled lights converge as samples grow."""
+    cam = sl.Camera.look_at((0, 5, 6), (0, 0, 0))
+    far = sl.render(_floor_scene(sl.PointLight((0, 200, 0))), cam, 32, 24, dtype="float32")
+    for n in (2, 5, 9):
+        small = sl.AreaLight((0, 200, 0), (0.01, 0, 0), (0, 0, 0.01), samples=n)
+        img = sl.render(_floor_scene(small), cam, 32, 24, dtype="float32")
+        np.testing.assert_allclose(img, far, rtol=1e-4, atol=1e-6)
+    big = [
+        sl.render(
+            _floor_scene(sl.AreaLight((0, 1, 0), (4, 0, 0), (0, 0, 4), samples=n)),
+            cam,
+            32,
+            24,
+            dtype="float32",
+        )
+        for n in (4, 16, 32)
+    ]
+    assert np.abs(big[2] - big[1]).max() < np.abs(big[1] - big[0]).max()
+
+
+def test_one_sided_area_light_is_dark_behind():
+    cam = sl.Camera.look_at((0, 5, 6), (0, 0, 0))
+    # u x v = z x x = +y: emits upward, away from the floor below it.
+    up = sl.AreaLight((0, 1, 0), (0, 0, 1), (1, 0, 0), one_sided=True)
+    assert up.normal == (0.0, 1.0, 0.0)
+    img = sl.render(_floor_scene(up), cam, 32, 24, dtype="float32")
+    emission = np.zeros(3, np.float32)
+    assert np.all(img == emission)
+    down = sl.AreaLight((0, 1, 0), (1, 0, 0), (0, 0, 1), one_sided=True)
+    both = sl.AreaLight((0, 1, 0), (1, 0, 0), (0, 0, 1))
+    lit = sl.render(_floor_scene(down), cam, 32, 24, dtype="float32")
+    full = sl.render(_floor_scene(both), cam, 32, 24, dtype="float32")
+    # The cosine fall-off only dims: lit somewhere, never brighter than two-sided.
+    assert lit.max() > 0 and np.all(lit <= full + 1e-6)

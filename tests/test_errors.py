@@ -642,3 +642,22 @@ def test_fog_parameters_are_validated():
     expect_error(ValueError, "density", sl.Fog, "exp2", density=np.inf)
     expect_error(ValueError, r"color\[1\]", sl.Fog, color=(0, np.nan, 0))
     expect_error(TypeError, "fog", sl.Scene, fog="thick")
+
+
+def test_area_light_parameters_are_validated():
+    p, u, v = (0, 2, 0), (1, 0, 0), (0, 0, 1)
+    expect_error(ValueError, "unknown area light shape 'circle'", sl.AreaLight, p, u, v, "circle")
+    expect_error(ValueError, "not parallel", sl.AreaLight, p, u, (2, 0, 0))
+    expect_error(ValueError, "not parallel", sl.AreaLight, p, (0, 0, 0), v)
+    expect_error(ValueError, r"u\[1\]", sl.AreaLight, p, (1, np.nan, 0), v)
+    expect_error(ValueError, r"position\[2\]", sl.AreaLight, (0, 0, np.inf), u, v)
+    expect_error(ValueError, "v must be 3", sl.AreaLight, p, u, (0, 1))
+    for bad in (0, -1, 65, 2**40, 2**80):
+        expect_error(ValueError, "between 1 and 64", sl.AreaLight, p, u, v, samples=bad)
+    for bad in (2.0, True, "4", None.__class__):
+        expect_error(TypeError, "samples must be an integer", sl.AreaLight, p, u, v, samples=bad)
+    expect_error(ValueError, "intensity", sl.AreaLight, p, u, v, intensity=-1.0)
+    expect_error(ValueError, "intensity", sl.AreaLight, p, u, v, intensity=np.nan)
+    expect_error(ValueError, r"color\[0\]", sl.AreaLight, p, u, v, color=(np.nan, 0, 0))
+    expect_error(ValueError, "attenuation", sl.AreaLight, p, u, v, attenuation=(0, 0, 0))
+    expect_error(ValueError, "ambient", sl.AreaLight, p, u, v, ambient=(-1, 0, 0))
