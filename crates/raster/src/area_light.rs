@@ -74,7 +74,10 @@ impl AreaLight {
         let v = finite_vec(v, "v")?;
         let n = u.cross(v);
         // Relative test: parallel or zero edges leave no area to sample (or no normal).
-        if !(n.length() > 1e-6 * u.length() * v.length()) {
+        // Negated so that a NaN length (an overflowing cross product) is rejected too.
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
+        let degenerate = !(n.length() > 1e-6 * u.length() * v.length());
+        if degenerate {
             return Err(RasterError::invalid(format!(
                 "area light edges u={:?} and v={:?} must be non-zero and not parallel",
                 u.to_array(),
