@@ -204,32 +204,116 @@ def test_to_toml_quotes_keys_and_escapes_strings():
     assert tomllib.loads(sl.to_toml(d)) == d
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=100, deadline=None)
 @given(
     st.lists(st.floats(-10, 10, allow_nan=False, width=32), min_size=3, max_size=3).filter(
         lambda v: math.hypot(*v) > 1e-3
     )
 )
-def test_light_directions_round_trip_to_within_an_ulp(d):
-    # Lights store unit float32 directions and renormalise on construction, which can move
-    # a unit vector by an ulp; from_dict searches for an input that reproduces it exactly
-    # and otherwise keeps the nearest (documented): never more than 1 ulp off.
+def test_light_directions_round_trip_exactly(d):
+    # Lights store unit float32 directions and renormalise on construction, which moves a
+    # unit vector by an ulp about a third of the time; from_dict compensates.
     s = sl.Scene()
     s.add_light(sl.DirectionalLight(d))
     s.add_light(sl.SpotLight((0, 1, 0), d, cutoff=40))
     back = sl.Scene.from_dict(s.to_dict())
-    for a, b in zip(s.lights, back.lights):
-        assert np.max(np.abs(np.subtract(a.direction, b.direction))) <= 6e-8
+    assert [x.direction for x in back.lights] == [x.direction for x in s.lights]
 
 
-def test_light_directions_usually_round_trip_exactly():
+def test_many_random_light_directions_round_trip_exactly():
     rng = np.random.default_rng(7)
-    exact = 0
-    for _ in range(300):
+    renormalised_moves = 0
+    for _ in range(500):
+        light = sl.DirectionalLight(rng.normal(size=3))
+        renormalised_moves += sl.DirectionalLight(light.direction).direction != light.direction
         s = sl.Scene()
-        s.add_light(sl.DirectionalLight(rng.normal(size=3)))
-        exact += sl.Scene.from_dict(s.to_dict()).lights[0].direction == s.lights[0].direction
-    assert exact >= 295
+        s.add_light(light)
+        assert sl.Scene.from_dict(s.to_dict()).lights[0].direction == light.direction
+    # The problem being solved is real: plain renormalisation moves many of them.
+    assert renormalised_moves > 100
+
+
+def test_hand_written_directions_need_not_be_unit():
+    doc = {"version": 1, "lights": [{"type": "directional", "direction": [0, -3, 0]}]}
+    assert sl.Scene.from_dict(doc).lights[0].direction == (0.0, -1.0, 0.0)
+
+
+_f32 = st.floats(0, 2, width=32)
+_colors = st.lists(_f32, min_size=3, max_size=3)
+_points = st.lists(st.floats(-3, 3, width=32), min_size=3, max_size=3)
+_dirs = _points.filter(lambda v: math.hypot(*v) > 1e-2)
+_atten = st.lists(st.floats(0, 1, width=32), min_size=3, max_size=3).filter(any)
+
+
+@st.composite
+def _lights(draw):
+    kind = draw(st.sampled_from(["directional", "point", "spot", "area"]))
+    common = {"color": draw(_colors), "intensity": draw(_f32), "ambient": draw(_colors)}
+    if kind == "directional":
+        return sl.DirectionalLight(draw(_dirs), **common)
+    common["attenuation"] = draw(_atten)
+    if kind == "point":
+        return sl.PointLight(draw(_points), **common)
+    if kind == "spot":
+        cutoff = draw(st.one_of(st.just(180.0), st.floats(1, 90, width=32)))
+        inner = draw(st.one_of(st.none(), st.floats(0, 0.875, width=32))) if cutoff <= 90 else None
+        return sl.SpotLight(
+            draw(_points),
+            draw(_dirs),
+            cutoff=cutoff,
+            exponent=draw(st.floats(0, 50, width=32)),
+            inner=None if inner is None else inner * cutoff,
+            **common,
+        )
+    u = draw(st.sampled_from([(1, 0, 0), (0.5, 0.2, 0)]))
+    return sl.AreaLight(
+        draw(_points),
+        u,
+        (0, 0.3, 0.7),
+        shape=draw(st.sampled_from(["rectangle", "disk"])),
+        samples=draw(st.integers(1, 3)),
+        one_sided=draw(st.booleans()),
+        **common,
+    )
+
+
+@st.composite
+def _scenes(draw):
+    fog = draw(
+        st.one_of(
+            st.none(),
+            st.builds(lambda a, b: sl.Fog("linear", start=a, end=a + b), _f32, st.floats(0.1, 9)),
+            st.builds(lambda m, x: sl.Fog(m, density=x), st.sampled_from(["exp", "exp2"]), _f32),
+        )
+    )
+    s = sl.Scene(
+        ambient=draw(_colors),
+        fog=fog,
+        two_sided=draw(st.booleans()),
+        local_viewer=draw(st.booleans()),
+    )
+    for light in draw(st.lists(_lights(), max_size=3)):
+        s.add_light(light)
+    meshes = [sl.Mesh.cube(), sl.Mesh.plane(), sl.Mesh.uv_sphere(5, 7)]
+    scales = st.floats(0.25, 2, width=32).map(lambda x: x * (-1) ** int(x * 10))
+    for i in draw(st.lists(st.integers(0, 2), min_size=1, max_size=3)):
+        t = sl.scene_file.compose_transform(
+            draw(_points), draw(_points.map(lambda v: [x * 60 for x in v])), draw(scales)
+        )
+        m = sl.Material(draw(_colors), draw(_colors), draw(_colors), draw(_f32) * 50, draw(_colors))
+        s.add(meshes[i], m, t)
+    return s
+
+
+@settings(max_examples=40, deadline=None)
+@given(_scenes())
+def test_random_scenes_round_trip_bit_identically(scene):
+    d = scene.to_dict()
+    assert is_plain(d)
+    back = sl.Scene.from_dict(tomllib.loads(sl.to_toml(d)))
+    assert back.to_dict() == d
+    cam = sl.Camera.look_at(eye=(2, 3, 6), target=(0, 0, 0), fov_y=60)
+    assert_same_render(scene, back, cam)
 
 
 def test_objects_and_lights_introspection(rich_scene):
@@ -479,7 +563,7 @@ ERRORS = [
     (("lights",), {}, "lights", "expected an array of tables, got a table"),
     (("lights", 0), 3, "lights[0]", "expected a table, got 3"),
     (("lights", 0, "type"), "laser", "lights[0].type", "expected one of 'directional', "),
-    (("lights", 0, "type"), DELETE, "lights[0].type", "got None"),
+    (("lights", 0, "type"), DELETE, "lights[0].type", "missing required key; expected one"),
     (("lights", 0, "direction"), [0, 0, 0], "lights[0].direction", "not all zero"),
     (("lights", 0, "direction"), DELETE, "lights[0].direction", "missing required key"),
     (("lights", 0, "position"), [0, 0, 0], "lights[0].position", "unknown key 'position'"),
@@ -551,6 +635,7 @@ ERRORS = [
     (("objects", 1, "mesh", "faces"), [[0, 1, 2.0]], "objects[1].mesh.faces[0][2]", "an integer"),
     (("objects", 1, "mesh", "faces"), [[0, 1]], "objects[1].mesh.faces[0]", "3 integers"),
     (("objects", 1, "mesh", "faces"), DELETE, "objects[1].mesh.faces", "missing required key"),
+    (("objects", 1, "mesh"), {}, "objects[1].mesh", "a {primitive = ...} table or an inline"),
     (("objects", 1, "mesh", "vertices"), [], "objects[1].mesh.vertices", "a non-empty array"),
     (
         ("objects", 1, "mesh", "vertices"),
