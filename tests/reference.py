@@ -638,6 +638,7 @@ def render_reference(
     fog: Fog | None = None,
     two_sided: bool = False,
     local_viewer: bool = True,
+    back_material: Material | None = None,
 ) -> RefImage:
     """Render a triangle mesh exactly (float64 ray casting per pixel centre).
 
@@ -658,6 +659,9 @@ def render_reference(
         background: RGB colour of empty pixels.
         cull_backfaces: skip triangles seen clockwise (normal facing away from
             the viewer).
+        two_sided: light back faces (clockwise on screen) with the flipped normal
+            and, when given, ``back_material`` (OpenGL's ``GL_BACK`` material; it is
+            ignored without two-sided lighting, as in OpenGL).
 
     Returns:
         A :class:`RefImage`.  Visibility: the smallest eye depth ``d`` within
@@ -817,16 +821,18 @@ def render_reference(
         if not local_viewer:
             view_dir = np.asarray(camera.eye, float) - np.asarray(camera.target, float)
         args = (eye_w, material, lights, ambient, specular, view_dir)
+        back_mat = back_material if (two_sided and back_material is not None) else material
+        args_back = (eye_w, back_mat, lights, ambient, specular, view_dir)
         if shading == "flat":
             uniq, inv_idx = np.unique(ts, return_inverse=True)
             cent = vw[f[uniq]].mean(axis=1)
             fcol = lighting(cent, fnw[uniq], *args)
-            fcol_back = lighting(cent, -fnw[uniq], *args)
+            fcol_back = lighting(cent, -fnw[uniq], *args_back)
             inv_idx = inv_idx.reshape(-1)
             color[sel] = np.where(flip > 0, fcol[inv_idx], fcol_back[inv_idx])
         elif shading == "gouraud":
             vcol = lighting(vw, nw, *args)
-            vcol_back = lighting(vw, -nw, *args)
+            vcol_back = lighting(vw, -nw, *args_back)
             front = np.einsum("pk,pkc->pc", b, vcol[fv])
             back = np.einsum("pk,pkc->pc", b, vcol_back[fv])
             color[sel] = np.where(flip > 0, front, back)
@@ -835,7 +841,9 @@ def render_reference(
             nn = np.linalg.norm(nrm, axis=1)
             with np.errstate(divide="ignore", invalid="ignore"):
                 nrm = np.where(nn[:, None] > 0, nrm / nn[:, None], fnw[ts])
-            color[sel] = lighting(pos, nrm * flip, *args)
+            front = lighting(pos, nrm, *args)
+            back = lighting(pos, -nrm, *args_back)
+            color[sel] = np.where(flip > 0, front, back)
 
         # Distance (pixels) from the pixel centre to the clipped screen polygon.
         cx = (sel % width).astype(np.float64) + 0.5

@@ -1002,6 +1002,28 @@ def test_builtin_primitive_arguments_are_checked():
             sl.Mesh.uv_sphere(rings, segments)
     with pytest.raises(ValueError, match="50 million"):
         sl.Mesh.uv_sphere(100_000, 100_000)
+    for bad in (-1, 11, 2**40):
+        with pytest.raises(ValueError, match=r"0 <= subdivisions <= 10"):
+            sl.Mesh.ico_sphere(bad)
+
+
+@pytest.mark.parametrize("subdivisions", [0, 1, 2, 4])
+def test_ico_sphere_is_closed_unit_and_exact(subdivisions):
+    m = sl.Mesh.ico_sphere(subdivisions)
+    assert m.n_faces == 20 * 4**subdivisions and m.n_vertices == 10 * 4**subdivisions + 2
+    v, f = m.vertices.astype(np.float64), m.faces.astype(np.int64)
+    np.testing.assert_allclose(np.linalg.norm(v, axis=1), 1.0, atol=1e-6)
+    np.testing.assert_allclose(m.normals, v, atol=1e-6)
+    a, b, c = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
+    fn = np.cross(b - a, c - a)
+    assert (np.sum(fn * (a + b + c), axis=1) > 0).all()  # outward
+    # Closed: every directed edge appears once and its reverse once.
+    e = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+    fwd = {tuple(x) for x in e.tolist()}
+    assert len(fwd) == len(e) and all((j, i) in fwd for i, j in fwd)
+    # Nearly uniform: triangle areas within a factor 2 of each other (a UV sphere's are not).
+    area = np.linalg.norm(fn, axis=1)
+    assert area.max() / area.min() < 2.0
 
 
 def test_area_light_getters_points_and_repr():
@@ -1086,3 +1108,97 @@ def test_one_sided_area_light_is_dark_behind():
     full = sl.render(_floor_scene(both), cam, 32, 24, dtype="float32")
     # The cosine fall-off only dims: lit somewhere, never brighter than two-sided.
     assert lit.max() > 0 and np.all(lit <= full + 1e-6)
+
+
+MTL_THREE = """newmtl red
+Ka 0.1 0 0
+Kd 0.8 0.1 0.1
+Ks 0.5 0.5 0.5
+Ns 20
+illum 2
+newmtl matte
+Ka 0.1 0.1 0.1
+Kd 0.2 0.6 0.2
+Ks 0.9 0.9 0.9
+illum 1
+newmtl glow
+Ka 0.3 0.3 0.3
+Kd 0.1 0.2 0.9
+Ks 1 1 1
+Ke 0.1 0 0
+illum 0
+d 0.5
+"""
+
+
+def _three_group_obj(tmp_path):
+    """One group with three usemtl runs (red, matte, glow) and one face before any."""
+    (tmp_path / "m.mtl").write_text(MTL_THREE)
+    quads = []
+    for k in range(4):
+        x = 2.0 * k
+        quads.append(f"v {x} 0 0\nv {x + 1} 0 0\nv {x + 1} 1 0\nv {x} 1 0\n")
+    faces = "f 1 2 3 4\nusemtl red\nf 5 6 7 8\nusemtl matte\nf 9 10 11 12\n"
+    faces += "usemtl glow\nf 13 14 15 16\n"
+    path = tmp_path / "multi.obj"
+    path.write_text("mtllib m.mtl\no thing\n" + "".join(quads) + faces)
+    return path
+
+
+def test_usemtl_groups_keep_their_materials_and_illum_is_mapped(tmp_path):
+    path = _three_group_obj(tmp_path)
+    parts = sl.load_obj_parts(path)
+    assert [p[1].n_faces for p in parts] == [2, 2, 2, 2]
+    mats = [p[2] for p in parts]
+    assert mats[0] is None
+    red, matte, glow = mats[1:]
+    assert red.specular == (0.5, 0.5, 0.5) and red.shininess == 20
+    # illum 1: no highlights; illum 0: the diffuse colour, unlit (added to Ke).
+    assert matte.specular == (0.0, 0.0, 0.0) and matte.diffuse == pytest.approx((0.2, 0.6, 0.2))
+    assert glow.ambient == glow.diffuse == glow.specular == (0.0, 0.0, 0.0)
+    assert glow.emission == pytest.approx((0.2, 0.2, 0.9))
+
+    scene = sl.Scene(ambient=(0, 0, 0))
+    assert scene.add_obj(path) == 4
+    assert scene.n_objects == 4
+    cam = sl.Camera.orthographic((3.5, 0.5, 5), (3.5, 0.5, 0), height=1.2)
+    img = sl.render(scene, cam, 160, 24, dtype="float32")  # no lights: emission only
+    np.testing.assert_allclose(img[12, 140], [0.2, 0.2, 0.9], atol=1e-6)  # the glow quad
+    assert (img[12, 20] == 0).all() and (img[12, 60] == 0).all()
+    # Lit: each quad shows its own material; a preset overrides them all.
+    scene.add_light(sl.DirectionalLight((0, 0, -1)))
+    lit = sl.render(scene, cam, 160, 24, dtype="float32")
+    centres = lit[12, [20, 60, 100, 140]]
+    assert len({tuple(c) for c in centres.round(5).tolist()}) == 4
+    gold = sl.Scene(ambient=(0, 0, 0))
+    assert gold.add_obj(path, material=sl.Material.preset("gold")) == 4
+    gold.add_light(sl.DirectionalLight((0, 0, -1)))
+    merged = sl.Scene(ambient=(0, 0, 0))
+    merged.add(sl.load_obj(path), material=sl.Material.preset("gold"))
+    merged.add_light(sl.DirectionalLight((0, 0, -1)))
+    np.testing.assert_array_equal(
+        sl.render(gold, cam, 160, 24, dtype="float32"),
+        sl.render(merged, cam, 160, 24, dtype="float32"),
+    )
+    # Same as adding the parts by hand.
+    by_hand = sl.Scene(ambient=(0, 0, 0))
+    for _, mesh, mat in parts:
+        by_hand.add(mesh, material=mat)
+    by_hand.add_light(sl.DirectionalLight((0, 0, -1)))
+    np.testing.assert_array_equal(sl.render(by_hand, cam, 160, 24, dtype="float32"), lit)
+
+
+def test_add_obj_transform_and_back_material(tmp_path):
+    path = _three_group_obj(tmp_path)
+    t = np.eye(4)
+    t[:3, 3] = (0, 0, -1)
+    cam = sl.Camera.orthographic((3.5, 0.5, -5), (3.5, 0.5, 0), height=1.2)  # from behind
+    out = []
+    for back in (None, sl.Material(ambient=(1, 0, 0), diffuse=(0, 0, 0), specular=(0, 0, 0))):
+        s = sl.Scene(ambient=(1, 1, 1), two_sided=True)
+        s.add_obj(path, material=sl.Material.preset("chrome"), transform=t, back_material=back)
+        out.append(sl.render(s, cam, 160, 24, dtype="float32", return_depth=True))
+    (img0, depth0), (img1, _) = out
+    np.testing.assert_allclose(depth0[12, 20], 4.0, rtol=1e-6)  # moved to z = -1
+    np.testing.assert_allclose(img1[12, 20], [1, 0, 0], atol=1e-6)  # back material's ka·Ia
+    assert not np.allclose(img0[12, 20], [1, 0, 0])

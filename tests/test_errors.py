@@ -661,3 +661,20 @@ def test_area_light_parameters_are_validated():
     expect_error(ValueError, r"color\[0\]", sl.AreaLight, p, u, v, color=(np.nan, 0, 0))
     expect_error(ValueError, "attenuation", sl.AreaLight, p, u, v, attenuation=(0, 0, 0))
     expect_error(ValueError, "ambient", sl.AreaLight, p, u, v, ambient=(-1, 0, 0))
+
+
+def test_back_material_and_add_obj_arguments_are_checked(tmp_path):
+    scene = sl.Scene()
+    mesh = sl.Mesh(TRI_V, TRI_F)
+    expect_error(TypeError, "back_material", scene.add, mesh, back_material="ruby")
+    expect_error(FileNotFoundError, "nope.obj", scene.add_obj, tmp_path / "nope.obj")
+    bad = tmp_path / "bad.obj"
+    bad.write_text("v 0 0 0\nv 1 0 x\n")
+    expect_error(sl.ObjParseError, "bad.obj:2", scene.add_obj, bad)
+    good = tmp_path / "good.obj"
+    good.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    expect_error(TypeError, "material", scene.add_obj, good, material="gold")
+    expect_error(TypeError, "back_material", scene.add_obj, good, back_material=1)
+    expect_error(ValueError, "transform", scene.add_obj, good, transform=np.zeros((4, 4)))
+    assert scene.n_objects == 0  # nothing half-added
+    assert scene.add_obj(good) == 1

@@ -90,6 +90,11 @@ class Mesh:
         """A unit UV sphere at the origin with exact normals: ``rings`` latitude bands (>= 2)
         and ``segments`` longitude segments (>= 3), ``2*segments*(rings - 1)`` triangles."""
     @staticmethod
+    def ico_sphere(subdivisions: int = 3) -> Mesh:
+        """A unit sphere at the origin from a regular icosahedron subdivided
+        ``subdivisions`` times (0 to 10): ``20 * 4**subdivisions`` nearly equal triangles,
+        ``10 * 4**subdivisions + 2`` vertices, exact normals."""
+    @staticmethod
     def cube() -> Mesh:
         """The cube [-1, 1]^3: 24 vertices (4 per face) with exact face normals and UVs."""
     @staticmethod
@@ -380,6 +385,10 @@ class SceneObject:
     def material(self) -> Material:
         """The material."""
     @property
+    def back_material(self) -> Material | None:
+        """The material of back faces under two-sided lighting, or None (``material`` is
+        used for both sides)."""
+    @property
     def transform(self) -> NDArray[np.float64]:
         """The 4x4 model matrix, float64 (the float32 values the scene holds, exactly)."""
 
@@ -413,11 +422,28 @@ class Scene:
     @fog.setter
     def fog(self, fog: Fog | None) -> None: ...
     def add(
-        self, mesh: Mesh, material: Material | None = None, transform: ArrayLike | None = None
+        self,
+        mesh: Mesh,
+        material: Material | None = None,
+        transform: ArrayLike | None = None,
+        back_material: Material | None = None,
     ) -> None:
         """Adds ``mesh`` with ``material`` (default: grey plastic) placed by the 4x4 model
         matrix ``transform`` (column vectors: ``p_world = transform @ [x, y, z, 1]``; it must
-        be affine and invertible). The mesh is shared, not copied."""
+        be affine and invertible). The mesh is shared, not copied. ``back_material`` lights
+        the back faces (clockwise on screen) when the scene is two-sided, as OpenGL's
+        ``GL_BACK`` material; otherwise both sides use ``material``."""
+    def add_obj(
+        self,
+        path: _Path,
+        material: Material | None = None,
+        transform: ArrayLike | None = None,
+        back_material: Material | None = None,
+    ) -> int:
+        """Loads an OBJ file and adds each part (one per ``o``/``g`` group and per ``usemtl``
+        switch) as its own object with its MTL material (grey plastic where it has none),
+        or with ``material`` for every part when given (a preset overrides the file).
+        Returns the number of objects added."""
     def add_light(self, light: DirectionalLight | PointLight | SpotLight | AreaLight) -> None:
         """Adds a DirectionalLight, PointLight, SpotLight or AreaLight."""
     @property

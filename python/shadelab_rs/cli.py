@@ -3,11 +3,14 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from . import _core as core
 from .demo import demo_scene, frame_mesh
@@ -92,17 +95,31 @@ def cmd_render_scene(args: argparse.Namespace) -> None:
     _render(sf.scene, camera, args, sf.render_options)
 
 
+def _add_model(scene: core.Scene, path: str, preset: str | None) -> np.ndarray:
+    """Adds the model at ``path`` to ``scene``; returns all its vertices (for framing).
+
+    An OBJ keeps its MTL materials, one per group and ``usemtl`` run, unless a preset is
+    given; parts without one (and other formats) get the preset, gold by default."""
+    fallback = core.Material.preset(preset or "gold")
+    if os.fspath(path).lower().endswith(".obj"):
+        parts = core.load_obj_parts(path)
+        for _, mesh, mtl in parts:
+            scene.add(mesh, material=fallback if preset or mtl is None else mtl)
+        return np.concatenate([mesh.vertices for _, mesh, _ in parts])
+    mesh = load_mesh(path)
+    scene.add(mesh, material=fallback)
+    return mesh.vertices
+
+
 def cmd_render(args: argparse.Namespace) -> None:
     if Path(args.model).suffix.lower() == ".toml":
         cmd_render_scene(args)
         return
-    mesh = load_mesh(args.model)
-    material = core.Material.preset(args.material if args.material is not None else "gold")
     scene = core.Scene(ambient=args.ambient if args.ambient is not None else (0.2, 0.2, 0.2))
-    scene.add(mesh, material=material)
+    vertices = _add_model(scene, args.model, args.material)
     fov = args.fov if args.fov is not None else 35.0
     view = args.view if args.view is not None else (0.55, 0.35, 1.0)
-    camera = frame_mesh(mesh.vertices, fov_y=fov, direction=view)
+    camera = frame_mesh(vertices, fov_y=fov, direction=view)
     if args.eye is not None:
         target = args.target if args.target is not None else camera.target
         camera = core.Camera.look_at(
@@ -149,7 +166,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         help="render a mesh file (OBJ, or anything trimesh reads) or a scene file (.toml)",
     )
     r.add_argument("model", help="mesh file, or a scene file (.toml; see the user guide)")
-    r.add_argument("--material", default=None, help="preset name (gold; see 'shadelab materials')")
+    r.add_argument(
+        "--material",
+        default=None,
+        help="preset for the whole model (see 'shadelab materials'); default: the OBJ's MTL "
+        "materials, gold where it has none",
+    )
     r.add_argument("--ambient", type=_triple, default=None, help="scene ambient r,g,b (0.2,...)")
     r.add_argument("--fov", type=float, default=None, help="vertical field of view, degrees (35)")
     r.add_argument(

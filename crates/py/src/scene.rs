@@ -25,6 +25,7 @@ use crate::mesh::PyMesh;
 pub struct PySceneObject {
     mesh: Arc<core::Mesh>,
     material: core::Material,
+    back_material: Option<core::Material>,
     transform: Mat4,
 }
 
@@ -44,6 +45,12 @@ impl PySceneObject {
         PyMaterial {
             inner: self.material,
         }
+    }
+
+    /// The material of back faces under two-sided lighting, or None (`material` then).
+    #[getter]
+    fn back_material(&self) -> Option<PyMaterial> {
+        self.back_material.map(|inner| PyMaterial { inner })
     }
 
     /// The 4x4 model matrix as float64 (its float32 values exactly).
@@ -137,18 +144,48 @@ impl PyScene {
     }
 
     /// Adds `mesh` with `material` (default: grey plastic) placed by the 4x4 model matrix
-    /// `transform` (column vectors: p_world = transform @ [x, y, z, 1]).
-    #[pyo3(signature = (mesh, material=None, transform=None))]
+    /// `transform` (column vectors: p_world = transform @ [x, y, z, 1]); `back_material`
+    /// lights its back faces when the scene is two-sided.
+    #[pyo3(signature = (mesh, material=None, transform=None, back_material=None))]
     fn add(
         &mut self,
         mesh: &PyMesh,
         material: Option<&PyMaterial>,
         transform: Option<&Bound<'_, PyAny>>,
+        back_material: Option<&PyMaterial>,
     ) -> PyResult<()> {
         let material = material.map_or_else(core::Material::default, |m| m.inner);
         let transform = transform.map_or(Ok(Mat4::IDENTITY), |t| convert::mat4(t, "transform"))?;
+        let object = core::Object::new(mesh.inner.clone(), material, transform)
+            .map_err(to_py)?
+            .with_back_material(back_material.map(|m| m.inner));
+        self.inner.add_object(object);
+        Ok(())
+    }
+
+    /// Loads an OBJ file and adds each of its parts (per group and per `usemtl`) as an
+    /// object with its MTL material, or with `material` for all of them when given; returns
+    /// the number of objects added.
+    #[pyo3(signature = (path, material=None, transform=None, back_material=None))]
+    fn add_obj(
+        &mut self,
+        py: Python<'_>,
+        path: std::path::PathBuf,
+        material: Option<&PyMaterial>,
+        transform: Option<&Bound<'_, PyAny>>,
+        back_material: Option<&PyMaterial>,
+    ) -> PyResult<usize> {
+        let transform = transform.map_or(Ok(Mat4::IDENTITY), |t| convert::mat4(t, "transform"))?;
+        let parts = py
+            .detach(|| crate::errors::no_panic("add_obj", || core::load_obj_parts(&path)))?
+            .map_err(to_py)?;
         self.inner
-            .add(mesh.inner.clone(), material, transform)
+            .add_obj_parts(
+                parts,
+                material.map(|m| m.inner),
+                back_material.map(|m| m.inner),
+                transform,
+            )
             .map_err(to_py)
     }
 
@@ -180,6 +217,7 @@ impl PyScene {
             .map(|o| PySceneObject {
                 mesh: o.mesh().clone(),
                 material: *o.material(),
+                back_material: o.back_material().copied(),
                 transform: o.transform(),
             })
             .collect()

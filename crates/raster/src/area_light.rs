@@ -1,6 +1,8 @@
 //! Area lights: a rectangle or disk modelled, as in the classic local illumination model, by a
 //! collection of point sources.
 
+use std::cmp::Ordering;
+
 use glam::Vec3;
 
 use crate::error::{RasterError, Result};
@@ -74,10 +76,8 @@ impl AreaLight {
         let v = finite_vec(v, "v")?;
         let n = u.cross(v);
         // Relative test: parallel or zero edges leave no area to sample (or no normal).
-        // Negated so that a NaN length (an overflowing cross product) is rejected too.
-        #[allow(clippy::neg_cmp_op_on_partial_ord)]
-        let degenerate = !(n.length() > 1e-6 * u.length() * v.length());
-        if degenerate {
+        // Written so that NaN lengths (overflowing edges) fail too.
+        if n.length().partial_cmp(&(1e-6 * u.length() * v.length())) != Some(Ordering::Greater) {
             return Err(RasterError::invalid(format!(
                 "area light edges u={:?} and v={:?} must be non-zero and not parallel",
                 u.to_array(),
