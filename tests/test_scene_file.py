@@ -120,6 +120,7 @@ def rich_scene() -> sl.Scene:
     f = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
     s.add(sl.Mesh(v, f, normals=v + 0.1, uvs=v[:, :2]), transform=np.eye(4))
     s.add(sl.Mesh(v + 0.25, f), sl.Material.preset("jade"))
+    s.add(sl.Mesh.ico_sphere(1), back_material=sl.Material.preset("emerald"))
     return s
 
 
@@ -147,6 +148,7 @@ def test_to_dict_describes_primitives_and_inline_meshes(rich_scene):
     assert set(meshes[4]) == {"vertices", "faces", "normals", "uvs"}
     # Generated normals are not written: they are regenerated identically.
     assert set(meshes[5]) == {"vertices", "faces"}
+    assert meshes[6] == {"primitive": "ico_sphere", "subdivisions": 1}
     assert meshes[5]["faces"] == [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]
 
 
@@ -318,7 +320,9 @@ def test_random_scenes_round_trip_bit_identically(scene):
 
 def test_objects_and_lights_introspection(rich_scene):
     objs = rich_scene.objects
-    assert len(objs) == rich_scene.n_objects == 6
+    assert len(objs) == rich_scene.n_objects == 7
+    assert objs[6].back_material == sl.Material.preset("emerald")
+    assert objs[0].back_material is None
     assert isinstance(objs[0], sl.SceneObject)
     assert objs[0].material == sl.Material.preset("ruby")
     t = objs[0].transform
@@ -478,15 +482,53 @@ def test_defaults_of_an_almost_empty_document():
         sl.frame_scene(s)
 
 
-def test_back_material_is_parsed_and_validated():
+def test_back_material(camera):
     doc = mutate(("objects", 0, "back_material"), {"preset": "ruby"})
-    if "back_material" in (sl.Scene.add.__text_signature__ or ""):
-        s = sl.Scene.from_dict(doc)
-        assert s.objects[0].back_material == sl.Material.preset("ruby")  # type: ignore[attr-defined]
-    else:
-        with pytest.raises(sl.SceneFileError, match="not supported by this build") as e:
-            sl.Scene.from_dict(doc)
-        assert e.value.key == "objects[0].back_material"
+    doc["two_sided"] = True
+    s = sl.Scene.from_dict(doc)
+    assert s.objects[0].back_material == sl.Material.preset("ruby")
+    assert s.objects[0].material == sl.load_scene_dict(BASE).scene.objects[0].material
+    assert s.objects[1].back_material is None
+    d = s.to_dict()
+    assert d["objects"][0]["back_material"] == sl.scene_file.material_to_dict(
+        sl.Material.preset("ruby")
+    )
+    assert "back_material" not in d["objects"][1]
+    assert_same_render(s, sl.Scene.from_dict(d), camera)
+    # Named materials work too, and an OBJ's parts all get the back material.
+    doc["objects"][0]["back_material"] = "mine"
+    doc["objects"].append({"mesh": str(CUBE_OBJ), "back_material": "jade"})
+    s = sl.Scene.from_dict(doc)
+    assert s.objects[0].back_material == sl.load_scene_dict(BASE).scene.objects[0].material
+    assert s.objects[2].back_material == sl.Material.preset("jade")
+
+
+def test_back_material_shows_on_back_faces():
+    # A plane seen from below: its back faces, lit with the back material when two-sided.
+    cam = sl.Camera.look_at(eye=(0, -3, 0.01), target=(0, 0, 0), fov_y=40)
+    doc = {
+        "version": 1,
+        "two_sided": True,
+        "lights": [{"type": "directional", "direction": [0, 1, 0]}],
+        "objects": [{"mesh": {"primitive": "plane"}, "material": "gold"}],
+    }
+    plain = sl.render(sl.Scene.from_dict(doc), cam, width=16, height=16)
+    doc["objects"][0]["back_material"] = {
+        "diffuse": [0, 0, 1],
+        "ambient": [0, 0, 0],
+        "specular": [0, 0, 0],
+    }
+    back = sl.render(sl.Scene.from_dict(doc), cam, width=16, height=16)
+    assert back[8, 8, 2] > 0 and back[8, 8, 0] == 0 and plain[8, 8, 0] > 0
+
+
+def test_ico_sphere_primitive():
+    d = {"version": 1, "objects": [{"mesh": {"primitive": "ico_sphere", "subdivisions": 2}}]}
+    s = sl.Scene.from_dict(d)
+    assert s.n_triangles == 20 * 4**2
+    assert s.to_dict()["objects"][0]["mesh"] == {"primitive": "ico_sphere", "subdivisions": 2}
+    d["objects"][0]["mesh"] = {"primitive": "ico_sphere"}
+    assert sl.Scene.from_dict(d).n_triangles == 20 * 4**3
 
 
 # ---------------------------------------------------------------------------------------
@@ -597,6 +639,18 @@ ERRORS = [
     (("objects", 0, "mesh"), DELETE, "objects[0].mesh", "missing required key"),
     (("objects", 0, "mesh"), 5, "objects[0].mesh", "a file path, a {primitive = ...} table"),
     (("objects", 0, "mesh", "primitive"), "torus", "objects[0].mesh.primitive", "'sphere'"),
+    (
+        ("objects", 0, "mesh"),
+        {"primitive": "ico_sphere", "subdivisions": 11},
+        "objects[0].mesh.subdivisions",
+        "expected an integer in [0, 10], got 11",
+    ),
+    (
+        ("objects", 0, "mesh"),
+        {"primitive": "ico_sphere", "rings": 3},
+        "objects[0].mesh.rings",
+        "unknown key 'rings'; expected one of: primitive, subdivisions",
+    ),
     (("objects", 0, "mesh", "rings"), 1, "objects[0].mesh.rings", "an integer in [2, 100000]"),
     (("objects", 0, "mesh", "segments"), 2.5, "objects[0].mesh.segments", "got 2.5"),
     (("objects", 0, "mesh", "radius"), 1, "objects[0].mesh.radius", "unknown key 'radius'"),

@@ -596,7 +596,7 @@ def _rows(v: Any, where: str, cols: int, integer: bool) -> list[list[Any]]:
     return v
 
 
-_PRIMITIVES = ("sphere", "cube", "plane")
+_PRIMITIVES = ("sphere", "ico_sphere", "cube", "plane")
 
 
 def _inline_mesh(t: dict[str, Any], where: str) -> Mesh:
@@ -627,6 +627,10 @@ def _primitive(t: dict[str, Any], where: str) -> Mesh:
         rings = _integer(t.get("rings", 16), _at(where, "rings"), 2, 100_000)
         segments = _integer(t.get("segments", 32), _at(where, "segments"), 3, 100_000)
         return _call(where, lambda: Mesh.uv_sphere(rings, segments))
+    if kind == "ico_sphere":
+        t = _table(t, where, ("primitive",), ("subdivisions",))
+        n = _integer(t.get("subdivisions", 3), _at(where, "subdivisions"), 0, 10)
+        return _call(where, lambda: Mesh.ico_sphere(n))
     _table(t, where, ("primitive",))
     return Mesh.cube() if kind == "cube" else Mesh.plane()
 
@@ -711,11 +715,6 @@ def _transform(t: dict[str, Any], where: str) -> np.ndarray:
     return compose_transform(translate, rotate, scale)
 
 
-def _supports_back_material() -> bool:
-    sig = getattr(Scene.add, "__text_signature__", None) or ""
-    return "back_material" in sig
-
-
 _OBJECT_KEYS = ("material", "back_material", "transform", "translate", "rotate", "scale")
 
 
@@ -725,24 +724,15 @@ def _add_object(
     t = _table(v, where, ("mesh",), _OBJECT_KEYS)
     transform = _transform(t, where)
     material = _material(t["material"], _at(where, "material"), named) if "material" in t else None
+    # back_material is wired here: Scene.add(..., back_material=...).
     back = None
     if "back_material" in t:
         back = _material(t["back_material"], _at(where, "back_material"), named)
-        # --- back_material is wired here (Scene.add(..., back_material=...)). ---
-        if not _supports_back_material():
-            raise SceneFileError(
-                "back materials are not supported by this build yet (Scene.add has no "
-                "back_material argument)",
-                _at(where, "back_material"),
-            )
     for mesh, file_material in _mesh(t["mesh"], _at(where, "mesh"), base_dir):
         # An explicit material overrides the file's (MTL) material; else the default.
         mat = material if material is not None else file_material
-        kw: dict[str, Any] = {"material": mat, "transform": transform}
-        if back is not None:
-            kw["back_material"] = back
         try:
-            scene.add(mesh, **kw)
+            scene.add(mesh, material=mat, transform=transform, back_material=back)
         except (ValueError, TypeError) as e:
             raise SceneFileError(str(e), where) from e
 
@@ -897,6 +887,11 @@ def _primitive_of(mesh: Mesh) -> dict[str, Any] | None:
         return {"primitive": "cube"}
     if mesh.n_vertices == 4 and _same_mesh(mesh, Mesh.plane()):
         return {"primitive": "plane"}
+    for n in range(11):
+        if mesh.n_vertices == 10 * 4**n + 2:
+            if _same_mesh(mesh, Mesh.ico_sphere(n)):
+                return {"primitive": "ico_sphere", "subdivisions": n}
+            break
     faces = mesh.faces
     # A uv sphere's first triangles are the fan around vertex 0, one per segment.
     segments = int(np.argmin(faces[:, 0] == 0)) if faces[0, 0] == 0 else 0
@@ -948,10 +943,9 @@ def scene_to_dict(
             "mesh": mesh_to_dict(o.mesh),
             "material": material_to_dict(o.material),
         }
-        # --- back_material is wired here: written when the object has one. ---
-        back = getattr(o, "back_material", None)
-        if back is not None:
-            item["back_material"] = material_to_dict(back)
+        # back_material is wired here: written when the object has one.
+        if o.back_material is not None:
+            item["back_material"] = material_to_dict(o.back_material)
         item["transform"] = o.transform.tolist()
         objects.append(item)
     d["objects"] = objects
