@@ -12,6 +12,7 @@ this package adds file helpers, the bundled demo scene and the command line.
 from ._core import (
     MAX_AREA_SAMPLES,
     MAX_IMAGE_SIZE,
+    MAX_THREADS,
     AreaLight,
     Camera,
     DirectionalLight,
@@ -46,6 +47,7 @@ from .swatch import material_sheet
 __all__ = [
     "MAX_AREA_SAMPLES",
     "MAX_IMAGE_SIZE",
+    "MAX_THREADS",
     "AreaLight",
     "Camera",
     "DirectionalLight",

@@ -19,6 +19,7 @@ from typing_extensions import TypeAlias
 __all__ = [
     "MAX_AREA_SAMPLES",
     "MAX_IMAGE_SIZE",
+    "MAX_THREADS",
     "AreaLight",
     "Camera",
     "DirectionalLight",
@@ -53,6 +54,8 @@ _Specular: TypeAlias = Literal["blinn", "phong", "blinn-normalized"] | str
 __version__: Final[str]
 #: Largest supported image width or height in pixels (16384).
 MAX_IMAGE_SIZE: Final[int]
+#: Largest ``threads`` argument of :func:`render` (256).
+MAX_THREADS: Final[int]
 #: Largest ``samples`` per side of an :class:`AreaLight` (64, i.e. 4096 point sources).
 MAX_AREA_SAMPLES: Final[int]
 

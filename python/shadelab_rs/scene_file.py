@@ -26,6 +26,7 @@ import numpy as np
 from ._core import (
     MAX_AREA_SAMPLES,
     MAX_IMAGE_SIZE,
+    MAX_THREADS,
     AreaLight,
     Camera,
     DirectionalLight,
@@ -566,7 +567,7 @@ def _render_options(v: Any, where: str) -> dict[str, Any]:
     if "cull_backfaces" in t:
         out["cull_backfaces"] = _boolean(t["cull_backfaces"], _at(where, "cull_backfaces"))
     if "threads" in t:
-        out["threads"] = _integer(t["threads"], _at(where, "threads"), 1)
+        out["threads"] = _integer(t["threads"], _at(where, "threads"), 1, MAX_THREADS)
     return out
 
 
@@ -601,15 +602,14 @@ _PRIMITIVES = ("sphere", "ico_sphere", "cube", "plane")
 
 def _inline_mesh(t: dict[str, Any], where: str) -> Mesh:
     verts = np.array(_rows(t["vertices"], _at(where, "vertices"), 3, False), dtype=np.float64)
-    faces = np.array(_rows(t["faces"], _at(where, "faces"), 3, True), dtype=np.int64)
-    bad = np.argwhere((faces < 0) | (faces >= len(verts)))
-    if len(bad):
-        i, j = (int(x) for x in bad[0])
-        raise _fail(
-            _at(_at(_at(where, "faces"), i), j),
-            f"a vertex index in [0, {len(verts)})",
-            int(faces[i, j]),
-        )
+    rows = _rows(t["faces"], _at(where, "faces"), 3, True)
+    # Checked as Python ints first: a huge index would overflow int64.
+    n = len(verts)
+    for i, row in enumerate(rows):
+        for j, x in enumerate(row):
+            if not 0 <= x < n:
+                raise _fail(_at(_at(_at(where, "faces"), i), j), f"a vertex index in [0, {n})", x)
+    faces = np.array(rows, dtype=np.int64)
     kw: dict[str, Any] = {}
     for k, cols in (("normals", 3), ("uvs", 2)):
         if k in t:

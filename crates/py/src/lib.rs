@@ -18,6 +18,7 @@ use pyo3::prelude::*;
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("MAX_IMAGE_SIZE", shadelab_raster::MAX_IMAGE_SIZE)?;
+    m.add("MAX_THREADS", shadelab_raster::MAX_THREADS)?;
     m.add("ObjParseError", m.py().get_type::<errors::ObjParseError>())?;
     m.add_class::<mesh::PyMesh>()?;
     m.add_class::<material::PyMaterial>()?;
