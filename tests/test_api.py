@@ -1202,3 +1202,29 @@ def test_add_obj_transform_and_back_material(tmp_path):
     np.testing.assert_allclose(depth0[12, 20], 4.0, rtol=1e-6)  # moved to z = -1
     np.testing.assert_allclose(img1[12, 20], [1, 0, 0], atol=1e-6)  # back material's ka·Ia
     assert not np.allclose(img0[12, 20], [1, 0, 0])
+
+
+def test_light_diffuse_and_specular_colours_split_the_shorthand():
+    """Hand-computed: n = l = v = +z, so n·l = n·h = 1 and c = kd·Id + ks·Is."""
+    v = np.array([[-5, -5, 0], [5, -5, 0], [5, 5, 0], [-5, 5, 0]], float)
+    mat = sl.Material(ambient=(0, 0, 0), diffuse=(0.5, 0.5, 0.5), specular=(0.25,) * 3)
+    cam = sl.Camera.orthographic((0, 0, 5), (0, 0, 0), height=2.0)
+    lights = [
+        sl.DirectionalLight((0, 0, -1), intensity=2.0, diffuse=(1, 0, 0), specular=(0, 0, 1)),
+        sl.PointLight((0, 0, 1e4), intensity=2.0, diffuse=(1, 0, 0), specular=(0, 0, 1)),
+        sl.SpotLight((0, 0, 1e4), (0, 0, -1), intensity=2.0, diffuse=(1, 0, 0), specular=(0, 0, 1)),
+        sl.AreaLight(
+            (0, 0, 1e4), (1, 0, 0), (0, 1, 0), intensity=2.0, diffuse=(1, 0, 0), specular=(0, 0, 1)
+        ),
+    ]
+    for light in lights:
+        assert (light.diffuse, light.specular) == ((1.0, 0.0, 0.0), (0.0, 0.0, 1.0))
+        assert light.color == (1.0, 1.0, 1.0)
+        s = sl.Scene(ambient=(0, 0, 0), local_viewer=False)  # v = +z everywhere
+        s.add(sl.Mesh(v, [[0, 1, 2], [0, 2, 3]]), material=mat)
+        s.add_light(light)
+        img = sl.render(s, cam, 4, 4, shading="phong", dtype="float32")
+        np.testing.assert_allclose(img[1, 1], [1.0, 0.0, 0.5], atol=2e-5)
+    # Only one of the two set: the other follows color.
+    d = sl.DirectionalLight((0, 0, -1), color=(0, 1, 0), specular=(1, 1, 1))
+    assert (d.diffuse, d.specular) == (None, (1.0, 1.0, 1.0))

@@ -678,3 +678,19 @@ def test_back_material_and_add_obj_arguments_are_checked(tmp_path):
     expect_error(ValueError, "transform", scene.add_obj, good, transform=np.zeros((4, 4)))
     assert scene.n_objects == 0  # nothing half-added
     assert scene.add_obj(good) == 1
+
+
+@pytest.mark.parametrize(
+    "make",
+    [
+        lambda **kw: sl.DirectionalLight((0, 0, -1), **kw),
+        lambda **kw: sl.PointLight((0, 0, 1), **kw),
+        lambda **kw: sl.SpotLight((0, 0, 1), (0, 0, -1), **kw),
+        lambda **kw: sl.AreaLight((0, 0, 1), (1, 0, 0), (0, 1, 0), **kw),
+    ],
+)
+def test_light_diffuse_and_specular_colours_are_validated(make):
+    expect_error(ValueError, "diffuse colour must be finite and >= 0", make, diffuse=(-1, 0, 0))
+    expect_error(ValueError, r"specular\[1\]", make, specular=(0, np.nan, 0))
+    expect_error(ValueError, "diffuse must be 3", make, diffuse=(1, 1))
+    expect_error(TypeError, "specular", make, specular="white")

@@ -16,6 +16,7 @@ import reference as ref
 import shadelab_rs as sl
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
+from ref_to_sl import sl_light
 
 SIZE = 8
 EYE = (0.0, 0.0, 5.0)
@@ -35,7 +36,13 @@ attenuation = st.one_of(
 @st.composite
 def lights(draw):
     kind = draw(st.sampled_from(["directional", "point", "spot", "area"]))
-    common = dict(color=draw(rgb), intensity=draw(intensity), ambient=draw(rgb))
+    common = dict(
+        color=draw(rgb),
+        intensity=draw(intensity),
+        ambient=draw(rgb),
+        diffuse=draw(st.one_of(st.none(), rgb)),
+        specular=draw(st.one_of(st.none(), rgb)),
+    )
     if kind == "directional":
         return ref.DirectionalLight(draw(direction), **common)
     common["attenuation"] = draw(attenuation)
@@ -62,39 +69,6 @@ def lights(draw):
         shape=draw(st.sampled_from(["rectangle", "disk"])),
         samples=draw(st.integers(1, 4)),
         one_sided=draw(st.booleans()),
-        **common,
-    )
-
-
-def to_sl(light):
-    if isinstance(light, ref.DirectionalLight):
-        return sl.DirectionalLight(
-            light.direction, color=light.color, intensity=light.intensity, ambient=light.ambient
-        )
-    common = dict(
-        color=light.color,
-        intensity=light.intensity,
-        attenuation=light.attenuation,
-        ambient=light.ambient,
-    )
-    if isinstance(light, ref.PointLight):
-        return sl.PointLight(light.position, **common)
-    if isinstance(light, ref.SpotLight):
-        return sl.SpotLight(
-            light.position,
-            light.direction,
-            cutoff=light.cutoff,
-            exponent=light.exponent,
-            inner=light.inner,
-            **common,
-        )
-    return sl.AreaLight(
-        light.position,
-        light.u,
-        light.v,
-        shape=light.shape,
-        samples=light.samples,
-        one_sided=light.one_sided,
         **common,
     )
 
@@ -163,7 +137,7 @@ def test_equation_at_points_matches_reference(
     scene = sl.Scene(ambient=ambient, fog=fog_sl if fog else None, local_viewer=local_viewer)
     scene.add(mesh, material=sl.Material(ka, kd, ks, shininess, emission=ke))
     for light in lights:
-        scene.add_light(to_sl(light))
+        scene.add_light(sl_light(light))
     camera = sl.Camera.orthographic(EYE, (0, 0, 0), height=2.0, near=1.0, far=10.0)
     got = sl.render(scene, camera, width=SIZE, height=SIZE, specular=specular, dtype="float32")
     got = got.reshape(-1, 3).astype(np.float64)

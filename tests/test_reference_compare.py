@@ -38,8 +38,10 @@ import shadelab_rs as sl
 
 try:
     import reference as ref
+    from ref_to_sl import sl_light
 except ImportError:  # pragma: no cover - tests/ imported as a package
     from tests import reference as ref
+    from tests.ref_to_sl import sl_light
 
 #: Pixels whose centre is nearer than this (in pixels) to an edge are "near an edge".
 EDGE_PX = 0.05
@@ -286,45 +288,6 @@ def _mesh_arrays(name):
     raise KeyError(name)
 
 
-def _sl_light(light):
-    if isinstance(light, ref.AreaLight):
-        return sl.AreaLight(
-            light.position,
-            light.u,
-            light.v,
-            shape=light.shape,
-            samples=light.samples,
-            color=light.color,
-            intensity=light.intensity,
-            attenuation=light.attenuation,
-            ambient=light.ambient,
-            one_sided=light.one_sided,
-        )
-    if isinstance(light, ref.SpotLight):
-        return sl.SpotLight(
-            light.position,
-            light.direction,
-            cutoff=light.cutoff,
-            exponent=light.exponent,
-            color=light.color,
-            intensity=light.intensity,
-            attenuation=light.attenuation,
-            ambient=light.ambient,
-            inner=light.inner,
-        )
-    if isinstance(light, ref.DirectionalLight):
-        return sl.DirectionalLight(
-            light.direction, color=light.color, intensity=light.intensity, ambient=light.ambient
-        )
-    return sl.PointLight(
-        light.position,
-        color=light.color,
-        intensity=light.intensity,
-        attenuation=light.attenuation,
-        ambient=light.ambient,
-    )
-
-
 def _sl_camera(cam):
     if cam.is_ortho:
         return sl.Camera.orthographic(
@@ -384,7 +347,7 @@ def render_sl(case, shading, specular, dtype):
         back_material=_back_materials(case)[0],
     )
     for light in case.lights:
-        scene.add_light(_sl_light(light))
+        scene.add_light(sl_light(light))
     return sl.render(
         scene,
         _sl_camera(case.camera),

@@ -173,7 +173,9 @@ class DirectionalLight:
     """A light at infinity; ``direction`` is where the light travels (a sun overhead:
     ``(0, -1, 0)``) and must be non-zero. ``color`` (default white) and ``intensity``
     (its multiplier) must be >= 0; ``ambient`` is the light's own ambient colour (default
-    black). No attenuation."""
+    black). ``diffuse`` / ``specular`` (default None) give the light its own diffuse or
+    specular colour (OpenGL's GL_DIFFUSE / GL_SPECULAR of a light) in place of ``color``;
+    both are scaled by ``intensity``. No attenuation."""
 
     def __new__(
         cls,
@@ -181,6 +183,8 @@ class DirectionalLight:
         color: _Vec3Like | None = None,
         intensity: float = 1.0,
         ambient: _Vec3Like | None = None,
+        diffuse: _Vec3Like | None = None,
+        specular: _Vec3Like | None = None,
     ) -> DirectionalLight: ...
     @property
     def ambient(self) -> _Vec3:
@@ -194,6 +198,12 @@ class DirectionalLight:
     @property
     def intensity(self) -> float:
         """Multiplier of ``color``."""
+    @property
+    def diffuse(self) -> _Vec3 | None:
+        """The light's own diffuse colour, or None when ``color`` sets it."""
+    @property
+    def specular(self) -> _Vec3 | None:
+        """The light's own specular colour, or None when ``color`` sets it."""
 
 @final
 class PointLight:
@@ -201,7 +211,8 @@ class PointLight:
     ``intensity`` must be >= 0. ``attenuation=(kc, kl, kq)`` divides the light by
     ``kc + kl*d + kq*d**2`` (d: distance to the light; default (1, 0, 0), none; coefficients
     >= 0, not all zero; the divisor is at least 1e-6). ``ambient`` is the light's own ambient
-    colour (default black), attenuated like the rest."""
+    colour (default black), attenuated like the rest. ``diffuse`` / ``specular`` override
+    ``color`` for their term, as for DirectionalLight."""
 
     def __new__(
         cls,
@@ -210,6 +221,8 @@ class PointLight:
         intensity: float = 1.0,
         attenuation: _Vec3Like | None = None,
         ambient: _Vec3Like | None = None,
+        diffuse: _Vec3Like | None = None,
+        specular: _Vec3Like | None = None,
     ) -> PointLight: ...
     @property
     def ambient(self) -> _Vec3:
@@ -226,6 +239,12 @@ class PointLight:
     @property
     def intensity(self) -> float:
         """Multiplier of ``color``."""
+    @property
+    def diffuse(self) -> _Vec3 | None:
+        """The light's own diffuse colour, or None when ``color`` sets it."""
+    @property
+    def specular(self) -> _Vec3 | None:
+        """The light's own specular colour, or None when ``color`` sets it."""
 
 @final
 class SpotLight:
@@ -247,6 +266,8 @@ class SpotLight:
         attenuation: _Vec3Like | None = None,
         ambient: _Vec3Like | None = None,
         inner: float | None = None,
+        diffuse: _Vec3Like | None = None,
+        specular: _Vec3Like | None = None,
     ) -> SpotLight: ...
     @property
     def position(self) -> _Vec3:
@@ -269,6 +290,12 @@ class SpotLight:
     @property
     def intensity(self) -> float:
         """Multiplier of ``color``."""
+    @property
+    def diffuse(self) -> _Vec3 | None:
+        """The light's own diffuse colour, or None when ``color`` sets it."""
+    @property
+    def specular(self) -> _Vec3 | None:
+        """The light's own specular colour, or None when ``color`` sets it."""
     @property
     def attenuation(self) -> _Vec3:
         """(kc, kl, kq)."""
@@ -302,6 +329,8 @@ class AreaLight:
         attenuation: _Vec3Like | None = None,
         ambient: _Vec3Like | None = None,
         one_sided: bool = False,
+        diffuse: _Vec3Like | None = None,
+        specular: _Vec3Like | None = None,
     ) -> AreaLight: ...
     @property
     def position(self) -> _Vec3:
@@ -333,6 +362,12 @@ class AreaLight:
     @property
     def intensity(self) -> float:
         """Multiplier of ``color``, shared equally by the points."""
+    @property
+    def diffuse(self) -> _Vec3 | None:
+        """The light's own diffuse colour, or None when ``color`` sets it."""
+    @property
+    def specular(self) -> _Vec3 | None:
+        """The light's own specular colour, or None when ``color`` sets it."""
     @property
     def attenuation(self) -> _Vec3:
         """Distance attenuation (kc, kl, kq), applied to each point with its own distance."""
