@@ -100,13 +100,21 @@ def rich_scene() -> sl.Scene:
         local_viewer=False,
     )
     s.add_light(sl.DirectionalLight((-0.3, -1.0, -0.45), color=(1, 0.9, 0.8), intensity=0.7))
-    s.add_light(sl.PointLight((2, 2, 3), color=(0.3, 0.4, 0.5), attenuation=(1, 0.1, 0.01)))
+    s.add_light(
+        sl.PointLight(
+            (2, 2, 3), color=(0.3, 0.4, 0.5), attenuation=(1, 0.1, 0.01), specular=(0, 0, 1)
+        )
+    )
     s.add_light(
         sl.SpotLight(
             (0, 3, 1), (0.1, -1, -0.3), cutoff=35, exponent=3, inner=20, ambient=(0.01, 0, 0)
         )
     )
-    s.add_light(sl.AreaLight((1, 2, 1), (0.5, 0, 0), (0, 0.3, 0.4), shape="disk", samples=2))
+    s.add_light(
+        sl.AreaLight(
+            (1, 2, 1), (0.5, 0, 0), (0, 0.3, 0.4), shape="disk", samples=2, diffuse=(1, 0, 0)
+        )
+    )
     s.add_light(sl.AreaLight((-1, 2, 1), (0.5, 0, 0), (0, 0, 0.5), one_sided=True, samples=1))
     s.add(sl.Mesh.uv_sphere(6, 9), sl.Material.preset("ruby"), np.diag([0.5, 0.8, 0.5, 1]))
     cube_at = sl.scene_file.compose_transform(translate=(1, 0.2, 0), rotate=(10, 20, 30), scale=0.3)
@@ -251,6 +259,8 @@ _atten = st.lists(st.floats(0, 1, width=32), min_size=3, max_size=3).filter(any)
 def _lights(draw):
     kind = draw(st.sampled_from(["directional", "point", "spot", "area"]))
     common = {"color": draw(_colors), "intensity": draw(_f32), "ambient": draw(_colors)}
+    for k in ("diffuse", "specular"):
+        common[k] = draw(st.one_of(st.none(), _colors))
     if kind == "directional":
         return sl.DirectionalLight(draw(_dirs), **common)
     common["attenuation"] = draw(_atten)
@@ -341,6 +351,12 @@ def test_objects_and_lights_introspection(rich_scene):
     ]
     assert lights[2].inner == 20 and lights[2].cutoff == 35
     assert lights[4].one_sided and lights[3].shape == "disk"
+    assert lights[1].specular == (0, 0, 1) and lights[1].diffuse is None
+    assert lights[3].diffuse == (1, 0, 0) and lights[3].specular is None
+    d = rich_scene.to_dict()["lights"]
+    assert d[1]["specular"] == [0, 0, 1] and "diffuse" not in d[1]
+    assert d[3]["diffuse"] == [1, 0, 0] and "specular" not in d[3]
+    assert "diffuse" not in d[0] and "specular" not in d[0]
     assert len(sl.Scene().objects) == 0 and sl.Scene().lights == []
 
 
@@ -613,6 +629,10 @@ ERRORS = [
     (("lights", 0, "intensity"), -1, "lights[0].intensity", "expected a number >= 0, got -1"),
     (("lights", 0, "color"), "white", "lights[0].color", "an array of 3 numbers >= 0"),
     (("lights", 0, "ambient"), [0, -0.1, 0], "lights[0].ambient[1]", ">= 0"),
+    (("lights", 0, "diffuse"), [0, -0.1, 0], "lights[0].diffuse[1]", ">= 0"),
+    (("lights", 1, "specular"), "red", "lights[1].specular", "an array of 3 numbers >= 0"),
+    (("lights", 2, "diffuse"), [1, 1], "lights[2].diffuse", "an array of 3 numbers >= 0"),
+    (("lights", 3, "specular"), [1, 1, True], "lights[3].specular[2]", "got True"),
     (("lights", 1, "attenuation"), [0, 0, 0], "lights[1].attenuation", "not all zero"),
     (("lights", 1, "attenuation"), [1, -1, 0], "lights[1].attenuation[1]", ">= 0"),
     (("lights", 1, "cutoff"), 30, "lights[1].cutoff", "unknown key 'cutoff'"),

@@ -279,16 +279,27 @@ def material_to_dict(m: Material) -> dict[str, Any]:
 # ---------------------------------------------------------------------------------------
 # Lights, fog, camera, render options
 
+# A light's own diffuse and specular colours (GL_DIFFUSE / GL_SPECULAR), in place of color.
+_SPLIT = ("diffuse", "specular")
 _LIGHT_KEYS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
-    "directional": (("type", "direction"), ("color", "intensity", "ambient")),
-    "point": (("type", "position"), ("color", "intensity", "attenuation", "ambient")),
+    "directional": (("type", "direction"), ("color", "intensity", "ambient", *_SPLIT)),
+    "point": (("type", "position"), ("color", "intensity", "attenuation", "ambient", *_SPLIT)),
     "spot": (
         ("type", "position", "direction"),
-        ("cutoff", "exponent", "inner", "color", "intensity", "attenuation", "ambient"),
+        ("cutoff", "exponent", "inner", "color", "intensity", "attenuation", "ambient", *_SPLIT),
     ),
     "area": (
         ("type", "position", "u", "v"),
-        ("shape", "samples", "color", "intensity", "attenuation", "ambient", "one_sided"),
+        (
+            "shape",
+            "samples",
+            "color",
+            "intensity",
+            "attenuation",
+            "ambient",
+            "one_sided",
+            *_SPLIT,
+        ),
     ),
 }
 
@@ -360,7 +371,7 @@ def _light(v: Any, where: str) -> _Light:
     required, optional = _LIGHT_KEYS[kind]
     t = _table(v, where, required, optional)
     kw: dict[str, Any] = {}
-    for k in ("color", "ambient"):
+    for k in ("color", "ambient", *_SPLIT):
         if k in t:
             kw[k] = _color(t[k], _at(where, k))
     if "intensity" in t:
@@ -404,7 +415,17 @@ def _light(v: Any, where: str) -> _Light:
 
 
 def light_to_dict(light: _Light) -> dict[str, Any]:
-    """A light as a table of the schema, every value explicit."""
+    """A light as a table of the schema, every value explicit (``diffuse`` / ``specular``
+    only when the light has its own)."""
+    d = _light_values(light)
+    for k in _SPLIT:
+        v = getattr(light, k)
+        if v is not None:
+            d[k] = list(v)
+    return d
+
+
+def _light_values(light: _Light) -> dict[str, Any]:
     if isinstance(light, DirectionalLight):
         return {
             "type": "directional",
