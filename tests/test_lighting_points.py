@@ -86,6 +86,21 @@ def near_a_cone_edge(lights, p):
     return False
 
 
+def near_the_terminator(lights, p, n):
+    """Whether some light grazes the surface (|n·l| < 1e-6) at a sample point: there the
+    specular gate n·l > 0 may differ between float32 and float64, which is rounding, not a
+    defect (e.g. n·l = 4e-171 in float64 is 0 in float32)."""
+    for light in ref.expand_area_lights(lights):
+        if isinstance(light, ref.DirectionalLight):
+            lv = -np.asarray(light.direction, dtype=np.float64)[None, :]
+        else:
+            lv = np.asarray(light.position) - p
+        lv = lv / np.linalg.norm(lv, axis=1, keepdims=True)
+        if np.any(np.abs(lv @ n) < 1e-6):
+            return True
+    return False
+
+
 @settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.filter_too_much])
 @given(
     ka=rgb,
@@ -113,6 +128,7 @@ def test_equation_at_points_matches_reference(
     p = np.stack(np.meshgrid(c, -c), axis=-1).reshape(-1, 2)
     p = np.column_stack([p, np.zeros(len(p))])
     assume(not near_a_cone_edge(lights, p))
+    assume(not near_the_terminator(lights, p, n))
 
     verts = np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]], dtype=np.float32)
     mesh = sl.Mesh(verts, [[0, 1, 2], [0, 2, 3]], normals=np.tile(n, (4, 1)))

@@ -9,7 +9,7 @@ Errors: ``ValueError`` (bad values, with the offending element named, e.g.
 """
 
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any, Final, Literal, TypedDict, final, overload
 
 import numpy as np
@@ -19,6 +19,7 @@ from typing_extensions import TypeAlias
 __all__ = [
     "MAX_AREA_SAMPLES",
     "MAX_IMAGE_SIZE",
+    "MAX_THREADS",
     "AreaLight",
     "Camera",
     "DirectionalLight",
@@ -28,6 +29,7 @@ __all__ = [
     "ObjParseError",
     "PointLight",
     "Scene",
+    "SceneObject",
     "SpotLight",
     "__version__",
     "load_obj",
@@ -52,6 +54,8 @@ _Specular: TypeAlias = Literal["blinn", "phong", "blinn-normalized"] | str
 __version__: Final[str]
 #: Largest supported image width or height in pixels (16384).
 MAX_IMAGE_SIZE: Final[int]
+#: Largest ``threads`` argument of :func:`render` (256).
+MAX_THREADS: Final[int]
 #: Largest ``samples`` per side of an :class:`AreaLight` (64, i.e. 4096 point sources).
 MAX_AREA_SAMPLES: Final[int]
 
@@ -408,6 +412,25 @@ class Fog:
         """The fog factor f in [0, 1] at eye distance ``d`` (1: no fog)."""
 
 @final
+class SceneObject:
+    """One object of a scene as read back by :attr:`Scene.objects`: a snapshot, so changing
+    it does not change the scene. There is no constructor."""
+
+    @property
+    def mesh(self) -> Mesh:
+        """The mesh (shared with the scene, not copied)."""
+    @property
+    def material(self) -> Material:
+        """The material."""
+    @property
+    def back_material(self) -> Material | None:
+        """The material of back faces under two-sided lighting, or None (``material`` is
+        used for both sides)."""
+    @property
+    def transform(self) -> NDArray[np.float64]:
+        """The 4x4 model matrix, float64 (the float32 values the scene holds, exactly)."""
+
+@final
 class Scene:
     """Objects, lights, the global ambient light (default ``(0.2, 0.2, 0.2)``) and an
     optional fog."""
@@ -461,6 +484,29 @@ class Scene:
         Returns the number of objects added."""
     def add_light(self, light: DirectionalLight | PointLight | SpotLight | AreaLight) -> None:
         """Adds a DirectionalLight, PointLight, SpotLight or AreaLight."""
+    @property
+    def objects(self) -> list[SceneObject]:
+        """The objects, in the order they were added (snapshots)."""
+    @property
+    def lights(self) -> list[DirectionalLight | PointLight | SpotLight | AreaLight]:
+        """The lights, in the order they were added."""
+    @staticmethod
+    def from_file(path: _Path) -> Scene:
+        """The scene of a scene file (TOML, schema in the user guide); relative mesh paths
+        are resolved against the file's directory. ``shadelab_rs.load_scene`` also returns
+        the file's camera and render options.
+
+        Raises ``FileNotFoundError`` or ``shadelab_rs.SceneFileError`` (a ``ValueError``
+        naming the key path of the bad value)."""
+    @staticmethod
+    def from_dict(d: Mapping[str, Any], base_dir: _Path | None = None) -> Scene:
+        """The scene described by ``d`` (the scene-file schema as plain Python data);
+        relative mesh paths are resolved against ``base_dir`` (default: the current
+        directory)."""
+    def to_dict(self) -> dict[str, Any]:
+        """This scene as plain Python data in the scene-file schema (meshes as primitives
+        when they are one, else inline arrays); ``Scene.from_dict(scene.to_dict())``
+        renders bit-identically."""
     @property
     def ambient(self) -> _Vec3:
         """Global ambient light (r, g, b)."""
