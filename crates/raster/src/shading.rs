@@ -501,9 +501,20 @@ fn point_lanes(
         ..
     } = light.geometry
     {
-        for k in 0..LANES {
-            let cos_angle = -(l[0][k] * d.x + l[1][k] * d.y + l[2][k] * d.z);
-            att[k] *= SpotLight::factor(cos_angle, cos_cutoff, cos_inner, exponent);
+        if cos_inner > 1.0 && (exponent == 0.0 || exponent == 1.0) {
+            // Hard edge with exponent 0 or 1 (one-sided area lights' points): the same
+            // values as SpotLight::factor, as branch-free selects that vectorise.
+            let flat = exponent == 0.0;
+            for k in 0..LANES {
+                let cos_angle = -(l[0][k] * d.x + l[1][k] * d.y + l[2][k] * d.z);
+                let base = if flat { 1.0 } else { cos_angle.max(0.0) };
+                att[k] *= if cos_angle < cos_cutoff { 0.0 } else { base };
+            }
+        } else {
+            for k in 0..LANES {
+                let cos_angle = -(l[0][k] * d.x + l[1][k] * d.y + l[2][k] * d.z);
+                att[k] *= SpotLight::factor(cos_angle, cos_cutoff, cos_inner, exponent);
+            }
         }
     }
     if light.ambient != Vec3::ZERO {
