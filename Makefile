@@ -7,7 +7,7 @@ PY := $(VENV)/bin/python
 DEPS := $(VENV)/.deps-stamp
 ENVS := VIRTUAL_ENV=$(abspath $(VENV)) PATH="$(abspath $(VENV))/bin:$$PATH"
 
-.PHONY: help demo test lint build bench wheel wheel-check clean
+.PHONY: help demo test lint build bench bench-peers wheel wheel-check clean
 
 help:  ## list targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
@@ -36,8 +36,17 @@ test: lint build  ## lint, stub check, cargo test, pytest
 	cargo test
 	$(PY) -m pytest -q
 
-bench: build  ## benchmarks -> docs/BENCHMARKS.md
+BENCH_DEPS := $(VENV)/.bench-stamp
+
+$(BENCH_DEPS): bench/peers/install.sh bench/requirements-bench.txt $(DEPS)
+	VENV=$(VENV) sh bench/peers/install.sh
+	touch $@
+
+bench-peers: $(BENCH_DEPS)  ## install the peers: Mesa llvmpipe (headless EGL, apt), moderngl, matplotlib
+
+bench: build $(BENCH_DEPS)  ## benchmarks, speed against error, llvmpipe -> docs/BENCHMARKS.md (~20 min)
 	$(PY) bench/bench_render.py --write docs/BENCHMARKS.md
+	$(PY) bench/speed_error.py --write docs/BENCHMARKS.md
 
 wheel: $(DEPS)  ## build a release wheel into dist/
 	$(ENVS) $(PY) -m maturin build --release -o dist

@@ -6,8 +6,8 @@ Every error figure in the speed–error report, the peer comparison and the test
 * Colour is compared only where **both** images cover the pixel. 8-bit figures use the uint8
   images (``round(clamp(c, 0, 1) * 255)``); linear figures use the unclamped float colours.
 * RMSE is over every channel of those pixels; max is the largest channel difference; the
-  ``share_gt1`` / ``share_gt8`` figures are the shares of those pixels whose largest channel
-  difference exceeds 1 / 8 levels.
+  ``share_gt0`` / ``share_gt1`` / ``share_gt8`` figures are the shares of those pixels whose
+  largest channel difference exceeds 0 / 1 / 8 levels.
 * Silhouette mismatch (covered by one image only) is counted separately and never enters
   the colour figures.
 """
@@ -34,6 +34,7 @@ class ErrorFigures:
     n_both: int  # pixels covered by both images: the colour figures are over these
     rmse_levels: float
     max_levels: int
+    share_gt0: float  # of n_both: any channel differs
     share_gt1: float  # of n_both: largest channel difference > 1 level
     share_gt8: float  # of n_both: largest channel difference > 8 levels
     rmse_linear: float  # NaN when no linear colours were given
@@ -99,6 +100,7 @@ def error_figures(
         n_both=n,
         rmse_levels=float(np.sqrt(np.mean(d8.astype(np.float64) ** 2))) if n else nan,
         max_levels=int(worst.max()) if n else 0,
+        share_gt0=float(np.mean(worst > 0)) if n else nan,
         share_gt1=float(np.mean(worst > 1)) if n else nan,
         share_gt8=float(np.mean(worst > 8)) if n else nan,
         rmse_linear=rmse_lin,

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
-import reference as ref  # noqa: E402  (tests/reference.py: the float64 lighting and camera)
+import reference as ref
 
 __all__ = ["Truth", "plane_truth", "sphere_truth", "world_rays"]
 
