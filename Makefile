@@ -42,11 +42,12 @@ $(BENCH_DEPS): bench/peers/install.sh bench/requirements-bench.txt $(DEPS)
 	VENV=$(VENV) sh bench/peers/install.sh
 	touch $@
 
-bench-peers: $(BENCH_DEPS)  ## install the peers: Mesa llvmpipe (headless EGL, apt), moderngl, matplotlib
+bench-peers: $(BENCH_DEPS)  ## install the peers: Mesa llvmpipe (headless EGL, apt), moderngl, VTK, matplotlib
 
 bench: build $(BENCH_DEPS)  ## benchmarks, speed against error, llvmpipe -> docs/BENCHMARKS.md (~20 min)
 	$(PY) bench/bench_render.py --write docs/BENCHMARKS.md
 	$(PY) bench/speed_error.py --write docs/BENCHMARKS.md
+	$(PY) bench/speed_error_vtk.py --write docs/BENCHMARKS.md
 
 wheel: $(DEPS)  ## build a release wheel into dist/
 	$(ENVS) $(PY) -m maturin build --release -o dist

@@ -531,8 +531,8 @@ def markdown(
             out.append(f"| {name} | {mode} | {' | '.join(cells)} |")
     out += [
         "",
-        "No other renderer was run here; the comparison with Mesa's llvmpipe on the same "
-        "scenes is a later step.",
+        "This script runs shadelab_rs only; `make bench` then runs `bench/speed_error.py`,"
+        " whose section below compares it with Mesa's llvmpipe, alternating frame by frame.",
         "",
     ]
     return "\n".join(out)
