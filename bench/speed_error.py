@@ -799,12 +799,11 @@ def markdown(ctx: dict, rows: list[Row], impl: list[ImplRow], plots: dict[str, s
             for who, e in (("shadelab_rs", i.ours), ("llvmpipe", i.peer)):
                 if e is None:
                     continue
-                line = (
+                L.append(
                     f"| {i.scene} | {i.triangles:,} | {i.mode} | {who} | {_pct(1 - e.share_gt1)} |"
                     f" {_pct(1 - e.share_gt0)} | {_f(e.rmse_levels)} / {_f(e.rmse_linear, 2)} |"
                     f" {e.max_levels} / {_f(e.max_linear, 2)} | {e.only_test + e.only_ref} px |"
                 )
-            L.append(line)
         L += [""]
     if peers:
         L += ["## Where llvmpipe was faster: where our time goes", ""]
