@@ -142,7 +142,8 @@ def test_equation_at_points_matches_reference(
     got = sl.render(scene, camera, width=SIZE, height=SIZE, specular=specular, dtype="float32")
     got = got.reshape(-1, 3).astype(np.float64)
 
-    material = ref.Material(ka, kd, ks, shininess, ke)
+    # The material holds shininess as float32 (1e-292 is 0 there, and 0**0 = 1).
+    material = ref.Material(ka, kd, ks, float(np.float32(shininess)), ke)
     # The infinite viewer's constant direction is toward the eye: +z here.
     want = ref.lighting(
         p,

@@ -370,6 +370,7 @@ pub(crate) fn run<P: Pixel>(
         eye: prep.eye,
         background: options.background,
         two_sided: scene.two_sided(),
+        size: (options.width as f64, options.height as f64),
         fog: scene
             .fog()
             .map(|f| (*f, camera.eye_distance(options.width, options.height))),

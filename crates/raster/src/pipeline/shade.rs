@@ -8,7 +8,7 @@ use glam::Vec3;
 
 use super::bin::Binned;
 use super::raster::{TileBuffers, NO_TRIANGLE};
-use super::setup::{Edges, SetupTri, HALF, ONE};
+use super::setup::{SetupTri, ONE};
 use super::tiles::{TileRect, TILE};
 use super::vertex::Vertices;
 use super::Sides;
@@ -53,6 +53,8 @@ pub(crate) struct ShadeContext<'a> {
     pub background: Vec3,
     /// Back faces (clockwise on screen) are lit with the flipped normal.
     pub two_sided: bool,
+    /// Image width and height in pixels (the viewport of the clip coordinates).
+    pub size: (f64, f64),
     /// The scene's fog and the per-render constants to find eye distances.
     pub fog: Option<(Fog, EyeDistance)>,
 }
@@ -113,9 +115,9 @@ pub(crate) fn shade_tile<P: Pixel>(
 /// Per-triangle data gathered once while consecutive pixels share a triangle.
 struct Current<'a> {
     id: u32,
-    edges: Edges,
-    /// `inv_w[k] / area2`: turns an integer edge value straight into λ_k / w_k.
-    qw: [f32; 3],
+    /// Perspective weight planes: λ_k / w_k at pixel-space point (x, y) is
+    /// `plane[k][0]·x + plane[k][1]·y + plane[k][2]` (f64, so no cancellation matters).
+    plane: [[f64; 3]; 3],
     /// Gouraud: vertex colours. Phong: vertex normals.
     attr: [Vec3; 3],
     /// Phong: world positions.
@@ -127,34 +129,69 @@ impl<'a> Current<'a> {
     fn empty() -> Self {
         Current {
             id: NO_TRIANGLE,
-            edges: Edges {
-                a: [0; 3],
-                b: [0; 3],
-                c: [0; 3],
-                bias: [0; 3],
-            },
-            qw: [0.0; 3],
+            plane: [[0.0; 3]; 3],
             attr: [Vec3::ZERO; 3],
             pos: [Vec3::ZERO; 3],
             material: None,
         }
     }
 
-    /// Perspective weights λ_k / w_k at the fixed-point sample (px, py): exact integer edge
-    /// values (one rounding each) times inv_w / area. Their sum is the interpolated 1/w.
+    /// Perspective weights λ_k / w_k at the pixel centre (x, y) (pixel units). Their sum is
+    /// the interpolated 1/w.
     #[inline(always)]
-    fn weights(&self, px: i64, py: i64) -> [f32; 3] {
-        let (e, q) = (&self.edges, &self.qw);
+    fn weights(&self, x: f64, y: f64) -> [f32; 3] {
+        let p = &self.plane;
         // Written out: `array::map` here is not always inlined, and this runs per pixel.
         [
-            (e.a[0] * px + e.b[0] * py + e.c[0]) as f32 * q[0],
-            (e.a[1] * px + e.b[1] * py + e.c[1]) as f32 * q[1],
-            (e.a[2] * px + e.b[2] * py + e.c[2]) as f32 * q[2],
+            (p[0][0] * x + p[0][1] * y + p[0][2]) as f32,
+            (p[1][0] * x + p[1][1] * y + p[1][2]) as f32,
+            (p[2][0] * x + p[2][1] * y + p[2][2]) as f32,
         ]
     }
 
+    /// The weight planes of `t`. Coverage uses the snapped vertices, but attributes are
+    /// interpolated over the unsnapped screen triangle (from the f32 clip coordinates, to
+    /// ~1e-4 px instead of the snap's 1/512 px), as GPUs do: snapping then moves no colour
+    /// or normal. Where snapping changed the triangle's area by more than 2× (slivers), the
+    /// unsnapped planes would extrapolate far outside the triangle at covered pixels, so the
+    /// exact planes of the snapped triangle are used instead.
+    fn planes(ctx: &ShadeContext<'_>, t: &SetupTri) -> [[f64; 3]; 3] {
+        let (w, h) = ctx.size;
+        let s = t.v.map(|k| {
+            let c = ctx.verts.clip[k as usize].as_dvec4();
+            ((c.x / c.w + 1.0) * 0.5 * w, (1.0 - c.y / c.w) * 0.5 * h)
+        });
+        let area = (s[1].0 - s[0].0) * (s[2].1 - s[0].1) - (s[1].1 - s[0].1) * (s[2].0 - s[0].0);
+        let snapped_area = t.area2 as f64 / (ONE * ONE) as f64;
+        let mut plane = [[0.0; 3]; 3];
+        if area.is_finite() && area > 0.5 * snapped_area && area < 2.0 * snapped_area {
+            for k in 0..3 {
+                let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+                let ((ax, ay), (bx, by)) = (s[i], s[j]);
+                let q = t.inv_w[k] as f64 / area;
+                plane[k] = [
+                    -(by - ay) * q,
+                    (bx - ax) * q,
+                    ((by - ay) * ax - (bx - ax) * ay) * q,
+                ];
+            }
+        } else {
+            // E_k(P) over fixed-point P = ONE·(x, y), divided by the snapped area.
+            let e = t.edges();
+            let one = ONE as f64;
+            for k in 0..3 {
+                let q = t.inv_w[k] as f64 / t.area2 as f64;
+                plane[k] = [
+                    e.a[k] as f64 * one * q,
+                    e.b[k] as f64 * one * q,
+                    e.c[k] as f64 * q,
+                ];
+            }
+        }
+        plane
+    }
+
     fn load<const MODE: u8>(ctx: &ShadeContext<'a>, id: u32, t: &SetupTri) -> Self {
-        let inv_area = 1.0 / t.area2 as f64;
         let v = t.v.map(|k| k as usize);
         let (attr, pos, material) = match MODE {
             GOURAUD => {
@@ -175,8 +212,7 @@ impl<'a> Current<'a> {
         };
         Current {
             id,
-            edges: t.edges(),
-            qw: [0, 1, 2].map(|k| (t.inv_w[k] as f64 * inv_area) as f32),
+            plane: Self::planes(ctx, t),
             attr,
             pos,
             material,
@@ -202,7 +238,7 @@ fn shade_impl<P: Pixel, const MODE: u8, const FOG: bool>(
     let mut flat_cache = [(NO_TRIANGLE, [P::default(); 3]); FLAT_CACHE];
     for j in 0..rect.h {
         let row = &mut *color[j];
-        let py = (rect.y0 + j) as i64 * ONE + HALF;
+        let y = (rect.y0 + j) as f64 + 0.5;
         for i in 0..rect.w {
             let slot = j * TILE + i;
             let id = buf.id[slot];
@@ -227,7 +263,7 @@ fn shade_impl<P: Pixel, const MODE: u8, const FOG: bool>(
             if id != cur.id {
                 cur = Current::load::<MODE>(ctx, id, t);
             }
-            let [q0, q1, q2] = cur.weights((rect.x0 + i) as i64 * ONE + HALF, py);
+            let [q0, q1, q2] = cur.weights((rect.x0 + i) as f64 + 0.5, y);
             let inv_w = q0 + q1 + q2;
             let eye_depth = ctx.eye_depth(want_depth, buf.depth[slot], inv_w);
             if let Some(d) = depth.as_deref_mut() {
@@ -341,7 +377,7 @@ fn shade_phong<P: Pixel, const FOG: bool>(
         material: None,
     };
     for j in 0..rect.h {
-        let py = (rect.y0 + j) as i64 * ONE + HALF;
+        let y = (rect.y0 + j) as f64 + 0.5;
         for i in 0..rect.w {
             let slot = j * TILE + i;
             let id = buf.id[slot];
@@ -356,7 +392,7 @@ fn shade_phong<P: Pixel, const FOG: bool>(
             if id != cur.id {
                 cur = Current::load::<PHONG>(ctx, id, t);
             }
-            let [q0, q1, q2] = cur.weights((rect.x0 + i) as i64 * ONE + HALF, py);
+            let [q0, q1, q2] = cur.weights((rect.x0 + i) as f64 + 0.5, y);
             let inv_w = q0 + q1 + q2;
             let eye_depth = ctx.eye_depth(want_depth, buf.depth[slot], inv_w);
             if let Some(d) = depth.as_deref_mut() {
