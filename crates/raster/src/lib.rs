@@ -44,7 +44,7 @@ pub use fog::{Fog, FogMode};
 pub use light::{DirectionalLight, Light, PointLight, SpotLight, MIN_ATTENUATION_DENOMINATOR};
 pub use material::{preset_names, Material, Preset, PRESETS};
 pub use mesh::{face_normal, generate_vertex_normals, Mesh};
-pub use obj::{load_obj, load_obj_parts, ObjPart};
+pub use obj::{load_obj, load_obj_parts, parse_obj_parts, ObjPart};
 pub use pipeline::shade::Pixel;
 pub use pool::{default_threads, MAX_THREADS};
 pub use render::{
