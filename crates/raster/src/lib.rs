@@ -26,6 +26,8 @@ mod area_light;
 mod camera;
 mod error;
 mod fog;
+#[doc(hidden)]
+pub mod fuzzing;
 mod light;
 mod material;
 mod mesh;

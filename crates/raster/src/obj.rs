@@ -203,7 +203,7 @@ pub fn load_obj(path: impl AsRef<Path>) -> Result<Mesh> {
     merge_parts(parts)
 }
 
-fn merge_parts(mut parts: Vec<ObjPart>) -> Result<Mesh> {
+pub(crate) fn merge_parts(mut parts: Vec<ObjPart>) -> Result<Mesh> {
     if parts.len() == 1 {
         return Ok(parts.pop().expect("one part").mesh);
     }
