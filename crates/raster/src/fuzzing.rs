@@ -102,7 +102,10 @@ pub fn obj_loader(data: &[u8]) -> bool {
         let mut options = RenderOptions::new(12, 9);
         options.shading = shading;
         options.threads = Some(1);
-        check_render(&scene, &camera, &options);
+        assert!(
+            check_render(&scene, &camera, &options),
+            "default lighting refused"
+        );
     }
     true
 }
@@ -159,11 +162,6 @@ const SPECIAL: [f32; 16] = [
     f32::NEG_INFINITY,
 ];
 
-/// Colours, intensities and material values are folded into [0, LIGHT_MAX] (NaN and
-/// infinities pass through, to reach the validation): larger values overflow f32 in the
-/// lighting sum by design, which is documented, not a bug.
-const LIGHT_MAX: f32 = 1e4;
-
 impl<'a> Bytes<'a> {
     fn new(data: &'a [u8]) -> Self {
         Bytes { data, pos: 0 }
@@ -197,15 +195,10 @@ impl<'a> Bytes<'a> {
         self.vec3().as_dvec3()
     }
 
-    /// A light or material value: finite ones folded into [0, LIGHT_MAX], and sometimes
-    /// negative (which the constructors must refuse).
+    /// A light or material value (any f32: the renderer must refuse negative, non-finite
+    /// and overflowing ones with an error).
     fn level(&mut self) -> f32 {
-        let v = self.f32();
-        if v.is_finite() && v.abs() > LIGHT_MAX {
-            v % LIGHT_MAX
-        } else {
-            v
-        }
+        self.f32()
     }
 
     fn color(&mut self) -> Vec3 {
@@ -347,24 +340,31 @@ fn ok_or_message<T>(r: crate::Result<T>) -> Option<T> {
 pub fn pipeline(data: &[u8]) -> bool {
     let mut b = Bytes::new(data);
     match decode(&mut b) {
-        Some(case) => {
-            check_render(&case.scene, &case.camera, &case.options);
-            true
-        }
+        Some(case) => check_render(&case.scene, &case.camera, &case.options),
         None => false,
     }
 }
 
 /// Renders `scene` and asserts the pipeline invariants: no panic and no error for a valid
-/// scene; float32 colour and depth contain no NaN; colour is finite (inputs are bounded so
-/// the lighting sum cannot overflow); depth is `+inf` exactly where no triangle covers the
+/// scene; float32 colour and depth contain no NaN; colour is finite; depth is `+inf` exactly where no triangle covers the
 /// pixel centre (by the coverage test hook), and there the colour is exactly the
-/// background; finite depths are ≥ 0 for a perspective camera; uint8 output is exactly
+/// background (colours are finite: lighting that could overflow f32 is refused, see
+/// `MAX_RADIANCE`); finite depths are ≥ 0 for a perspective camera; uint8 output is exactly
 /// `round(clamp(c, 0, 1)·255)` of the float32 output; one thread and several give the same
-/// bits.
-pub fn check_render(scene: &Scene, camera: &Camera, options: &RenderOptions) {
-    let frame = render(scene, camera, options, ColorFormat::F32, true)
-        .unwrap_or_else(|e| panic!("valid scene failed to render: {e}"));
+/// bits. Returns `false` when the render refused the scene (only lighting beyond
+/// `MAX_RADIANCE` may be refused at this point).
+pub fn check_render(scene: &Scene, camera: &Camera, options: &RenderOptions) -> bool {
+    let frame = match render(scene, camera, options, ColorFormat::F32, true) {
+        Ok(frame) => frame,
+        Err(e) => {
+            let msg = e.to_string();
+            assert!(
+                msg.contains("can safely hold"),
+                "valid scene failed to render: {msg}"
+            );
+            return false;
+        }
+    };
     let ColorBuffer::F32(color) = frame.color else {
         unreachable!("asked for f32")
     };
@@ -412,4 +412,5 @@ pub fn check_render(scene: &Scene, camera: &Camera, options: &RenderOptions) {
         bits(&color) == bits(&color2) && bits(&depth) == bits(&again.depth.expect("depth")),
         "thread count changed the result"
     );
+    true
 }

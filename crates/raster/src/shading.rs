@@ -195,6 +195,25 @@ impl PreparedMaterial {
         }
     }
 
+    /// An upper bound (in f64) on every channel [`PreparedMaterial::shade`] can return: the
+    /// constant terms plus, per light, its largest attenuation (`1 / max(kc, MIN_ATTENUATION_DENOMINATOR)`)
+    /// times its ambient, diffuse and specular colours (spot factors, `n·l` and the
+    /// specular power are at most 1). Infinite when folding the terms already overflowed.
+    pub(crate) fn max_value(&self) -> f64 {
+        let max = |v: Vec3| v.max_element() as f64;
+        let lights: f64 = self
+            .lights
+            .iter()
+            .map(|l| {
+                let att = l.attenuation.map_or(1.0, |k| {
+                    1.0 / (k[0] as f64).max(MIN_ATTENUATION_DENOMINATOR as f64)
+                });
+                att * (max(l.ambient) + max(l.diffuse) + max(l.specular))
+            })
+            .sum();
+        max(self.base) + lights
+    }
+
     /// Uses an infinite viewer (OpenGL's `GL_LIGHT_MODEL_LOCAL_VIEWER` off): `v` is the
     /// constant unit vector `toward_eye` instead of the direction from each point to the eye.
     pub fn with_infinite_viewer(mut self, toward_eye: Vec3) -> Self {
