@@ -407,3 +407,47 @@ def test_vertices_at_w_zero_and_behind_match_the_clipped_reference(name, mode):
     slope = r.depth**2 * (abs(n[0]) * dxdx + abs(n[1]) * dydy) / abs(k)
     bound = slope / 512 + 1e-5 * r.depth
     assert (np.abs(depth[inner] - r.depth[inner]) <= bound[inner]).all()
+
+
+# --------------------------------------------------------------------------------------------
+# Zero normals and cancelling normals coming from OBJ files
+# --------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_zero_normals_in_an_obj_file_fall_back(tmp_path, mode):
+    """``vn 0 0 0`` in a file gives the same image as zero normals given from Python (Phong:
+    face normal, Gouraud: ambient only), and no NaN."""
+    p = tmp_path / "zero.obj"
+    p.write_text("v -1 -1 0\nv 1 -1 0\nv 0 1 0\nvn 0 0 0\nf 1//1 2//1 3//1\n")
+    from_file = sl.load_obj(p)
+    np.testing.assert_array_equal(from_file.normals, np.zeros((3, 3)))
+    given = sl.Mesh(from_file.vertices, from_file.faces, normals=np.zeros((3, 3)))
+    images = []
+    for mesh in (from_file, given):
+        s = sl.Scene(ambient=(0.1, 0.1, 0.1))
+        s.add(mesh, material=sl.Material(ambient=(1, 1, 1), diffuse=(1, 1, 1), specular=(0, 0, 0)))
+        s.add_light(sl.DirectionalLight((0, 0, -1)))
+        cam = sl.Camera.look_at((0, 0, 3), (0, 0, 0))
+        images.append(sl.render(s, cam, 32, 32, shading=mode, dtype="float32"))
+    assert np.isfinite(images[0]).all()
+    assert np.array_equal(images[0], images[1])
+    want = {"flat": 1.1, "gouraud": 0.1, "phong": 1.1}[mode]
+    np.testing.assert_allclose(images[0][16, 16], want, rtol=1e-5)
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_two_sided_sheet_in_an_obj_file_has_defined_normals(tmp_path, mode):
+    """A sheet given twice, once per side, without normals: the generated normals cancel at
+    every vertex and fall back to the first face's (+z), so the lit side is the +z side and
+    both faces shade identically; no NaN."""
+    p = tmp_path / "sheet.obj"
+    # Every vertex is used by as many +z as -z triangles, so the unit normals cancel exactly.
+    p.write_text("v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\nf 3 2 1\nf 4 3 1\n")
+    mesh = sl.load_obj(p)
+    np.testing.assert_allclose(mesh.normals, [[0, 0, 1]] * len(mesh.normals), atol=0)
+    s = sl.Scene(ambient=(0, 0, 0))
+    s.add(mesh, material=sl.Material(ambient=(0, 0, 0), diffuse=(1, 1, 1), specular=(0, 0, 0)))
+    s.add_light(sl.DirectionalLight((0, 0, -1)))
+    front = sl.render(s, sl.Camera.look_at((0, 0, 3), (0, 0, 0)), 16, 16, shading=mode)
+    assert (front[4:12, 4:12] == 255).all()
