@@ -81,6 +81,8 @@ pub fn parse_obj_parts(
         &mut std::io::Cursor::new(bytes),
         &options,
         |mtl| match read_mtl(mtl) {
+            // tobj 4.0.5 panics on a colour line with fewer than three numbers.
+            Some(text) if has_short_color(&text) => Err(tobj::LoadError::MaterialParseError),
             Some(text) => tobj::load_mtl_buf(&mut std::io::Cursor::new(text)),
             None => Err(tobj::LoadError::OpenFileFailed),
         },
@@ -248,19 +250,32 @@ fn material_from_mtl(path: &Path, m: &tobj::Material) -> Result<Material> {
 /// The first `f` line with fewer than three vertex references, as (1-based line, count).
 /// tobj would read such a line as a point or a line element and drop it silently.
 fn find_short_face(bytes: &[u8]) -> Option<(usize, usize)> {
-    bytes
-        .split(|&b| b == b'\n')
-        .enumerate()
-        .find_map(|(i, line)| {
-            let mut fields = line
-                .split(|b| b.is_ascii_whitespace())
-                .filter(|f| !f.is_empty());
-            if fields.next() != Some(b"f".as_slice()) {
-                return None;
-            }
-            let n = fields.count();
-            (n < 3).then_some((i + 1, n))
-        })
+    // Split exactly as tobj does (`lines`, then Unicode `split_whitespace`); text that is not
+    // UTF-8 makes tobj fail with a read error.
+    let text = std::str::from_utf8(bytes).ok()?;
+    text.lines().enumerate().find_map(|(i, line)| {
+        let mut fields = line.split_whitespace();
+        if fields.next() != Some("f") {
+            return None;
+        }
+        let n = fields.count();
+        (n < 3).then_some((i + 1, n))
+    })
+}
+
+/// Whether an MTL text has a `Ka`/`Kd`/`Ks`/`Ke` line with fewer than three values: tobj's
+/// `parse_float3` unwraps a conversion that then fails (a panic, found by fuzzing), so such
+/// a file is treated as malformed before tobj sees it.
+fn has_short_color(text: &[u8]) -> bool {
+    // Split exactly as tobj does (`lines`, then Unicode `split_whitespace`); text that is not
+    // UTF-8 makes tobj fail cleanly.
+    let Ok(text) = std::str::from_utf8(text) else {
+        return false;
+    };
+    text.lines().any(|line| {
+        let mut fields = line.split_whitespace();
+        matches!(fields.next(), Some("Ka" | "Kd" | "Ks" | "Ke")) && fields.count() < 3
+    })
 }
 
 /// Maps a tobj error to ours, finding the offending line where the error kind allows.
@@ -382,7 +397,13 @@ mod tests {
 
     #[test]
     fn faces_with_fewer_than_three_indices_are_errors_naming_the_line() {
-        for (face, n) in [("f 1 2", 2), ("f 3", 1), ("f", 0), ("f\t1/1 \t2/2\r", 2)] {
+        for (face, n) in [
+            ("f 1 2", 2),
+            ("f 3", 1),
+            ("f", 0),
+            ("f\t1/1 \t2/2\r", 2),
+            ("f\u{a0}1\u{2003}2", 2),
+        ] {
             let text =
                 format!("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nf 1 2 3\n{face}\nf 1 2 3\n");
             let e = load_obj(write("short.obj", &text)).unwrap_err();
@@ -443,6 +464,26 @@ mod tests {
         let e = parse_obj_parts(&garbage, Path::new("bin.obj"), |_| None).unwrap_err();
         assert!(matches!(e, RasterError::Parse { .. }), "{e}");
         assert!(e.to_string().starts_with("bin.obj"), "{e}");
+    }
+
+    /// Fuzzing found that tobj panics on an MTL colour line with fewer than three numbers
+    /// (`fuzz/seeds/obj_loader/crash-mtl-short-color`): such an MTL is malformed, so the
+    /// parts load without material, as for any malformed MTL.
+    #[test]
+    fn mtl_colour_with_fewer_than_three_values_is_malformed_not_a_panic() {
+        let obj = b"mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n";
+        for line in ["Ka 0.5", "Kd 1 2", "Ks", "Ke 0 0", "Kd\u{a0}1\u{2003}2"] {
+            let mtl = format!("newmtl m\n{line}\n").into_bytes();
+            let parts = parse_obj_parts(obj, Path::new("x.obj"), |_| Some(mtl.clone())).unwrap();
+            assert!(parts[0].material.is_none(), "{line}");
+        }
+        // Three values (or more: tobj reads the first three) are fine.
+        let mtl = b"newmtl m\nKd 0.5 0.25 1 9\n".to_vec();
+        let parts = parse_obj_parts(obj, Path::new("x.obj"), |_| Some(mtl.clone())).unwrap();
+        assert_eq!(
+            parts[0].material.unwrap().diffuse,
+            Vec3::new(0.5, 0.25, 1.0)
+        );
     }
 
     #[test]
