@@ -250,29 +250,29 @@ fn material_from_mtl(path: &Path, m: &tobj::Material) -> Result<Material> {
 /// The first `f` line with fewer than three vertex references, as (1-based line, count).
 /// tobj would read such a line as a point or a line element and drop it silently.
 fn find_short_face(bytes: &[u8]) -> Option<(usize, usize)> {
-    // Split exactly as tobj does (`lines`, then Unicode `split_whitespace`); text that is not
-    // UTF-8 makes tobj fail with a read error.
-    let text = std::str::from_utf8(bytes).ok()?;
-    text.lines().enumerate().find_map(|(i, line)| {
-        let mut fields = line.split_whitespace();
-        if fields.next() != Some("f") {
-            return None;
-        }
-        let n = fields.count();
-        (n < 3).then_some((i + 1, n))
-    })
+    // Split as tobj does (`lines`, then Unicode `split_whitespace`); lossy decoding keeps the
+    // lines before any non-UTF-8 one intact (tobj parses those before failing).
+    String::from_utf8_lossy(bytes)
+        .lines()
+        .enumerate()
+        .find_map(|(i, line)| {
+            let mut fields = line.split_whitespace();
+            if fields.next() != Some("f") {
+                return None;
+            }
+            let n = fields.count();
+            (n < 3).then_some((i + 1, n))
+        })
 }
 
 /// Whether an MTL text has a `Ka`/`Kd`/`Ks`/`Ke` line with fewer than three values: tobj's
 /// `parse_float3` unwraps a conversion that then fails (a panic, found by fuzzing), so such
 /// a file is treated as malformed before tobj sees it.
 fn has_short_color(text: &[u8]) -> bool {
-    // Split exactly as tobj does (`lines`, then Unicode `split_whitespace`); text that is not
-    // UTF-8 makes tobj fail cleanly.
-    let Ok(text) = std::str::from_utf8(text) else {
-        return false;
-    };
-    text.lines().any(|line| {
+    // Split as tobj does (`lines`, then Unicode `split_whitespace`). tobj reads line by line
+    // and parses every line before the first one that is not UTF-8, so check those too
+    // (fuzzing found that case): lossy decoding keeps them intact.
+    String::from_utf8_lossy(text).lines().any(|line| {
         let mut fields = line.split_whitespace();
         matches!(fields.next(), Some("Ka" | "Kd" | "Ks" | "Ke")) && fields.count() < 3
     })
@@ -478,6 +478,10 @@ mod tests {
             assert!(parts[0].material.is_none(), "{line}");
         }
         // Three values (or more: tobj reads the first three) are fine.
+        // A short colour line before a line that is not UTF-8 (tobj parses the lines before).
+        let mtl = b"newmtl m\nKa 0.1 0\nKd \xff\xff 1\n".to_vec();
+        let parts = parse_obj_parts(obj, Path::new("x.obj"), |_| Some(mtl.clone())).unwrap();
+        assert!(parts[0].material.is_none());
         let mtl = b"newmtl m\nKd 0.5 0.25 1 9\n".to_vec();
         let parts = parse_obj_parts(obj, Path::new("x.obj"), |_| Some(mtl.clone())).unwrap();
         assert_eq!(
