@@ -345,6 +345,16 @@ pub fn pipeline(data: &[u8]) -> bool {
     }
 }
 
+/// The scene, camera and options a `pipeline` input decodes to, for triaging a crash
+/// (`None` when a constructor refuses it).
+pub fn describe_pipeline_input(data: &[u8]) -> Option<String> {
+    let case = decode(&mut Bytes::new(data))?;
+    Some(format!(
+        "{:#?}\n{:#?}\n{:#?}",
+        case.scene, case.camera, case.options
+    ))
+}
+
 /// Renders `scene` and asserts the pipeline invariants: no panic and no error for a valid
 /// scene; float32 colour and depth contain no NaN; colour is finite; depth is `+inf` exactly where no triangle covers the
 /// pixel centre (by the coverage test hook), and there the colour is exactly the

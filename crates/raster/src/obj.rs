@@ -62,11 +62,11 @@ pub fn parse_obj_parts(
     path: &Path,
     read_mtl: impl Fn(&Path) -> Option<Vec<u8>>,
 ) -> Result<Vec<ObjPart>> {
-    if let Some((line, n)) = find_short_face(bytes) {
+    if let Some((line, message)) = check_faces(bytes) {
         return Err(RasterError::Parse {
             path: path.to_path_buf(),
             line: Some(line),
-            message: format!("face with {n} vertex indices; a face needs at least 3"),
+            message,
         });
     }
     let options = tobj::LoadOptions {
@@ -247,22 +247,73 @@ fn material_from_mtl(path: &Path, m: &tobj::Material) -> Result<Material> {
     })
 }
 
-/// The first `f` line with fewer than three vertex references, as (1-based line, count).
-/// tobj would read such a line as a point or a line element and drop it silently.
-fn find_short_face(bytes: &[u8]) -> Option<(usize, usize)> {
+/// Checks every face (`f`) line before tobj parses the file, returning the first problem as
+/// (1-based line, message): fewer than three vertex references (tobj would read the line as
+/// a point or a line element and drop it silently), a reference that does not parse, or an
+/// index outside the elements defined so far. tobj's own range checks multiply the index
+/// without overflow checks, so in release builds an index near ±2^63 could wrap onto a valid
+/// element (found by fuzzing); checking here makes every index error exact and names its
+/// line.
+fn check_faces(bytes: &[u8]) -> Option<(usize, String)> {
     // Split as tobj does (`lines`, then Unicode `split_whitespace`); lossy decoding keeps the
     // lines before any non-UTF-8 one intact (tobj parses those before failing).
-    String::from_utf8_lossy(bytes)
-        .lines()
-        .enumerate()
-        .find_map(|(i, line)| {
-            let mut fields = line.split_whitespace();
-            if fields.next() != Some("f") {
-                return None;
+    let text = String::from_utf8_lossy(bytes);
+    let (mut nv, mut nvt, mut nvn) = (0i64, 0i64, 0i64);
+    for (i, line) in text.lines().enumerate() {
+        let mut fields = line.split_whitespace();
+        match fields.next() {
+            Some("v") => nv += 1,
+            Some("vt") => nvt += 1,
+            Some("vn") => nvn += 1,
+            Some("f") => {
+                let refs: Vec<&str> = fields.collect();
+                if refs.len() < 3 {
+                    let n = refs.len();
+                    return Some((
+                        i + 1,
+                        format!("face with {n} vertex indices; a face needs at least 3"),
+                    ));
+                }
+                for r in refs {
+                    if let Err(message) = face_ref(r, nv, nvt, nvn) {
+                        return Some((i + 1, message));
+                    }
+                }
             }
-            let n = fields.count();
-            (n < 3).then_some((i + 1, n))
-        })
+            _ => {}
+        }
+    }
+    None
+}
+
+/// Checks one `v`, `v/vt`, `v//vn` or `v/vt/vn` reference against the element counts.
+fn face_ref(r: &str, nv: i64, nvt: i64, nvn: i64) -> std::result::Result<(), String> {
+    let parts: Vec<&str> = r.split('/').collect();
+    if parts.len() > 3 || parts[0].is_empty() {
+        return Err(format!(
+            "malformed face: '{r}' (expected v, v/vt, v//vn or v/vt/vn)"
+        ));
+    }
+    for (part, (n, what)) in parts
+        .iter()
+        .zip([(nv, "vertex"), (nvt, "texture"), (nvn, "normal")])
+    {
+        if part.is_empty() {
+            continue;
+        }
+        let Ok(k) = part.parse::<i64>() else {
+            return Err(format!(
+                "malformed face: '{r}' ('{part}' is not an integer)"
+            ));
+        };
+        if !((k > 0 && k <= n) || (k < 0 && k >= -n)) {
+            return Err(format!(
+                "face {what} index out of range: '{r}' refers to {k}, with {n} defined so far \
+                 (indices are 1-based; negative ones count back from the last)"
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Whether an MTL text has a `Ka`/`Kd`/`Ks`/`Ke` line with fewer than three values: tobj's
@@ -418,6 +469,55 @@ mod tests {
             load_obj(write("lines.obj", text)).unwrap().triangle_count(),
             1
         );
+    }
+
+    /// Fuzzing found tobj overflowing `index * 2` on a relative texture index beyond the
+    /// file's start (`fuzz/seeds/obj_loader/crash-relative-uv-index-overflow`); in release
+    /// builds such products wrap, and an index near ±2^63 could alias a valid element. Every
+    /// face reference is now range-checked first, with its line.
+    #[test]
+    fn every_face_index_is_range_checked_with_its_line() {
+        let head = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvn 0 0 1\n";
+        for (face, want) in [
+            (
+                "f 1/1 2/-12 3/1",
+                "face texture index out of range: '2/-12' refers to -12, with 2",
+            ),
+            (
+                "f 1 2 -9223372036854775807",
+                "face vertex index out of range: '-9223372036854775807'",
+            ),
+            (
+                "f 1 2 6148914691236517206",
+                "face vertex index out of range: '6148914691236517206'",
+            ),
+            (
+                "f 1/0 2/1 3/1",
+                "face texture index out of range: '1/0' refers to 0",
+            ),
+            (
+                "f 1//2 2//1 3//1",
+                "face normal index out of range: '1//2' refers to 2, with 1",
+            ),
+            (
+                "f 1 2 4",
+                "face vertex index out of range: '4' refers to 4, with 3",
+            ),
+            ("f 1/1/1/1 2 3", "malformed face: '1/1/1/1'"),
+            ("f /1 2 3", "malformed face: '/1'"),
+            ("f 1 2 3x", "malformed face: '3x' ('3x' is not an integer)"),
+        ] {
+            let text = format!("{head}f 1 2 3\n{face}\n");
+            let e = load_obj(write("range.obj", &text)).unwrap_err();
+            let msg = e.to_string();
+            assert!(msg.contains(&format!("range.obj:8: {want}")), "{msg}");
+        }
+        // Indices count only the elements defined before the face.
+        let e = load_obj(write("later.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\nv 0 1 0\n"));
+        assert!(e
+            .unwrap_err()
+            .to_string()
+            .contains("later.obj:3: face vertex index"));
     }
 
     #[test]

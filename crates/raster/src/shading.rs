@@ -198,9 +198,18 @@ impl PreparedMaterial {
     /// An upper bound (in f64) on every channel [`PreparedMaterial::shade`] can return: the
     /// constant terms plus, per light, its largest attenuation (`1 / max(kc, MIN_ATTENUATION_DENOMINATOR)`)
     /// times its ambient, diffuse and specular colours (spot factors, `n·l` and the
-    /// specular power are at most 1). Infinite when folding the terms already overflowed.
+    /// specular power are at most 1). Infinite when folding the terms already overflowed
+    /// (or met a zero as `0·inf = NaN`).
     pub(crate) fn max_value(&self) -> f64 {
-        let max = |v: Vec3| v.max_element() as f64;
+        // A folded term that overflowed is inf, or NaN where it met a zero (0·inf): both
+        // make the bound infinite (`max_element` would skip a NaN).
+        let max = |v: Vec3| {
+            if v.is_finite() {
+                v.max_element() as f64
+            } else {
+                f64::INFINITY
+            }
+        };
         let lights: f64 = self
             .lights
             .iter()

@@ -455,6 +455,14 @@ fn lighting_beyond_float32_range_is_refused_not_nan() {
             .unwrap(),
     );
     assert!(render(&s, &camera, &options, ColorFormat::F32, false).is_err());
+    // Fuzzing found a light whose colour·intensity overflows with kd = 0: the folded diffuse
+    // term was 0·inf = NaN, which the bound skipped (`fuzz/seeds/pipeline/crash-nan-folded-light`).
+    let mut s = Scene::new(Vec3::ZERO).unwrap();
+    let dark = Material::new(Vec3::ONE, Vec3::ZERO, Vec3::ZERO, 1.0).unwrap();
+    s.add(tri.clone(), dark, Mat4::IDENTITY).unwrap();
+    s.add_light(DirectionalLight::new(-Vec3::Z, Vec3::splat(f32::MAX), 2.875).unwrap());
+    let e = render(&s, &camera, &options, ColorFormat::F32, false).unwrap_err();
+    assert!(e.to_string().contains("its lighting can reach inf"), "{e}");
     // 1e30 is fine: finite in float32 (fog factor ~0 leaves the fog colour), 255 in uint8.
     let f = render(
         &scene_with(1e30, 2),
