@@ -51,7 +51,7 @@ fuzz:  ## run each cargo-fuzz target for FUZZ_SECONDS seconds (default 60; needs
 		cargo +nightly fuzz run -s none -a $$t corpus/$$t seeds/$$t -- \
 			-max_total_time=$(FUZZ_SECONDS) -max_len=4096 -timeout=10 -rss_limit_mb=4096 \
 			$$( [ -f $$t.dict ] && echo -dict=$$t.dict ) > logs/$$t.log 2>&1; \
-		status=$$?; grep -E '^#[0-9]+ +DONE|^Done' logs/$$t.log; \
+		status=$$?; grep -E '^#[0-9]+[[:space:]]+DONE|^Done' logs/$$t.log; \
 		[ $$status -eq 0 ] || { tail -30 logs/$$t.log; echo "make fuzz: $$t failed; see fuzz/logs/$$t.log and fuzz/artifacts/$$t" >&2; exit 1; }; \
 	done
 

@@ -333,7 +333,10 @@ pub(crate) fn pow01(x: f32, f: f32) -> f32 {
     // log2(m) = 2/ln 2 · atanh(t), |t| ≤ 0.1716: five odd terms reach f32 precision.
     let log2m =
         t * (2.885_39 + t2 * (0.961_796_7 + t2 * (0.577_078 + t2 * (0.412_198 + t2 * 0.320_6))));
-    let y = (f * (e + log2m)).max(-126.0);
+    // Clamped to ≤ 0 too: a dot product of unit vectors can exceed 1 by rounding, and with a
+    // huge exponent y then overflowed `i + 127` below (a NaN colour in release builds; found
+    // by fuzzing). x ≥ 1 gives 1.
+    let y = (f * (e + log2m)).clamp(-126.0, 0.0);
     // Round to nearest by truncating y − 0.5 (y ≤ ~0): no libm call on baseline x86-64.
     let i = (y - 0.5) as i32;
     let z = (y - i as f32) * std::f32::consts::LN_2; // |z| ≤ ln2 / 2
@@ -755,6 +758,17 @@ mod tests {
                     "lane {k}: {got} vs {want}"
                 );
             }
+        }
+    }
+
+    /// Fuzzing found `n·h` a rounding step above 1 with a huge exponent overflowing the
+    /// exponent arithmetic (`fuzz/seeds/pipeline/crash-pow-above-one`).
+    #[test]
+    fn pow01_of_a_base_just_above_one_is_one() {
+        let above = 1.0 + f32::EPSILON;
+        for f in [0.0, 1.0, 1e4, 1e30, f32::MAX] {
+            assert_eq!(pow01(above, f), 1.0, "f = {f}");
+            assert_eq!(pow01(1.0, f), 1.0, "f = {f}");
         }
     }
 
