@@ -707,3 +707,15 @@ def test_fog_parameters_are_validated():
     expect_error(ValueError, "density", sl.Fog, "exp2", density=np.inf)
     expect_error(ValueError, r"color\[1\]", sl.Fog, color=(0, np.nan, 0))
     expect_error(TypeError, "fog", sl.Scene, fog="thick")
+
+
+def test_a_forced_internal_panic_arrives_as_runtime_error():
+    """The guard every entry point runs behind turns a Rust panic into ``RuntimeError``
+    (never pyo3's ``PanicException``): forced here through a test hook that panics."""
+    from shadelab_rs import _core
+
+    expect_error(
+        RuntimeError,
+        r"internal error in _panic_for_tests \(please report it\): forced by the test suite",
+        _core._panic_for_tests,
+    )
