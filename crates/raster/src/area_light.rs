@@ -77,7 +77,8 @@ impl AreaLight {
         let (ud, vd) = (u.as_dvec3(), v.as_dvec3());
         let n = ud.cross(vd);
         // Relative test: parallel or zero edges leave no area to sample (or no normal).
-        if !(n.length() > 1e-6 * ud.length() * vd.length()) {
+        // (f64 holds every product of finite f32 values: no NaN here.)
+        if n.length() <= 1e-6 * ud.length() * vd.length() {
             return Err(RasterError::invalid(format!(
                 "area light edges u={:?} and v={:?} must be non-zero and not parallel",
                 u.to_array(),

@@ -338,7 +338,7 @@ pub const MAX_RADIANCE: f64 = 1e37;
 fn check_dynamic_range(scene: &Scene, materials: &[PreparedMaterial]) -> Result<()> {
     for (i, m) in materials.iter().enumerate() {
         let bound = m.max_value();
-        if !(bound <= MAX_RADIANCE) {
+        if bound > MAX_RADIANCE || bound.is_nan() {
             return Err(RasterError::invalid(format!(
                 "object {i}: its lighting can reach {bound:.3e}, beyond the {MAX_RADIANCE:e} \
                  that float32 colours can safely hold; scale down light intensities or \
