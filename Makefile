@@ -7,7 +7,7 @@ PY := $(VENV)/bin/python
 DEPS := $(VENV)/.deps-stamp
 ENVS := VIRTUAL_ENV=$(abspath $(VENV)) PATH="$(abspath $(VENV))/bin:$$PATH"
 
-.PHONY: help demo test lint build bench wheel wheel-check clean fuzz
+.PHONY: help demo test lint build bench docs-images wheel wheel-check clean fuzz
 
 help:  ## list targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
@@ -27,8 +27,8 @@ demo: build  ## render the built-in demo scene to demo.png
 lint: $(DEPS)  ## rustfmt, clippy (warnings are errors), ruff
 	cargo fmt --all -- --check
 	PYO3_PYTHON=$(abspath $(PY)) cargo clippy --workspace --all-targets -- -D warnings
-	$(VENV)/bin/ruff check python tests bench
-	$(VENV)/bin/ruff format --check python tests bench
+	$(VENV)/bin/ruff check python tests bench docs/lighting
+	$(VENV)/bin/ruff format --check python tests bench docs/lighting
 
 test: lint build  ## lint, stub check, cargo test, pytest
 	$(PY) -m mypy.stubtest shadelab_rs._core
@@ -55,8 +55,12 @@ fuzz:  ## run each cargo-fuzz target for FUZZ_SECONDS seconds (default 60; needs
 		[ $$status -eq 0 ] || { tail -30 logs/$$t.log; echo "make fuzz: $$t failed; see fuzz/logs/$$t.log and fuzz/artifacts/$$t" >&2; exit 1; }; \
 	done
 
-bench: build  ## benchmarks -> docs/BENCHMARKS.md
+bench: build  ## benchmarks -> docs/BENCHMARKS.md, docs/FEATURE_COSTS.md
 	$(PY) bench/bench_render.py --write docs/BENCHMARKS.md
+	$(PY) bench/bench_features.py --write docs/FEATURE_COSTS.md $(if $(AGAINST),--against-commit $(AGAINST))
+
+docs-images: build  ## render the lighting guide's images -> docs/lighting/*.png
+	$(PY) docs/lighting/make_images.py
 
 wheel: $(DEPS)  ## build a release wheel into dist/
 	$(ENVS) $(PY) -m maturin build --release -o dist

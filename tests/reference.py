@@ -76,6 +76,8 @@ class DirectionalLight:
     color: Vec3 = (1.0, 1.0, 1.0)
     intensity: float = 1.0
     ambient: Vec3 = (0.0, 0.0, 0.0)
+    diffuse: Vec3 | None = None  # own diffuse colour in place of ``color``
+    specular: Vec3 | None = None  # own specular colour in place of ``color``
 
 
 @dataclass
@@ -88,6 +90,8 @@ class PointLight:
     intensity: float = 1.0
     attenuation: Vec3 = (1.0, 0.0, 0.0)
     ambient: Vec3 = (0.0, 0.0, 0.0)
+    diffuse: Vec3 | None = None
+    specular: Vec3 | None = None
 
 
 @dataclass
@@ -106,6 +110,8 @@ class SpotLight:
     attenuation: Vec3 = (1.0, 0.0, 0.0)
     ambient: Vec3 = (0.0, 0.0, 0.0)
     inner: float | None = None
+    diffuse: Vec3 | None = None
+    specular: Vec3 | None = None
 
 
 @dataclass
@@ -124,6 +130,8 @@ class AreaLight:
     attenuation: Vec3 = (1.0, 0.0, 0.0)
     ambient: Vec3 = (0.0, 0.0, 0.0)
     one_sided: bool = False
+    diffuse: Vec3 | None = None
+    specular: Vec3 | None = None
 
 
 def area_points(light: AreaLight) -> np.ndarray:
@@ -163,6 +171,8 @@ def expand_area_lights(lights) -> list:
             common = dict(
                 color=light.color,
                 intensity=light.intensity * share,
+                diffuse=light.diffuse,
+                specular=light.specular,
                 attenuation=light.attenuation,
                 ambient=amb,
             )
@@ -444,7 +454,8 @@ def lighting(
 
     ``c = ke + ka*Ia + sum_lights att*[ka*Ia_i + kd*Id*max(n.l, 0) + ks*Is*S]`` with
     ``att = 1 / max(kc + kl*d + kq*d**2, 1e-6)`` for point lights (1 for directional) and
-    ``Id = Is = color*intensity``, ``v = normalize(eye - p)`` and ``S = 0``
+    ``Id = diffuse*intensity``, ``Is = specular*intensity`` (each ``color`` when not
+    given), ``v = normalize(eye - p)`` and ``S = 0``
     unless ``n.l > 0``.  ``specular="blinn"``: ``S = max(n.h, 0)**shininess``,
     ``h = normalize(l + v)`` (``S = 0`` if ``l + v`` is zero);
     ``specular="phong"``: ``S = max(r.v, 0)**shininess``, ``r = 2(n.l)n - l``.
@@ -507,7 +518,10 @@ def lighting(
                 att = att * spot
         else:
             raise TypeError(f"unsupported light {light!r}")
-        intensity = _vec3(light.color, "color") * float(light.intensity)
+        color_d = light.color if light.diffuse is None else light.diffuse
+        color_s = light.color if light.specular is None else light.specular
+        i_d = _vec3(color_d, "diffuse") * float(light.intensity)
+        i_s = _vec3(color_s, "specular") * float(light.intensity)
         ndotl = _dot(n, lv)
         diff = np.maximum(ndotl, 0.0)
         if specular in ("blinn", "blinn-normalized"):
@@ -521,8 +535,8 @@ def lighting(
         if specular == "blinn-normalized":  # energy-normalised lobe: (f + 8) / 8 pi
             s = s * (shin + 8.0) / (8.0 * np.pi)
         s = np.where(ndotl > 0, s, 0.0)
-        lit = ka * _vec3(light.ambient, "ambient") + kd * intensity * diff[..., None]
-        color += att[..., None] * (lit + ks * intensity * s[..., None])
+        lit = ka * _vec3(light.ambient, "ambient") + kd * i_d * diff[..., None]
+        color += att[..., None] * (lit + ks * i_s * s[..., None])
     return color
 
 
@@ -638,6 +652,7 @@ def render_reference(
     fog: Fog | None = None,
     two_sided: bool = False,
     local_viewer: bool = True,
+    back_material: Material | None = None,
 ) -> RefImage:
     """Render a triangle mesh exactly (float64 ray casting per pixel centre).
 
@@ -658,6 +673,9 @@ def render_reference(
         background: RGB colour of empty pixels.
         cull_backfaces: skip triangles seen clockwise (normal facing away from
             the viewer).
+        two_sided: light back faces (clockwise on screen) with the flipped normal
+            and, when given, ``back_material`` (OpenGL's ``GL_BACK`` material; it is
+            ignored without two-sided lighting, as in OpenGL).
 
     Returns:
         A :class:`RefImage`.  Visibility: the smallest eye depth ``d`` within
@@ -817,16 +835,18 @@ def render_reference(
         if not local_viewer:
             view_dir = np.asarray(camera.eye, float) - np.asarray(camera.target, float)
         args = (eye_w, material, lights, ambient, specular, view_dir)
+        back_mat = back_material if (two_sided and back_material is not None) else material
+        args_back = (eye_w, back_mat, lights, ambient, specular, view_dir)
         if shading == "flat":
             uniq, inv_idx = np.unique(ts, return_inverse=True)
             cent = vw[f[uniq]].mean(axis=1)
             fcol = lighting(cent, fnw[uniq], *args)
-            fcol_back = lighting(cent, -fnw[uniq], *args)
+            fcol_back = lighting(cent, -fnw[uniq], *args_back)
             inv_idx = inv_idx.reshape(-1)
             color[sel] = np.where(flip > 0, fcol[inv_idx], fcol_back[inv_idx])
         elif shading == "gouraud":
             vcol = lighting(vw, nw, *args)
-            vcol_back = lighting(vw, -nw, *args)
+            vcol_back = lighting(vw, -nw, *args_back)
             front = np.einsum("pk,pkc->pc", b, vcol[fv])
             back = np.einsum("pk,pkc->pc", b, vcol_back[fv])
             color[sel] = np.where(flip > 0, front, back)
@@ -835,7 +855,9 @@ def render_reference(
             nn = np.linalg.norm(nrm, axis=1)
             with np.errstate(divide="ignore", invalid="ignore"):
                 nrm = np.where(nn[:, None] > 0, nrm / nn[:, None], fnw[ts])
-            color[sel] = lighting(pos, nrm * flip, *args)
+            front = lighting(pos, nrm, *args)
+            back = lighting(pos, -nrm, *args_back)
+            color[sel] = np.where(flip > 0, front, back)
 
         # Distance (pixels) from the pixel centre to the clipped screen polygon.
         cx = (sel % width).astype(np.float64) + 0.5

@@ -1002,3 +1002,229 @@ def test_builtin_primitive_arguments_are_checked():
             sl.Mesh.uv_sphere(rings, segments)
     with pytest.raises(ValueError, match="50 million"):
         sl.Mesh.uv_sphere(100_000, 100_000)
+    for bad in (-1, 11, 2**40):
+        with pytest.raises(ValueError, match=r"0 <= subdivisions <= 10"):
+            sl.Mesh.ico_sphere(bad)
+
+
+@pytest.mark.parametrize("subdivisions", [0, 1, 2, 4])
+def test_ico_sphere_is_closed_unit_and_exact(subdivisions):
+    m = sl.Mesh.ico_sphere(subdivisions)
+    assert m.n_faces == 20 * 4**subdivisions and m.n_vertices == 10 * 4**subdivisions + 2
+    v, f = m.vertices.astype(np.float64), m.faces.astype(np.int64)
+    np.testing.assert_allclose(np.linalg.norm(v, axis=1), 1.0, atol=1e-6)
+    np.testing.assert_allclose(m.normals, v, atol=1e-6)
+    a, b, c = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
+    fn = np.cross(b - a, c - a)
+    assert (np.sum(fn * (a + b + c), axis=1) > 0).all()  # outward
+    # Closed: every directed edge appears once and its reverse once.
+    e = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+    fwd = {tuple(x) for x in e.tolist()}
+    assert len(fwd) == len(e) and all((j, i) in fwd for i, j in fwd)
+    # Nearly uniform: triangle areas within a factor 2 of each other (a UV sphere's are not).
+    area = np.linalg.norm(fn, axis=1)
+    assert area.max() / area.min() < 2.0
+
+
+def test_area_light_getters_points_and_repr():
+    a = sl.AreaLight((0, 2, 0), (2, 0, 0), (0, 0, 1), samples=3, color=(1, 0.5, 0.25))
+    assert (a.position, a.u, a.v) == ((0.0, 2.0, 0.0), (2.0, 0.0, 0.0), (0.0, 0.0, 1.0))
+    assert (a.shape, a.samples, a.n_points, a.one_sided) == ("rectangle", 3, 9, False)
+    assert a.normal == (0.0, -1.0, 0.0)  # u x v = x x z = -y
+    assert (a.color, a.intensity) == ((1.0, 0.5, 0.25), 1.0)
+    assert (a.attenuation, a.ambient) == ((1.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+    assert sl.AreaLight((0, 0, 0), (1, 0, 0), (0, 1, 0)).samples == 4
+    pts = a.points()
+    assert pts.shape == (9, 3) and pts.dtype == np.float32
+    # Cell centres of a 3 x 3 grid over [-1, 1] x [-0.5, 0.5], u fastest.
+    xs, zs = np.array([-2, 0, 2]) / 3, np.array([-1, 0, 1]) / 3
+    want = np.array([[x, 2.0, z] for z in zs for x in xs], np.float32)
+    np.testing.assert_allclose(pts, want, atol=1e-7)
+    disk = sl.AreaLight((1, 1, 1), (2, 0, 0), (0, 2, 0), shape="disk", samples=8, one_sided=True)
+    d = disk.points() - np.float32(1)
+    assert disk.shape == "disk" and disk.one_sided
+    assert d.shape == (64, 3) and np.all(d[:, 2] == 0)
+    assert np.all(np.hypot(d[:, 0], d[:, 1]) <= 1 + 1e-6)
+    assert "AreaLight(" in repr(disk) and "disk" in repr(disk)
+    assert sl.MAX_AREA_SAMPLES == 64
+
+
+def _floor_scene(light):
+    v = np.array([[-4, 0, -4], [4, 0, -4], [4, 0, 4], [-4, 0, 4]], float)
+    scene = sl.Scene(ambient=(0, 0, 0))
+    scene.add(sl.Mesh(v, [[0, 2, 1], [0, 3, 2]]), material=sl.Material.preset("jade"))
+    scene.add_light(light)
+    return scene
+
+
+def test_area_light_of_one_sample_is_its_centre_point_light():
+    cam = sl.Camera.look_at((0, 5, 6), (0, 0, 0))
+    kw = dict(color=(0.9, 0.8, 0.7), intensity=2.0, attenuation=(1, 0.2, 0.1), ambient=(0.1,) * 3)
+    area = sl.AreaLight((0.5, 2, 0), (3, 0, 0), (0, 0, 3), samples=1, **kw)
+    point = sl.PointLight((0.5, 2, 0), **kw)
+    for shading in ("flat", "gouraud", "phong"):
+        a = sl.render(_floor_scene(area), cam, 64, 48, shading=shading, dtype="float32")
+        b = sl.render(_floor_scene(point), cam, 64, 48, shading=shading, dtype="float32")
+        np.testing.assert_array_equal(a, b)
+    frame = sl.render_frame(_floor_scene(area), cam, 8, 8)
+    assert frame["stats"]["light_sources"] == 1
+    big = sl.AreaLight((0.5, 2, 0), (3, 0, 0), (0, 0, 3), samples=7)
+    assert sl.render_frame(_floor_scene(big), cam, 8, 8)["stats"]["light_sources"] == 49
+
+
+def test_area_light_total_light_does_not_depend_on_samples():
+    """Far from a small light, every sample count gives the point light's image (the points
+    share the colour); close to a large one, the sampled lights converge as samples grow."""
+    cam = sl.Camera.look_at((0, 5, 6), (0, 0, 0))
+    far = sl.render(_floor_scene(sl.PointLight((0, 200, 0))), cam, 32, 24, dtype="float32")
+    for n in (2, 5, 9):
+        small = sl.AreaLight((0, 200, 0), (0.01, 0, 0), (0, 0, 0.01), samples=n)
+        img = sl.render(_floor_scene(small), cam, 32, 24, dtype="float32")
+        np.testing.assert_allclose(img, far, rtol=1e-4, atol=1e-6)
+    big = [
+        sl.render(
+            _floor_scene(sl.AreaLight((0, 1, 0), (4, 0, 0), (0, 0, 4), samples=n)),
+            cam,
+            32,
+            24,
+            dtype="float32",
+        )
+        for n in (4, 16, 32)
+    ]
+    assert np.abs(big[2] - big[1]).max() < np.abs(big[1] - big[0]).max()
+
+
+def test_one_sided_area_light_is_dark_behind():
+    cam = sl.Camera.look_at((0, 5, 6), (0, 0, 0))
+    # u x v = z x x = +y: emits upward, away from the floor below it.
+    up = sl.AreaLight((0, 1, 0), (0, 0, 1), (1, 0, 0), one_sided=True)
+    assert up.normal == (0.0, 1.0, 0.0)
+    img = sl.render(_floor_scene(up), cam, 32, 24, dtype="float32")
+    emission = np.zeros(3, np.float32)
+    assert np.all(img == emission)
+    down = sl.AreaLight((0, 1, 0), (1, 0, 0), (0, 0, 1), one_sided=True)
+    both = sl.AreaLight((0, 1, 0), (1, 0, 0), (0, 0, 1))
+    lit = sl.render(_floor_scene(down), cam, 32, 24, dtype="float32")
+    full = sl.render(_floor_scene(both), cam, 32, 24, dtype="float32")
+    # The cosine fall-off only dims: lit somewhere, never brighter than two-sided.
+    assert lit.max() > 0 and np.all(lit <= full + 1e-6)
+
+
+MTL_THREE = """newmtl red
+Ka 0.1 0 0
+Kd 0.8 0.1 0.1
+Ks 0.5 0.5 0.5
+Ns 20
+illum 2
+newmtl matte
+Ka 0.1 0.1 0.1
+Kd 0.2 0.6 0.2
+Ks 0.9 0.9 0.9
+illum 1
+newmtl glow
+Ka 0.3 0.3 0.3
+Kd 0.1 0.2 0.9
+Ks 1 1 1
+Ke 0.1 0 0
+illum 0
+d 0.5
+"""
+
+
+def _three_group_obj(tmp_path):
+    """One group with three usemtl runs (red, matte, glow) and one face before any."""
+    (tmp_path / "m.mtl").write_text(MTL_THREE)
+    quads = []
+    for k in range(4):
+        x = 2.0 * k
+        quads.append(f"v {x} 0 0\nv {x + 1} 0 0\nv {x + 1} 1 0\nv {x} 1 0\n")
+    faces = "f 1 2 3 4\nusemtl red\nf 5 6 7 8\nusemtl matte\nf 9 10 11 12\n"
+    faces += "usemtl glow\nf 13 14 15 16\n"
+    path = tmp_path / "multi.obj"
+    path.write_text("mtllib m.mtl\no thing\n" + "".join(quads) + faces)
+    return path
+
+
+def test_usemtl_groups_keep_their_materials_and_illum_is_mapped(tmp_path):
+    path = _three_group_obj(tmp_path)
+    parts = sl.load_obj_parts(path)
+    assert [p[1].n_faces for p in parts] == [2, 2, 2, 2]
+    mats = [p[2] for p in parts]
+    assert mats[0] is None
+    red, matte, glow = mats[1:]
+    assert red.specular == (0.5, 0.5, 0.5) and red.shininess == 20
+    # illum 1: no highlights; illum 0: the diffuse colour, unlit (added to Ke).
+    assert matte.specular == (0.0, 0.0, 0.0) and matte.diffuse == pytest.approx((0.2, 0.6, 0.2))
+    assert glow.ambient == glow.diffuse == glow.specular == (0.0, 0.0, 0.0)
+    assert glow.emission == pytest.approx((0.2, 0.2, 0.9))
+
+    scene = sl.Scene(ambient=(0, 0, 0))
+    assert scene.add_obj(path) == 4
+    assert scene.n_objects == 4
+    cam = sl.Camera.orthographic((3.5, 0.5, 5), (3.5, 0.5, 0), height=1.2)
+    img = sl.render(scene, cam, 160, 24, dtype="float32")  # no lights: emission only
+    np.testing.assert_allclose(img[12, 140], [0.2, 0.2, 0.9], atol=1e-6)  # the glow quad
+    assert (img[12, 20] == 0).all() and (img[12, 60] == 0).all()
+    # Lit: each quad shows its own material; a preset overrides them all.
+    scene.add_light(sl.DirectionalLight((0, 0, -1)))
+    lit = sl.render(scene, cam, 160, 24, dtype="float32")
+    centres = lit[12, [20, 60, 100, 140]]
+    assert len({tuple(c) for c in centres.round(5).tolist()}) == 4
+    gold = sl.Scene(ambient=(0, 0, 0))
+    assert gold.add_obj(path, material=sl.Material.preset("gold")) == 4
+    gold.add_light(sl.DirectionalLight((0, 0, -1)))
+    merged = sl.Scene(ambient=(0, 0, 0))
+    merged.add(sl.load_obj(path), material=sl.Material.preset("gold"))
+    merged.add_light(sl.DirectionalLight((0, 0, -1)))
+    np.testing.assert_array_equal(
+        sl.render(gold, cam, 160, 24, dtype="float32"),
+        sl.render(merged, cam, 160, 24, dtype="float32"),
+    )
+    # Same as adding the parts by hand.
+    by_hand = sl.Scene(ambient=(0, 0, 0))
+    for _, mesh, mat in parts:
+        by_hand.add(mesh, material=mat)
+    by_hand.add_light(sl.DirectionalLight((0, 0, -1)))
+    np.testing.assert_array_equal(sl.render(by_hand, cam, 160, 24, dtype="float32"), lit)
+
+
+def test_add_obj_transform_and_back_material(tmp_path):
+    path = _three_group_obj(tmp_path)
+    t = np.eye(4)
+    t[:3, 3] = (0, 0, -1)
+    cam = sl.Camera.orthographic((3.5, 0.5, -5), (3.5, 0.5, 0), height=1.2)  # from behind
+    out = []
+    for back in (None, sl.Material(ambient=(1, 0, 0), diffuse=(0, 0, 0), specular=(0, 0, 0))):
+        s = sl.Scene(ambient=(1, 1, 1), two_sided=True)
+        s.add_obj(path, material=sl.Material.preset("chrome"), transform=t, back_material=back)
+        out.append(sl.render(s, cam, 160, 24, dtype="float32", return_depth=True))
+    (img0, depth0), (img1, _) = out
+    np.testing.assert_allclose(depth0[12, 20], 4.0, rtol=1e-6)  # moved to z = -1
+    np.testing.assert_allclose(img1[12, 20], [1, 0, 0], atol=1e-6)  # back material's ka·Ia
+    assert not np.allclose(img0[12, 20], [1, 0, 0])
+
+
+def test_light_diffuse_and_specular_colours_split_the_shorthand():
+    """Hand-computed: n = l = v = +z, so n·l = n·h = 1 and c = kd·Id + ks·Is."""
+    v = np.array([[-5, -5, 0], [5, -5, 0], [5, 5, 0], [-5, 5, 0]], float)
+    mat = sl.Material(ambient=(0, 0, 0), diffuse=(0.5, 0.5, 0.5), specular=(0.25,) * 3)
+    cam = sl.Camera.orthographic((0, 0, 5), (0, 0, 0), height=2.0)
+    lights = [
+        sl.DirectionalLight((0, 0, -1), intensity=2.0, diffuse=(1, 0, 0), specular=(0, 0, 1)),
+        sl.PointLight((0, 0, 1e4), intensity=2.0, diffuse=(1, 0, 0), specular=(0, 0, 1)),
+        sl.SpotLight((0, 0, 1e4), (0, 0, -1), intensity=2.0, diffuse=(1, 0, 0), specular=(0, 0, 1)),
+        sl.AreaLight(
+            (0, 0, 1e4), (1, 0, 0), (0, 1, 0), intensity=2.0, diffuse=(1, 0, 0), specular=(0, 0, 1)
+        ),
+    ]
+    for light in lights:
+        assert (light.diffuse, light.specular) == ((1.0, 0.0, 0.0), (0.0, 0.0, 1.0))
+        assert light.color == (1.0, 1.0, 1.0)
+        s = sl.Scene(ambient=(0, 0, 0), local_viewer=False)  # v = +z everywhere
+        s.add(sl.Mesh(v, [[0, 1, 2], [0, 2, 3]]), material=mat)
+        s.add_light(light)
+        img = sl.render(s, cam, 4, 4, shading="phong", dtype="float32")
+        np.testing.assert_allclose(img[1, 1], [1.0, 0.0, 0.5], atol=2e-5)
+    # Only one of the two set: the other follows color.
+    d = sl.DirectionalLight((0, 0, -1), color=(0, 1, 0), specular=(1, 1, 1))
+    assert (d.diffuse, d.specular) == (None, (1.0, 1.0, 1.0))

@@ -236,3 +236,26 @@ def test_usage_error_through_subprocess():
     r = run("render", CUBE, "--size", "big")
     assert r.returncode == 2
     assert "size must look like 800x600" in r.stderr
+
+
+def test_render_obj_uses_its_mtl_materials_unless_a_preset_is_given(tmp_path):
+    (tmp_path / "m.mtl").write_text("newmtl blue\nKa 0 0 0.2\nKd 0 0 0.8\nKs 0 0 0\n")
+    obj = tmp_path / "two.obj"
+    obj.write_text(
+        "mtllib m.mtl\nv -2 0 0\nv -1 0 0\nv -1 1 0\nv -2 1 0\nv 1 0 0\nv 2 0 0\nv 2 1 0\n"
+        "v 1 1 0\nf 1 2 3 4\nusemtl blue\nf 5 6 7 8\n"
+    )
+    args = ("--view", "0,0,1", "--light", "0,0,-1", "--size", "96x48")
+    r = run("render", obj, "-o", tmp_path / "a.png", *args)
+    assert r.returncode == 0, r.stderr
+    img = read_png(tmp_path / "a.png").astype(int)
+    left, right = img[24, 10:40], img[24, 56:86]
+    covered_l, covered_r = left.any(axis=-1), right.any(axis=-1)
+    assert covered_l.any() and covered_r.any()
+    # Left quad has no material: gold (red > blue); right one is the MTL's pure blue.
+    assert (left[covered_l, 0] > left[covered_l, 2]).all()
+    assert (right[covered_r, :2] == 0).all() and (right[covered_r, 2] > 0).all()
+    r = run("render", obj, "-o", tmp_path / "b.png", "--material", "chrome", *args)
+    assert r.returncode == 0, r.stderr
+    img = read_png(tmp_path / "b.png")
+    assert (img[..., 0] == img[..., 2]).all()  # chrome everywhere: grey

@@ -709,6 +709,58 @@ def test_fog_parameters_are_validated():
     expect_error(TypeError, "fog", sl.Scene, fog="thick")
 
 
+def test_area_light_parameters_are_validated():
+    p, u, v = (0, 2, 0), (1, 0, 0), (0, 0, 1)
+    expect_error(ValueError, "unknown area light shape 'circle'", sl.AreaLight, p, u, v, "circle")
+    expect_error(ValueError, "not parallel", sl.AreaLight, p, u, (2, 0, 0))
+    expect_error(ValueError, "not parallel", sl.AreaLight, p, (0, 0, 0), v)
+    expect_error(ValueError, r"u\[1\]", sl.AreaLight, p, (1, np.nan, 0), v)
+    expect_error(ValueError, r"position\[2\]", sl.AreaLight, (0, 0, np.inf), u, v)
+    expect_error(ValueError, "v must be 3", sl.AreaLight, p, u, (0, 1))
+    for bad in (0, -1, 65, 2**40, 2**80):
+        expect_error(ValueError, "between 1 and 64", sl.AreaLight, p, u, v, samples=bad)
+    for bad in (2.0, True, "4", None.__class__):
+        expect_error(TypeError, "samples must be an integer", sl.AreaLight, p, u, v, samples=bad)
+    expect_error(ValueError, "intensity", sl.AreaLight, p, u, v, intensity=-1.0)
+    expect_error(ValueError, "intensity", sl.AreaLight, p, u, v, intensity=np.nan)
+    expect_error(ValueError, r"color\[0\]", sl.AreaLight, p, u, v, color=(np.nan, 0, 0))
+    expect_error(ValueError, "attenuation", sl.AreaLight, p, u, v, attenuation=(0, 0, 0))
+    expect_error(ValueError, "ambient", sl.AreaLight, p, u, v, ambient=(-1, 0, 0))
+
+
+def test_back_material_and_add_obj_arguments_are_checked(tmp_path):
+    scene = sl.Scene()
+    mesh = sl.Mesh(TRI_V, TRI_F)
+    expect_error(TypeError, "back_material", scene.add, mesh, back_material="ruby")
+    expect_error(FileNotFoundError, "nope.obj", scene.add_obj, tmp_path / "nope.obj")
+    bad = tmp_path / "bad.obj"
+    bad.write_text("v 0 0 0\nv 1 0 x\n")
+    expect_error(sl.ObjParseError, "bad.obj:2", scene.add_obj, bad)
+    good = tmp_path / "good.obj"
+    good.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    expect_error(TypeError, "material", scene.add_obj, good, material="gold")
+    expect_error(TypeError, "back_material", scene.add_obj, good, back_material=1)
+    expect_error(ValueError, "transform", scene.add_obj, good, transform=np.zeros((4, 4)))
+    assert scene.n_objects == 0  # nothing half-added
+    assert scene.add_obj(good) == 1
+
+
+@pytest.mark.parametrize(
+    "make",
+    [
+        lambda **kw: sl.DirectionalLight((0, 0, -1), **kw),
+        lambda **kw: sl.PointLight((0, 0, 1), **kw),
+        lambda **kw: sl.SpotLight((0, 0, 1), (0, 0, -1), **kw),
+        lambda **kw: sl.AreaLight((0, 0, 1), (1, 0, 0), (0, 1, 0), **kw),
+    ],
+)
+def test_light_diffuse_and_specular_colours_are_validated(make):
+    expect_error(ValueError, "diffuse colour must be finite and >= 0", make, diffuse=(-1, 0, 0))
+    expect_error(ValueError, r"specular\[1\]", make, specular=(0, np.nan, 0))
+    expect_error(ValueError, "diffuse must be 3", make, diffuse=(1, 1))
+    expect_error(TypeError, "specular", make, specular="white")
+
+
 def test_a_forced_internal_panic_arrives_as_runtime_error():
     """The guard every entry point runs behind turns a Rust panic into ``RuntimeError``
     (never pyo3's ``PanicException``): forced here through a test hook that panics."""

@@ -38,8 +38,10 @@ import shadelab_rs as sl
 
 try:
     import reference as ref
+    from ref_to_sl import sl_light
 except ImportError:  # pragma: no cover - tests/ imported as a package
     from tests import reference as ref
+    from tests.ref_to_sl import sl_light
 
 #: Pixels whose centre is nearer than this (in pixels) to an edge are "near an edge".
 EDGE_PX = 0.05
@@ -81,6 +83,7 @@ class Case:
     fog: ref.Fog | None = None
     two_sided: bool = False
     local_viewer: bool = True
+    back_material: str | None = None  # a preset for back faces (used when two_sided)
 
 
 def _rotation(axis, degrees):
@@ -259,6 +262,12 @@ def _mesh_arrays(name):
         v = m.vertices.astype(np.float64)
         f = m.faces.astype(np.int64)
         return v, f, ref.vertex_normals(v, f)
+    if name == "open-sphere":
+        # The sphere without its cap toward +z: from the front the outside (front faces) and
+        # the inside (back faces) show side by side.
+        v, f = ref.uv_sphere(24, 48)
+        keep = v[f].mean(axis=1)[:, 2] < 0.55
+        return v, f[keep], None
     if name == "floor":
         # A 100 x 100 floor at y = -1 as a 4 x 4 grid of quads, plus a sphere standing on it.
         g = np.linspace(-50.0, 50.0, 5)
@@ -277,45 +286,6 @@ def _mesh_arrays(name):
         n[: len(fv)] = (0.0, 1.0, 0.0)
         return v, f, n
     raise KeyError(name)
-
-
-def _sl_light(light):
-    if isinstance(light, ref.AreaLight):
-        return sl.AreaLight(
-            light.position,
-            light.u,
-            light.v,
-            shape=light.shape,
-            samples=light.samples,
-            color=light.color,
-            intensity=light.intensity,
-            attenuation=light.attenuation,
-            ambient=light.ambient,
-            one_sided=light.one_sided,
-        )
-    if isinstance(light, ref.SpotLight):
-        return sl.SpotLight(
-            light.position,
-            light.direction,
-            cutoff=light.cutoff,
-            exponent=light.exponent,
-            color=light.color,
-            intensity=light.intensity,
-            attenuation=light.attenuation,
-            ambient=light.ambient,
-            inner=light.inner,
-        )
-    if isinstance(light, ref.DirectionalLight):
-        return sl.DirectionalLight(
-            light.direction, color=light.color, intensity=light.intensity, ambient=light.ambient
-        )
-    return sl.PointLight(
-        light.position,
-        color=light.color,
-        intensity=light.intensity,
-        attenuation=light.attenuation,
-        ambient=light.ambient,
-    )
 
 
 def _sl_camera(cam):
@@ -344,6 +314,14 @@ def _ref_material(case):
     return ref.Material(m.ambient, m.diffuse, m.specular, m.shininess, m.emission)
 
 
+def _back_materials(case):
+    """(shadelab_rs, reference) back materials of ``case``, or (None, None)."""
+    if case.back_material is None:
+        return None, None
+    m = sl.Material.preset(case.back_material)
+    return m, ref.Material(m.ambient, m.diffuse, m.specular, m.shininess, m.emission)
+
+
 def _world_vertices(case):
     v, _, _ = _mesh_arrays(case.mesh)
     if case.transform is None:
@@ -362,9 +340,14 @@ def render_sl(case, shading, specular, dtype):
         local_viewer=case.local_viewer,
     )
     mesh = sl.Mesh(v, f, normals=n)
-    scene.add(mesh, material=_sl_material(case), transform=case.transform)
+    scene.add(
+        mesh,
+        material=_sl_material(case),
+        transform=case.transform,
+        back_material=_back_materials(case)[0],
+    )
     for light in case.lights:
-        scene.add_light(_sl_light(light))
+        scene.add_light(sl_light(light))
     return sl.render(
         scene,
         _sl_camera(case.camera),
@@ -399,6 +382,7 @@ def render_ref(case, shading, specular):
         fog=case.fog,
         two_sided=case.two_sided,
         local_viewer=case.local_viewer,
+        back_material=_back_materials(case)[1],
     )
 
 
@@ -682,3 +666,41 @@ def test_generated_normals_match_reference_rule():
         mesh = sl.Mesh(v, f)
         assert not mesh.has_normals
         np.testing.assert_allclose(mesh.normals, ref.vertex_normals(v, f), atol=2e-6)
+
+
+# An open sphere seen into its opening: outside (front faces) and inside (back faces) at once,
+# the inside with its own material under two-sided lighting.
+OPEN = Case(
+    "open-sphere-back-material",
+    "open-sphere",
+    ref.Camera(eye=(0.6, 0.9, 3.2), target=(0.0, 0.0, 0.0), up=(0, 1, 0), fov_y=45.0),
+    (ref.DirectionalLight((-0.4, -0.6, -1.0)), ref.PointLight((0.2, 0.3, 0.4), intensity=0.6)),
+    "gold",
+    two_sided=True,
+    back_material="ruby",
+)
+
+
+@pytest.mark.parametrize("shading", SHADINGS)
+def test_back_material_lights_back_faces_under_two_sided_lighting(shading):
+    """Back faces take the back material (and the flipped normal), front faces keep theirs;
+    without two-sided lighting the back material is ignored, as in OpenGL."""
+    compare(OPEN, shading, "blinn")
+    plain = dataclasses.replace(OPEN, label="open-sphere-two-sided", back_material=None)
+    compare(plain, shading, "blinn")
+    a, _ = render_sl(OPEN, shading, "blinn", "float32")
+    b, _ = render_sl(plain, shading, "blinn", "float32")
+    r = render_ref(OPEN, shading, "blinn")
+    _, f, _ = _mesh_arrays("open-sphere")
+    w = _world_vertices(OPEN)[f]
+    normal = np.cross(w[:, 1] - w[:, 0], w[:, 2] - w[:, 0])
+    front = np.einsum("ij,ij->i", normal, np.asarray(OPEN.camera.eye) - w[:, 0]) > 0
+    seen = r.tri[r.tri >= 0]
+    assert front[seen].sum() > 500 and (~front[seen]).sum() > 500, "both sides in view"
+    assert not np.array_equal(a, b)
+    one_sided = dataclasses.replace(OPEN, two_sided=False)
+    no_back = dataclasses.replace(OPEN, two_sided=False, back_material=None)
+    np.testing.assert_array_equal(
+        render_sl(one_sided, shading, "blinn", "float32")[0],
+        render_sl(no_back, shading, "blinn", "float32")[0],
+    )

@@ -12,6 +12,7 @@ this package adds file helpers, the bundled demo scene and the command line.
 from ._core import (
     MAX_AREA_SAMPLES,
     MAX_IMAGE_SIZE,
+    MAX_THREADS,
     AreaLight,
     Camera,
     DirectionalLight,
@@ -21,6 +22,7 @@ from ._core import (
     ObjParseError,
     PointLight,
     Scene,
+    SceneObject,
     SpotLight,
     __version__,
     load_obj,
@@ -30,11 +32,22 @@ from ._core import (
 )
 from .demo import data_path, demo_scene, frame_mesh
 from .io import load_mesh, save_image, to_uint8
+from .scene_file import (
+    SceneFile,
+    SceneFileError,
+    frame_scene,
+    load_scene,
+    load_scene_dict,
+    save_scene,
+    scene_to_dict,
+    to_toml,
+)
 from .swatch import material_sheet
 
 __all__ = [
     "MAX_AREA_SAMPLES",
     "MAX_IMAGE_SIZE",
+    "MAX_THREADS",
     "AreaLight",
     "Camera",
     "DirectionalLight",
@@ -44,17 +57,26 @@ __all__ = [
     "ObjParseError",
     "PointLight",
     "Scene",
+    "SceneFile",
+    "SceneFileError",
+    "SceneObject",
     "SpotLight",
     "__version__",
     "data_path",
     "demo_scene",
     "frame_mesh",
+    "frame_scene",
     "load_mesh",
     "load_obj",
     "load_obj_parts",
+    "load_scene",
+    "load_scene_dict",
     "material_sheet",
     "render",
     "render_frame",
     "save_image",
+    "save_scene",
+    "scene_to_dict",
+    "to_toml",
     "to_uint8",
 ]

@@ -9,7 +9,7 @@ Errors: ``ValueError`` (bad values, with the offending element named, e.g.
 """
 
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any, Final, Literal, TypedDict, final, overload
 
 import numpy as np
@@ -19,6 +19,7 @@ from typing_extensions import TypeAlias
 __all__ = [
     "MAX_AREA_SAMPLES",
     "MAX_IMAGE_SIZE",
+    "MAX_THREADS",
     "AreaLight",
     "Camera",
     "DirectionalLight",
@@ -28,6 +29,7 @@ __all__ = [
     "ObjParseError",
     "PointLight",
     "Scene",
+    "SceneObject",
     "SpotLight",
     "__version__",
     "load_obj",
@@ -52,6 +54,8 @@ _Specular: TypeAlias = Literal["blinn", "phong", "blinn-normalized"] | str
 __version__: Final[str]
 #: Largest supported image width or height in pixels (16384).
 MAX_IMAGE_SIZE: Final[int]
+#: Largest ``threads`` argument of :func:`render` (256).
+MAX_THREADS: Final[int]
 #: Largest ``samples`` per side of an :class:`AreaLight` (64, i.e. 4096 point sources).
 MAX_AREA_SAMPLES: Final[int]
 
@@ -88,6 +92,11 @@ class Mesh:
     def uv_sphere(rings: int = 16, segments: int = 32) -> Mesh:
         """A unit UV sphere at the origin with exact normals: ``rings`` latitude bands (>= 2)
         and ``segments`` longitude segments (>= 3), ``2*segments*(rings - 1)`` triangles."""
+    @staticmethod
+    def ico_sphere(subdivisions: int = 3) -> Mesh:
+        """A unit sphere at the origin from a regular icosahedron subdivided
+        ``subdivisions`` times (0 to 10): ``20 * 4**subdivisions`` nearly equal triangles,
+        ``10 * 4**subdivisions + 2`` vertices, exact normals."""
     @staticmethod
     def cube() -> Mesh:
         """The cube [-1, 1]^3: 24 vertices (4 per face) with exact face normals and UVs."""
@@ -164,7 +173,9 @@ class DirectionalLight:
     """A light at infinity; ``direction`` is where the light travels (a sun overhead:
     ``(0, -1, 0)``) and must be non-zero. ``color`` (default white) and ``intensity``
     (its multiplier) must be >= 0; ``ambient`` is the light's own ambient colour (default
-    black). No attenuation."""
+    black). ``diffuse`` / ``specular`` (default None) give the light its own diffuse or
+    specular colour (OpenGL's GL_DIFFUSE / GL_SPECULAR of a light) in place of ``color``;
+    both are scaled by ``intensity``. No attenuation."""
 
     def __new__(
         cls,
@@ -172,6 +183,8 @@ class DirectionalLight:
         color: _Vec3Like | None = None,
         intensity: float = 1.0,
         ambient: _Vec3Like | None = None,
+        diffuse: _Vec3Like | None = None,
+        specular: _Vec3Like | None = None,
     ) -> DirectionalLight: ...
     @property
     def ambient(self) -> _Vec3:
@@ -185,6 +198,12 @@ class DirectionalLight:
     @property
     def intensity(self) -> float:
         """Multiplier of ``color``."""
+    @property
+    def diffuse(self) -> _Vec3 | None:
+        """The light's own diffuse colour, or None when ``color`` sets it."""
+    @property
+    def specular(self) -> _Vec3 | None:
+        """The light's own specular colour, or None when ``color`` sets it."""
 
 @final
 class PointLight:
@@ -192,7 +211,8 @@ class PointLight:
     ``intensity`` must be >= 0. ``attenuation=(kc, kl, kq)`` divides the light by
     ``kc + kl*d + kq*d**2`` (d: distance to the light; default (1, 0, 0), none; coefficients
     >= 0, not all zero; the divisor is at least 1e-6). ``ambient`` is the light's own ambient
-    colour (default black), attenuated like the rest."""
+    colour (default black), attenuated like the rest. ``diffuse`` / ``specular`` override
+    ``color`` for their term, as for DirectionalLight."""
 
     def __new__(
         cls,
@@ -201,6 +221,8 @@ class PointLight:
         intensity: float = 1.0,
         attenuation: _Vec3Like | None = None,
         ambient: _Vec3Like | None = None,
+        diffuse: _Vec3Like | None = None,
+        specular: _Vec3Like | None = None,
     ) -> PointLight: ...
     @property
     def ambient(self) -> _Vec3:
@@ -217,6 +239,12 @@ class PointLight:
     @property
     def intensity(self) -> float:
         """Multiplier of ``color``."""
+    @property
+    def diffuse(self) -> _Vec3 | None:
+        """The light's own diffuse colour, or None when ``color`` sets it."""
+    @property
+    def specular(self) -> _Vec3 | None:
+        """The light's own specular colour, or None when ``color`` sets it."""
 
 @final
 class SpotLight:
@@ -238,6 +266,8 @@ class SpotLight:
         attenuation: _Vec3Like | None = None,
         ambient: _Vec3Like | None = None,
         inner: float | None = None,
+        diffuse: _Vec3Like | None = None,
+        specular: _Vec3Like | None = None,
     ) -> SpotLight: ...
     @property
     def position(self) -> _Vec3:
@@ -260,6 +290,12 @@ class SpotLight:
     @property
     def intensity(self) -> float:
         """Multiplier of ``color``."""
+    @property
+    def diffuse(self) -> _Vec3 | None:
+        """The light's own diffuse colour, or None when ``color`` sets it."""
+    @property
+    def specular(self) -> _Vec3 | None:
+        """The light's own specular colour, or None when ``color`` sets it."""
     @property
     def attenuation(self) -> _Vec3:
         """(kc, kl, kq)."""
@@ -293,6 +329,8 @@ class AreaLight:
         attenuation: _Vec3Like | None = None,
         ambient: _Vec3Like | None = None,
         one_sided: bool = False,
+        diffuse: _Vec3Like | None = None,
+        specular: _Vec3Like | None = None,
     ) -> AreaLight: ...
     @property
     def position(self) -> _Vec3:
@@ -324,6 +362,12 @@ class AreaLight:
     @property
     def intensity(self) -> float:
         """Multiplier of ``color``, shared equally by the points."""
+    @property
+    def diffuse(self) -> _Vec3 | None:
+        """The light's own diffuse colour, or None when ``color`` sets it."""
+    @property
+    def specular(self) -> _Vec3 | None:
+        """The light's own specular colour, or None when ``color`` sets it."""
     @property
     def attenuation(self) -> _Vec3:
         """Distance attenuation (kc, kl, kq), applied to each point with its own distance."""
@@ -368,6 +412,25 @@ class Fog:
         """The fog factor f in [0, 1] at eye distance ``d`` (1: no fog)."""
 
 @final
+class SceneObject:
+    """One object of a scene as read back by :attr:`Scene.objects`: a snapshot, so changing
+    it does not change the scene. There is no constructor."""
+
+    @property
+    def mesh(self) -> Mesh:
+        """The mesh (shared with the scene, not copied)."""
+    @property
+    def material(self) -> Material:
+        """The material."""
+    @property
+    def back_material(self) -> Material | None:
+        """The material of back faces under two-sided lighting, or None (``material`` is
+        used for both sides)."""
+    @property
+    def transform(self) -> NDArray[np.float64]:
+        """The 4x4 model matrix, float64 (the float32 values the scene holds, exactly)."""
+
+@final
 class Scene:
     """Objects, lights, the global ambient light (default ``(0.2, 0.2, 0.2)``) and an
     optional fog."""
@@ -397,13 +460,53 @@ class Scene:
     @fog.setter
     def fog(self, fog: Fog | None) -> None: ...
     def add(
-        self, mesh: Mesh, material: Material | None = None, transform: ArrayLike | None = None
+        self,
+        mesh: Mesh,
+        material: Material | None = None,
+        transform: ArrayLike | None = None,
+        back_material: Material | None = None,
     ) -> None:
         """Adds ``mesh`` with ``material`` (default: grey plastic) placed by the 4x4 model
         matrix ``transform`` (column vectors: ``p_world = transform @ [x, y, z, 1]``; it must
-        be affine and invertible). The mesh is shared, not copied."""
+        be affine and invertible). The mesh is shared, not copied. ``back_material`` lights
+        the back faces (clockwise on screen) when the scene is two-sided, as OpenGL's
+        ``GL_BACK`` material; otherwise both sides use ``material``."""
+    def add_obj(
+        self,
+        path: _Path,
+        material: Material | None = None,
+        transform: ArrayLike | None = None,
+        back_material: Material | None = None,
+    ) -> int:
+        """Loads an OBJ file and adds each part (one per ``o``/``g`` group and per ``usemtl``
+        switch) as its own object with its MTL material (grey plastic where it has none),
+        or with ``material`` for every part when given (a preset overrides the file).
+        Returns the number of objects added."""
     def add_light(self, light: DirectionalLight | PointLight | SpotLight | AreaLight) -> None:
         """Adds a DirectionalLight, PointLight, SpotLight or AreaLight."""
+    @property
+    def objects(self) -> list[SceneObject]:
+        """The objects, in the order they were added (snapshots)."""
+    @property
+    def lights(self) -> list[DirectionalLight | PointLight | SpotLight | AreaLight]:
+        """The lights, in the order they were added."""
+    @staticmethod
+    def from_file(path: _Path) -> Scene:
+        """The scene of a scene file (TOML, schema in the user guide); relative mesh paths
+        are resolved against the file's directory. ``shadelab_rs.load_scene`` also returns
+        the file's camera and render options.
+
+        Raises ``FileNotFoundError`` or ``shadelab_rs.SceneFileError`` (a ``ValueError``
+        naming the key path of the bad value)."""
+    @staticmethod
+    def from_dict(d: Mapping[str, Any], base_dir: _Path | None = None) -> Scene:
+        """The scene described by ``d`` (the scene-file schema as plain Python data);
+        relative mesh paths are resolved against ``base_dir`` (default: the current
+        directory)."""
+    def to_dict(self) -> dict[str, Any]:
+        """This scene as plain Python data in the scene-file schema (meshes as primitives
+        when they are one, else inline arrays); ``Scene.from_dict(scene.to_dict())``
+        renders bit-identically."""
     @property
     def ambient(self) -> _Vec3:
         """Global ambient light (r, g, b)."""

@@ -3,13 +3,19 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
 
 from . import _core as core
 from .demo import demo_scene, frame_mesh
 from .io import load_mesh, save_image
+from .scene_file import frame_scene, load_scene
 from .swatch import material_sheet
 
 
@@ -31,48 +37,96 @@ def _triple(text: str) -> tuple[float, float, float]:
     return vals  # type: ignore[return-value]
 
 
+# Render options and their defaults. The command-line flags default to None so that a
+# scene file's [render] table applies unless a flag is given.
+_RENDER_DEFAULTS: dict[str, Any] = {
+    "width": 800,
+    "height": 600,
+    "shading": "phong",
+    "specular": "blinn",
+    "background": (0.0, 0.0, 0.0),
+    "cull_backfaces": False,
+    "threads": None,
+}
+
+
 def _render_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("-o", "--output", default="out.png", help="image file to write (PNG, JPEG)")
-    p.add_argument("--size", type=_size, default=(800, 600), help="WIDTHxHEIGHT (800x600)")
-    p.add_argument("--shading", choices=["flat", "gouraud", "phong"], default="phong")
-    p.add_argument("--specular", choices=["blinn", "phong", "blinn-normalized"], default="blinn")
-    p.add_argument("--background", type=_triple, default=(0.0, 0.0, 0.0), help="r,g,b in [0,1]")
+    p.add_argument("--size", type=_size, default=None, help="WIDTHxHEIGHT (800x600)")
+    p.add_argument("--shading", choices=["flat", "gouraud", "phong"], default=None)
+    p.add_argument("--specular", choices=["blinn", "phong", "blinn-normalized"], default=None)
+    p.add_argument("--background", type=_triple, default=None, help="r,g,b in [0,1] (0,0,0)")
     p.add_argument("--threads", type=int, default=None, help="worker threads (default: all)")
-    p.add_argument("--cull-backfaces", action="store_true")
+    p.add_argument("--cull-backfaces", action="store_true", default=None)
 
 
-def _render(scene: core.Scene, camera: core.Camera, args: argparse.Namespace) -> None:
-    w, h = args.size
+def _render(
+    scene: core.Scene,
+    camera: core.Camera,
+    args: argparse.Namespace,
+    file_options: dict[str, Any] | None = None,
+) -> None:
+    """Renders with the defaults, updated by a scene file's options, updated by the flags."""
+    opts = {**_RENDER_DEFAULTS, **(file_options or {})}
+    if args.size is not None:
+        opts["width"], opts["height"] = args.size
+    for k in ("shading", "specular", "background", "cull_backfaces", "threads"):
+        if getattr(args, k) is not None:
+            opts[k] = getattr(args, k)
     t0 = time.perf_counter()
-    img = core.render(
-        scene,
-        camera,
-        width=w,
-        height=h,
-        shading=args.shading,
-        specular=args.specular,
-        background=args.background,
-        cull_backfaces=args.cull_backfaces,
-        threads=args.threads,
-    )
+    img = core.render(scene, camera, **opts)
     dt = (time.perf_counter() - t0) * 1e3
     save_image(img, args.output)
+    w, h = opts["width"], opts["height"]
     print(f"wrote {args.output} ({w}x{h}, {scene.n_triangles} triangles, {dt:.1f} ms)")
 
 
+# Options of `render MODEL` that a scene file sets itself.
+_MODEL_ONLY = ("material", "ambient", "fov", "view", "eye", "target", "up", "light")
+
+
+def cmd_render_scene(args: argparse.Namespace) -> None:
+    given = [k for k in _MODEL_ONLY if getattr(args, k) is not None]
+    if given:
+        flags = ", ".join("--" + k for k in given)
+        raise ValueError(f"{flags} cannot be used with a scene file; set it in the file")
+    sf = load_scene(args.model)
+    camera = sf.camera if sf.camera is not None else frame_scene(sf.scene)
+    _render(sf.scene, camera, args, sf.render_options)
+
+
+def _add_model(scene: core.Scene, path: str, preset: str | None) -> np.ndarray:
+    """Adds the model at ``path`` to ``scene``; returns all its vertices (for framing).
+
+    An OBJ keeps its MTL materials, one per group and ``usemtl`` run, unless a preset is
+    given; parts without one (and other formats) get the preset, gold by default."""
+    fallback = core.Material.preset(preset or "gold")
+    if os.fspath(path).lower().endswith(".obj"):
+        parts = core.load_obj_parts(path)
+        for _, mesh, mtl in parts:
+            scene.add(mesh, material=fallback if preset or mtl is None else mtl)
+        return np.concatenate([mesh.vertices for _, mesh, _ in parts])
+    mesh = load_mesh(path)
+    scene.add(mesh, material=fallback)
+    return mesh.vertices
+
+
 def cmd_render(args: argparse.Namespace) -> None:
-    mesh = load_mesh(args.model)
-    material = core.Material.preset(args.material)
-    scene = core.Scene(ambient=args.ambient)
-    scene.add(mesh, material=material)
-    camera = frame_mesh(mesh.vertices, fov_y=args.fov, direction=args.view)
+    if Path(args.model).suffix.lower() == ".toml":
+        cmd_render_scene(args)
+        return
+    scene = core.Scene(ambient=args.ambient if args.ambient is not None else (0.2, 0.2, 0.2))
+    vertices = _add_model(scene, args.model, args.material)
+    fov = args.fov if args.fov is not None else 35.0
+    view = args.view if args.view is not None else (0.55, 0.35, 1.0)
+    camera = frame_mesh(vertices, fov_y=fov, direction=view)
     if args.eye is not None:
         target = args.target if args.target is not None else camera.target
         camera = core.Camera.look_at(
             eye=args.eye,
             target=target,
-            up=args.up,
-            fov_y=args.fov,
+            up=args.up if args.up is not None else (0.0, 1.0, 0.0),
+            fov_y=fov,
             near=camera.near,
             far=camera.far,
         )
@@ -107,20 +161,28 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--version", action="version", version=core.__version__)
     sub = parser.add_subparsers(dest="command", required=True)
 
-    r = sub.add_parser("render", help="render a mesh file (OBJ, or anything trimesh reads)")
-    r.add_argument("model", help="mesh file")
-    r.add_argument("--material", default="gold", help="preset name (see 'shadelab materials')")
-    r.add_argument("--ambient", type=_triple, default=(0.2, 0.2, 0.2), help="scene ambient r,g,b")
-    r.add_argument("--fov", type=float, default=35.0, help="vertical field of view, degrees")
+    r = sub.add_parser(
+        "render",
+        help="render a mesh file (OBJ, or anything trimesh reads) or a scene file (.toml)",
+    )
+    r.add_argument("model", help="mesh file, or a scene file (.toml; see the user guide)")
+    r.add_argument(
+        "--material",
+        default=None,
+        help="preset for the whole model (see 'shadelab materials'); default: the OBJ's MTL "
+        "materials, gold where it has none",
+    )
+    r.add_argument("--ambient", type=_triple, default=None, help="scene ambient r,g,b (0.2,...)")
+    r.add_argument("--fov", type=float, default=None, help="vertical field of view, degrees (35)")
     r.add_argument(
         "--view",
         type=_triple,
-        default=(0.55, 0.35, 1.0),
-        help="direction from the model's centre to the camera (x,y,z)",
+        default=None,
+        help="direction from the model's centre to the camera (x,y,z; 0.55,0.35,1)",
     )
     r.add_argument("--eye", type=_triple, default=None, help="explicit camera position x,y,z")
     r.add_argument("--target", type=_triple, default=None, help="point looked at (with --eye)")
-    r.add_argument("--up", type=_triple, default=(0.0, 1.0, 0.0), help="camera up x,y,z")
+    r.add_argument("--up", type=_triple, default=None, help="camera up x,y,z (0,1,0)")
     r.add_argument(
         "--light",
         type=_triple,

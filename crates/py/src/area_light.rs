@@ -55,7 +55,8 @@ fn samples_arg(obj: &Bound<'_, PyAny>) -> PyResult<u32> {
 impl PyAreaLight {
     #[new]
     #[pyo3(signature = (position, u, v, shape="rectangle", samples=None, color=None,
-                        intensity=1.0, attenuation=None, ambient=None, one_sided=false))]
+                        intensity=1.0, attenuation=None, ambient=None, one_sided=false,
+                        diffuse=None, specular=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         position: &Bound<'_, PyAny>,
@@ -68,7 +69,10 @@ impl PyAreaLight {
         attenuation: Option<&Bound<'_, PyAny>>,
         ambient: Option<&Bound<'_, PyAny>>,
         one_sided: bool,
+        diffuse: Option<&Bound<'_, PyAny>>,
+        specular: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
+        let (diffuse, specular) = crate::light::split_colors(diffuse, specular)?;
         let shape = shape_arg(shape)?;
         let samples = samples.map_or(Ok(4), samples_arg)?;
         let color = color.map_or(Ok(glam::Vec3::ONE), |c| convert::vec3(c, "color"))?;
@@ -81,6 +85,7 @@ impl PyAreaLight {
             .and_then(|l| l.with_color(color, intensity as f32))
             .and_then(|l| l.with_ambient(ambient))
             .and_then(|l| l.with_attenuation(k.x, k.y, k.z))
+            .and_then(|l| l.with_split_colors(diffuse, specular))
             .map(|l| l.with_one_sided(one_sided))
             .map_err(to_py)?;
         Ok(Self { inner })
@@ -147,6 +152,18 @@ impl PyAreaLight {
     #[getter]
     fn intensity(&self) -> f32 {
         self.inner.intensity
+    }
+
+    /// The light's own diffuse colour, or None when `color` sets it.
+    #[getter]
+    fn diffuse(&self) -> Option<(f32, f32, f32)> {
+        self.inner.split.diffuse.map(Into::into)
+    }
+
+    /// The light's own specular colour, or None when `color` sets it.
+    #[getter]
+    fn specular(&self) -> Option<(f32, f32, f32)> {
+        self.inner.split.specular.map(Into::into)
     }
 
     /// Distance attenuation (kc, kl, kq), applied per point.

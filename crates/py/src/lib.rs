@@ -18,6 +18,7 @@ use pyo3::prelude::*;
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("MAX_IMAGE_SIZE", shadelab_raster::MAX_IMAGE_SIZE)?;
+    m.add("MAX_THREADS", shadelab_raster::MAX_THREADS)?;
     m.add("ObjParseError", m.py().get_type::<errors::ObjParseError>())?;
     m.add_class::<mesh::PyMesh>()?;
     m.add_class::<material::PyMaterial>()?;
@@ -27,6 +28,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<area_light::PyAreaLight>()?;
     m.add("MAX_AREA_SAMPLES", shadelab_raster::MAX_AREA_SAMPLES)?;
     m.add_class::<scene::PyScene>()?;
+    m.add_class::<scene::PySceneObject>()?;
     m.add_class::<fog::PyFog>()?;
     m.add_class::<camera::PyCamera>()?;
     m.add_function(wrap_pyfunction!(mesh::load_obj, m)?)?;

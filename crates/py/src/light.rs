@@ -6,6 +6,21 @@ use shadelab_raster as core;
 use crate::convert;
 use crate::errors::to_py;
 
+/// Optional `diffuse` / `specular` colour arguments of a light.
+pub fn split_colors(
+    diffuse: Option<&Bound<'_, PyAny>>,
+    specular: Option<&Bound<'_, PyAny>>,
+) -> PyResult<(Option<glam::Vec3>, Option<glam::Vec3>)> {
+    Ok((
+        diffuse.map(|c| convert::vec3(c, "diffuse")).transpose()?,
+        specular.map(|c| convert::vec3(c, "specular")).transpose()?,
+    ))
+}
+
+fn tuple(v: Option<glam::Vec3>) -> Option<(f32, f32, f32)> {
+    v.map(Into::into)
+}
+
 /// A light at infinity; `direction` is where the light travels (a sun overhead: (0, -1, 0)).
 #[pyclass(name = "DirectionalLight", module = "shadelab_rs._core", frozen)]
 #[derive(Clone)]
@@ -16,18 +31,23 @@ pub struct PyDirectionalLight {
 #[pymethods]
 impl PyDirectionalLight {
     #[new]
-    #[pyo3(signature = (direction, color=None, intensity=1.0, ambient=None))]
+    #[pyo3(signature = (direction, color=None, intensity=1.0, ambient=None, diffuse=None,
+                        specular=None))]
     fn new(
         direction: &Bound<'_, PyAny>,
         color: Option<&Bound<'_, PyAny>>,
         intensity: f64,
         ambient: Option<&Bound<'_, PyAny>>,
+        diffuse: Option<&Bound<'_, PyAny>>,
+        specular: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
+        let (diffuse, specular) = split_colors(diffuse, specular)?;
         let color = color.map_or(Ok(glam::Vec3::ONE), |c| convert::vec3(c, "color"))?;
         let ambient = ambient.map_or(Ok(glam::Vec3::ZERO), |a| convert::vec3(a, "ambient"))?;
         let direction = convert::vec3(direction, "direction")?;
         let inner = core::DirectionalLight::new(direction, color, intensity as f32)
             .and_then(|l| l.with_ambient(ambient))
+            .and_then(|l| l.with_split_colors(diffuse, specular))
             .map_err(to_py)?;
         Ok(Self { inner })
     }
@@ -56,6 +76,18 @@ impl PyDirectionalLight {
         self.inner.intensity
     }
 
+    /// The light's own diffuse colour, or None when `color` sets it.
+    #[getter]
+    fn diffuse(&self) -> Option<(f32, f32, f32)> {
+        tuple(self.inner.split.diffuse)
+    }
+
+    /// The light's own specular colour, or None when `color` sets it.
+    #[getter]
+    fn specular(&self) -> Option<(f32, f32, f32)> {
+        tuple(self.inner.split.specular)
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "DirectionalLight(direction={:?}, color={:?}, intensity={})",
@@ -76,14 +108,18 @@ pub struct PyPointLight {
 #[pymethods]
 impl PyPointLight {
     #[new]
-    #[pyo3(signature = (position, color=None, intensity=1.0, attenuation=None, ambient=None))]
+    #[pyo3(signature = (position, color=None, intensity=1.0, attenuation=None, ambient=None,
+                        diffuse=None, specular=None))]
     fn new(
         position: &Bound<'_, PyAny>,
         color: Option<&Bound<'_, PyAny>>,
         intensity: f64,
         attenuation: Option<&Bound<'_, PyAny>>,
         ambient: Option<&Bound<'_, PyAny>>,
+        diffuse: Option<&Bound<'_, PyAny>>,
+        specular: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
+        let (diffuse, specular) = split_colors(diffuse, specular)?;
         let color = color.map_or(Ok(glam::Vec3::ONE), |c| convert::vec3(c, "color"))?;
         let ambient = ambient.map_or(Ok(glam::Vec3::ZERO), |a| convert::vec3(a, "ambient"))?;
         let k = attenuation.map_or(Ok(glam::Vec3::X), |a| convert::vec3(a, "attenuation"))?;
@@ -91,6 +127,7 @@ impl PyPointLight {
         let inner = core::PointLight::new(position, color, intensity as f32)
             .and_then(|l| l.with_ambient(ambient))
             .and_then(|l| l.with_attenuation(k.x, k.y, k.z))
+            .and_then(|l| l.with_split_colors(diffuse, specular))
             .map_err(to_py)?;
         Ok(Self { inner })
     }
@@ -126,6 +163,18 @@ impl PyPointLight {
         self.inner.intensity
     }
 
+    /// The light's own diffuse colour, or None when `color` sets it.
+    #[getter]
+    fn diffuse(&self) -> Option<(f32, f32, f32)> {
+        tuple(self.inner.split.diffuse)
+    }
+
+    /// The light's own specular colour, or None when `color` sets it.
+    #[getter]
+    fn specular(&self) -> Option<(f32, f32, f32)> {
+        tuple(self.inner.split.specular)
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "PointLight(position={:?}, color={:?}, intensity={})",
@@ -147,7 +196,7 @@ pub struct PySpotLight {
 impl PySpotLight {
     #[new]
     #[pyo3(signature = (position, direction, cutoff=30.0, exponent=0.0, color=None, intensity=1.0,
-                        attenuation=None, ambient=None, inner=None))]
+                        attenuation=None, ambient=None, inner=None, diffuse=None, specular=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         position: &Bound<'_, PyAny>,
@@ -159,8 +208,19 @@ impl PySpotLight {
         attenuation: Option<&Bound<'_, PyAny>>,
         ambient: Option<&Bound<'_, PyAny>>,
         inner: Option<f64>,
+        diffuse: Option<&Bound<'_, PyAny>>,
+        specular: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
-        let point = PyPointLight::new(position, color, intensity, attenuation, ambient)?.inner;
+        let point = PyPointLight::new(
+            position,
+            color,
+            intensity,
+            attenuation,
+            ambient,
+            diffuse,
+            specular,
+        )?
+        .inner;
         let direction = convert::vec3(direction, "direction")?;
         let spot = core::SpotLight::new(point, direction, cutoff as f32, exponent as f32)
             .and_then(|s| match inner {
@@ -211,6 +271,18 @@ impl PySpotLight {
     #[getter]
     fn intensity(&self) -> f32 {
         self.inner.point.intensity
+    }
+
+    /// The light's own diffuse colour, or None when `color` sets it.
+    #[getter]
+    fn diffuse(&self) -> Option<(f32, f32, f32)> {
+        tuple(self.inner.point.split.diffuse)
+    }
+
+    /// The light's own specular colour, or None when `color` sets it.
+    #[getter]
+    fn specular(&self) -> Option<(f32, f32, f32)> {
+        tuple(self.inner.point.split.specular)
     }
 
     /// Distance attenuation (kc, kl, kq).

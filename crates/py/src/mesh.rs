@@ -101,6 +101,22 @@ impl PyMesh {
         })
     }
 
+    /// A unit sphere from a regular icosahedron subdivided `subdivisions` times (0 to 10):
+    /// 20·4**subdivisions nearly equal triangles with exact normals.
+    #[staticmethod]
+    #[pyo3(signature = (subdivisions=3))]
+    fn ico_sphere(subdivisions: i64) -> PyResult<Self> {
+        let max = core::primitives::MAX_ICO_SUBDIVISIONS;
+        if !(0..=max as i64).contains(&subdivisions) {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "ico_sphere needs 0 <= subdivisions <= {max}, got {subdivisions}"
+            )));
+        }
+        Ok(PyMesh {
+            inner: Arc::new(core::primitives::ico_sphere(subdivisions as u32)),
+        })
+    }
+
     /// The cube [-1, 1]³: 24 vertices (4 per face) with exact face normals and UVs.
     #[staticmethod]
     fn cube() -> Self {

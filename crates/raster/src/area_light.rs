@@ -4,7 +4,7 @@
 use glam::Vec3;
 
 use crate::error::{RasterError, Result};
-use crate::light::{Light, PointLight, SpotLight};
+use crate::light::{Light, PointLight, SplitColors, SpotLight};
 
 /// Largest `samples` per side: 64² = 4096 point sources, already far past any useful
 /// accuracy for a local model, and a bound on per-pixel work.
@@ -51,6 +51,8 @@ pub struct AreaLight {
     pub ambient: Vec3,
     /// Distance attenuation `(kc, kl, kq)` applied to each point with its own distance.
     pub attenuation: [f32; 3],
+    /// Diffuse and specular colours when they differ; see [`SplitColors`].
+    pub split: SplitColors,
 }
 
 fn finite_vec(v: Vec3, what: &str) -> Result<Vec3> {
@@ -101,6 +103,7 @@ impl AreaLight {
             intensity: 1.0,
             ambient: Vec3::ZERO,
             attenuation: [1.0, 0.0, 0.0],
+            split: SplitColors::default(),
         })
     }
 
@@ -129,6 +132,14 @@ impl AreaLight {
         let p = PointLight::new(self.position, Vec3::ONE, 1.0)?.with_attenuation(kc, kl, kq)?;
         Ok(AreaLight {
             attenuation: p.attenuation,
+            ..self
+        })
+    }
+
+    /// The same light with its own diffuse and/or specular colour (see [`SplitColors`]).
+    pub fn with_split_colors(self, diffuse: Option<Vec3>, specular: Option<Vec3>) -> Result<Self> {
+        Ok(AreaLight {
+            split: SplitColors::new(diffuse, specular)?,
             ..self
         })
     }
@@ -230,6 +241,7 @@ impl AreaLight {
                     intensity: self.intensity * share,
                     ambient: self.ambient * share,
                     attenuation: self.attenuation,
+                    split: self.split,
                 };
                 if self.one_sided {
                     // cutoff 90°, exponent 1: max(−l·(−n), 0) = cos of the emission angle.

@@ -43,7 +43,9 @@ pub use area_light::{AreaLight, AreaShape, MAX_AREA_SAMPLES};
 pub use camera::{Camera, Projection};
 pub use error::{RasterError, Result};
 pub use fog::{Fog, FogMode};
-pub use light::{DirectionalLight, Light, PointLight, SpotLight, MIN_ATTENUATION_DENOMINATOR};
+pub use light::{
+    DirectionalLight, Light, PointLight, SplitColors, SpotLight, MIN_ATTENUATION_DENOMINATOR,
+};
 pub use material::{preset_names, Material, Preset, PRESETS};
 pub use mesh::{face_normal, generate_vertex_normals, Mesh};
 pub use obj::{load_obj, load_obj_parts, parse_obj_parts, ObjPart};

@@ -15,6 +15,44 @@ pub struct DirectionalLight {
     /// The light's own ambient colour `Ia_i` (OpenGL `GL_AMBIENT` of a light), black by
     /// default; not scaled by `intensity`.
     pub ambient: Vec3,
+    /// Diffuse and specular colours when they differ; see [`SplitColors`].
+    pub split: SplitColors,
+}
+
+/// A light's own diffuse and specular colours (OpenGL's `GL_DIFFUSE` / `GL_SPECULAR` of a
+/// light), each overriding `color` for its term when set; both are scaled by `intensity`.
+/// `color` is the shorthand that sets the two at once.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SplitColors {
+    /// Diffuse colour `Id` before `intensity`; `None` takes `color`.
+    pub diffuse: Option<Vec3>,
+    /// Specular colour `Is` before `intensity`; `None` takes `color`.
+    pub specular: Option<Vec3>,
+}
+
+impl SplitColors {
+    /// Checks both colours (finite, ≥ 0).
+    pub fn new(diffuse: Option<Vec3>, specular: Option<Vec3>) -> Result<Self> {
+        for (name, c) in [("diffuse", diffuse), ("specular", specular)] {
+            if let Some(c) = c {
+                if !c.is_finite() || c.min_element() < 0.0 {
+                    return Err(RasterError::invalid(format!(
+                        "light {name} colour must be finite and >= 0, got {:?}",
+                        c.to_array()
+                    )));
+                }
+            }
+        }
+        Ok(SplitColors { diffuse, specular })
+    }
+
+    /// `(Id, Is)`: the diffuse and specular light of `color` at `intensity`.
+    pub fn radiance(&self, color: Vec3, intensity: f32) -> (Vec3, Vec3) {
+        (
+            self.diffuse.unwrap_or(color) * intensity,
+            self.specular.unwrap_or(color) * intensity,
+        )
+    }
 }
 
 /// A light at a point, shining equally in all directions.
@@ -31,6 +69,8 @@ pub struct PointLight {
     /// Distance attenuation `(kc, kl, kq)`: the light is scaled by `1 / (kc + kl·d + kq·d²)`.
     /// `(1, 0, 0)` (the default) is no attenuation.
     pub attenuation: [f32; 3],
+    /// Diffuse and specular colours when they differ; see [`SplitColors`].
+    pub split: SplitColors,
 }
 
 /// Smallest attenuation denominator: a light exactly at the surface with `kc = 0` gives a
@@ -196,6 +236,7 @@ impl DirectionalLight {
             color,
             intensity,
             ambient: Vec3::ZERO,
+            split: SplitColors::default(),
         })
     }
 
@@ -203,6 +244,16 @@ impl DirectionalLight {
     pub fn with_ambient(mut self, ambient: Vec3) -> Result<Self> {
         check_ambient(ambient)?;
         self.ambient = ambient;
+        Ok(self)
+    }
+
+    /// The same light with its own diffuse and/or specular colour (see [`SplitColors`]).
+    pub fn with_split_colors(
+        mut self,
+        diffuse: Option<Vec3>,
+        specular: Option<Vec3>,
+    ) -> Result<Self> {
+        self.split = SplitColors::new(diffuse, specular)?;
         Ok(self)
     }
 
@@ -228,6 +279,7 @@ impl PointLight {
             intensity,
             ambient: Vec3::ZERO,
             attenuation: [1.0, 0.0, 0.0],
+            split: SplitColors::default(),
         })
     }
 
@@ -248,6 +300,16 @@ impl PointLight {
             )));
         }
         self.attenuation = k;
+        Ok(self)
+    }
+
+    /// The same light with its own diffuse and/or specular colour (see [`SplitColors`]).
+    pub fn with_split_colors(
+        mut self,
+        diffuse: Option<Vec3>,
+        specular: Option<Vec3>,
+    ) -> Result<Self> {
+        self.split = SplitColors::new(diffuse, specular)?;
         Ok(self)
     }
 
@@ -309,5 +371,12 @@ mod tests {
         assert_eq!(s.direction(), -Vec3::Z);
         assert!(s.with_inner(30.0).is_err());
         assert!(s.with_inner(20.0).is_ok());
+        assert!(p.with_split_colors(Some(-Vec3::ONE), None).is_err());
+        assert!(d.with_split_colors(None, Some(Vec3::NAN)).is_err());
+        let q = p.with_split_colors(Some(Vec3::X), None).unwrap();
+        assert_eq!(
+            q.split.radiance(Vec3::ONE, 2.0),
+            (2.0 * Vec3::X, Vec3::splat(2.0))
+        );
     }
 }

@@ -144,6 +144,9 @@ const fn p(
 /// "Advanced Graphics Programming Techniques Using OpenGL", SIGGRAPH 1998 course notes, which
 /// adds the polished metals). The source tables give shininess as a fraction of 128; here it
 /// is already multiplied (0.6 → 76.8).
+// Digits as published (e.g. 0.50980392 = 130/255), even past f32 precision, so the table
+// reads like its source.
+#[allow(clippy::excessive_precision)]
 pub const PRESETS: &[Preset] = &[
     p(
         "black plastic",

@@ -233,18 +233,27 @@ pub(crate) fn merge_parts(mut parts: Vec<ObjPart>) -> Result<Mesh> {
 fn material_from_mtl(path: &Path, m: &tobj::Material) -> Result<Material> {
     let d = Material::default();
     let v = |c: Option<[f32; 3]>, default: Vec3| c.map(Vec3::from_array).unwrap_or(default);
-    Material::new(
+    let (ka, kd, ks) = (
         v(m.ambient, d.ambient),
         v(m.diffuse, d.diffuse),
         v(m.specular, d.specular),
-        m.shininess.unwrap_or(d.shininess),
-    )
-    .and_then(|mat| mat.with_emission(v(m.emissive, Vec3::ZERO)))
-    .map_err(|e| RasterError::Parse {
-        path: path.to_path_buf(),
-        line: None,
-        message: format!("material '{}': {e}", m.name),
-    })
+    );
+    let ke = v(m.emissive, Vec3::ZERO);
+    // `illum`: 0 is a constant colour Kd (no lighting), 1 is ambient + diffuse without
+    // highlights, 2 and above (reflection, refraction, ... not modelled) the full model.
+    let (ka, kd, ks, ke) = match m.illumination_model {
+        Some(0) => (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, ke + kd),
+        Some(1) => (ka, kd, Vec3::ZERO, ke),
+        _ => (ka, kd, ks, ke),
+    };
+    // `d` (dissolve) is read but not modelled: every material is drawn opaque.
+    Material::new(ka, kd, ks, m.shininess.unwrap_or(d.shininess))
+        .and_then(|mat| mat.with_emission(ke))
+        .map_err(|e| RasterError::Parse {
+            path: path.to_path_buf(),
+            line: None,
+            message: format!("material '{}': {e}", m.name),
+        })
 }
 
 /// Checks every face (`f`) line before tobj parses the file, returning the first problem as

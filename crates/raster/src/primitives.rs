@@ -1,5 +1,6 @@
-//! Built-in meshes with exact normals: UV sphere, cube and plane.
+//! Built-in meshes with exact normals: UV sphere, ico sphere, cube and plane.
 
+use std::collections::HashMap;
 use std::f32::consts::PI;
 
 use glam::{Vec2, Vec3};
@@ -41,6 +42,77 @@ pub fn uv_sphere(rings: u32, segments: u32) -> Mesh {
     for j in 0..segments {
         idx.push([ring(rings - 1, j), south, ring(rings - 1, j + 1)]);
     }
+    let normals = p.iter().map(|v| v.normalize()).collect();
+    Mesh::new(p, idx, Some(normals), None).expect("a valid sphere")
+}
+
+/// Largest `subdivisions` of [`ico_sphere`]: 20·4¹⁰ ≈ 21 million triangles.
+pub const MAX_ICO_SUBDIVISIONS: u32 = 10;
+
+/// A unit sphere centred at the origin made by subdividing a regular icosahedron
+/// `subdivisions` times (each triangle into four, new vertices pushed onto the sphere):
+/// `20·4^s` triangles and `10·4^s + 2` vertices, all nearly the same size (unlike a UV
+/// sphere's, which crowd at the poles). Normals are exact (equal to the positions);
+/// `subdivisions` above [`MAX_ICO_SUBDIVISIONS`] is clamped to it.
+pub fn ico_sphere(subdivisions: u32) -> Mesh {
+    let t = (1.0 + 5f64.sqrt()) / 2.0;
+    // Positions in f64 until the end, so every vertex is on the sphere to f32 rounding.
+    let mut p: Vec<glam::DVec3> = [
+        (-1.0, t, 0.0),
+        (1.0, t, 0.0),
+        (-1.0, -t, 0.0),
+        (1.0, -t, 0.0),
+        (0.0, -1.0, t),
+        (0.0, 1.0, t),
+        (0.0, -1.0, -t),
+        (0.0, 1.0, -t),
+        (t, 0.0, -1.0),
+        (t, 0.0, 1.0),
+        (-t, 0.0, -1.0),
+        (-t, 0.0, 1.0),
+    ]
+    .map(|(x, y, z)| glam::DVec3::new(x, y, z).normalize())
+    .to_vec();
+    let mut idx: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..subdivisions.min(MAX_ICO_SUBDIVISIONS) {
+        // One new vertex per edge, shared by the two triangles on it (watertight).
+        let mut mid: HashMap<(u32, u32), u32> = HashMap::with_capacity(idx.len() * 3 / 2);
+        let mut midpoint = |a: u32, b: u32| {
+            *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                p.push((p[a as usize] + p[b as usize]).normalize());
+                p.len() as u32 - 1
+            })
+        };
+        idx = idx
+            .iter()
+            .flat_map(|&[a, b, c]| {
+                let (ab, bc, ca) = (midpoint(a, b), midpoint(b, c), midpoint(c, a));
+                [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
+            })
+            .collect();
+    }
+    let p: Vec<Vec3> = p.iter().map(|v| v.as_vec3()).collect();
     let normals = p.iter().map(|v| v.normalize()).collect();
     Mesh::new(p, idx, Some(normals), None).expect("a valid sphere")
 }
@@ -113,6 +185,26 @@ mod tests {
             let [a, b, cc] = t.map(|i| c.positions()[i as usize]);
             let n = face_normal(a, b, cc).as_vec3();
             assert_eq!(n, c.vertex_normals()[t[0] as usize]);
+        }
+        for s in 0..4 {
+            let ico = ico_sphere(s);
+            assert_eq!(ico.triangle_count(), 20 << (2 * s));
+            assert_eq!(ico.positions().len(), 10 * (1 << (2 * s)) + 2);
+            assert!(outward(&ico));
+            for (p, n) in ico.positions().iter().zip(ico.vertex_normals()) {
+                assert!((p.length() - 1.0).abs() < 1e-6 && (*n - *p).length() < 1e-6);
+            }
+            // Closed and watertight: every edge is shared by exactly two triangles, in
+            // opposite directions.
+            let mut edges = HashMap::new();
+            for t in ico.indices() {
+                for k in 0..3 {
+                    *edges.entry((t[k], t[(k + 1) % 3])).or_insert(0) += 1;
+                }
+            }
+            assert!(edges
+                .iter()
+                .all(|(&(a, b), &n)| n == 1 && edges.get(&(b, a)) == Some(&1)));
         }
         let p = plane();
         let [a, b, c] = p.indices()[0].map(|i| p.positions()[i as usize]);

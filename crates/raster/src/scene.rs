@@ -15,6 +15,7 @@ use crate::mesh::Mesh;
 pub struct Object {
     mesh: Arc<Mesh>,
     material: Material,
+    back_material: Option<Material>,
     transform: Mat4,
     normal_matrix: Mat3,
 }
@@ -47,6 +48,7 @@ impl Object {
         Ok(Object {
             mesh,
             material,
+            back_material: None,
             transform,
             normal_matrix,
         })
@@ -60,6 +62,30 @@ impl Object {
     /// The material.
     pub fn material(&self) -> &Material {
         &self.material
+    }
+
+    /// The same object with its own material for back faces (OpenGL's `GL_BACK` material),
+    /// used only with two-sided lighting, as in OpenGL; `None` lights both sides with
+    /// [`Object::material`].
+    pub fn with_back_material(self, back_material: Option<Material>) -> Self {
+        Object {
+            back_material,
+            ..self
+        }
+    }
+
+    /// The back-face material, if one was set.
+    pub fn back_material(&self) -> Option<&Material> {
+        self.back_material.as_ref()
+    }
+
+    /// The material that lights faces of side `back` (clockwise on screen) under the scene's
+    /// two-sided setting: the back material only when both are on.
+    pub fn material_for(&self, back: bool, two_sided: bool) -> &Material {
+        match (&self.back_material, back && two_sided) {
+            (Some(m), true) => m,
+            _ => &self.material,
+        }
     }
 
     /// The model matrix.
@@ -108,6 +134,34 @@ impl Scene {
     pub fn add(&mut self, mesh: Arc<Mesh>, material: Material, transform: Mat4) -> Result<()> {
         self.objects.push(Object::new(mesh, material, transform)?);
         Ok(())
+    }
+
+    /// Adds a placed object (e.g. one with a back material).
+    pub fn add_object(&mut self, object: Object) {
+        self.objects.push(object);
+    }
+
+    /// Adds every part of an OBJ file as its own object, all placed by `transform`: each
+    /// keeps its MTL material (one part per `o`/`g` group and per `usemtl` switch within
+    /// it), unless `material` overrides them all; parts without one get
+    /// [`Material::default`]. Returns how many objects were added.
+    pub fn add_obj_parts(
+        &mut self,
+        parts: Vec<crate::obj::ObjPart>,
+        material: Option<Material>,
+        back_material: Option<Material>,
+        transform: Mat4,
+    ) -> Result<usize> {
+        let n = parts.len();
+        let mut objects = Vec::with_capacity(n);
+        for part in parts {
+            let m = material.or(part.material).unwrap_or_default();
+            objects.push(
+                Object::new(Arc::new(part.mesh), m, transform)?.with_back_material(back_material),
+            );
+        }
+        self.objects.extend(objects);
+        Ok(n)
     }
 
     /// Adds a light.
@@ -178,5 +232,66 @@ impl Scene {
     /// Total triangle count over all objects.
     pub fn triangle_count(&self) -> usize {
         self.objects.iter().map(|o| o.mesh.triangle_count()).sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::primitives;
+
+    #[test]
+    fn back_material_is_used_only_for_back_faces_under_two_sided_lighting() {
+        let (gold, ruby) = (
+            Material::preset("gold").unwrap(),
+            Material::preset("ruby").unwrap(),
+        );
+        let mesh = Arc::new(primitives::plane());
+        let plain = Object::new(mesh.clone(), gold, Mat4::IDENTITY).unwrap();
+        assert_eq!(plain.back_material(), None);
+        for (back, two) in [(false, false), (true, false), (false, true), (true, true)] {
+            assert_eq!(plain.material_for(back, two), &gold);
+        }
+        let both = plain.with_back_material(Some(ruby));
+        assert_eq!(both.back_material(), Some(&ruby));
+        assert_eq!(both.material_for(true, true), &ruby);
+        assert_eq!(both.material_for(true, false), &gold);
+        assert_eq!(both.material_for(false, true), &gold);
+    }
+
+    #[test]
+    fn obj_parts_keep_their_materials_unless_overridden() {
+        let ruby = Material::preset("ruby").unwrap();
+        let parts = || {
+            vec![
+                crate::obj::ObjPart {
+                    name: "a".into(),
+                    mesh: primitives::plane(),
+                    material: Some(ruby),
+                },
+                crate::obj::ObjPart {
+                    name: "b".into(),
+                    mesh: primitives::cube(),
+                    material: None,
+                },
+            ]
+        };
+        let mut s = Scene::new(Vec3::ZERO).unwrap();
+        assert_eq!(
+            s.add_obj_parts(parts(), None, None, Mat4::IDENTITY)
+                .unwrap(),
+            2
+        );
+        assert_eq!(s.objects()[0].material(), &ruby);
+        assert_eq!(s.objects()[1].material(), &Material::default());
+        let gold = Material::preset("gold").unwrap();
+        let t = Mat4::from_translation(Vec3::X);
+        s.add_obj_parts(parts(), Some(gold), Some(ruby), t).unwrap();
+        assert!(s.objects()[2..].iter().all(|o| o.material() == &gold
+            && o.back_material() == Some(&ruby)
+            && o.transform() == t));
+        // A bad transform adds nothing.
+        assert!(s.add_obj_parts(parts(), None, None, Mat4::ZERO).is_err());
+        assert_eq!(s.objects().len(), 4);
     }
 }

@@ -134,15 +134,15 @@ impl PreparedMaterial {
         let mut prepare = |l: &Light| {
             let point = |p: &crate::light::PointLight| {
                 (
-                    p.color * p.intensity,
+                    p.split.radiance(p.color, p.intensity),
                     p.ambient,
                     p.is_attenuated().then_some(p.attenuation),
                 )
             };
-            let (geometry, (radiance, light_ambient, att)) = match l {
+            let (geometry, ((id, is), light_ambient, att)) = match l {
                 Light::Directional(d) => (
                     LightGeometry::Directional(-d.direction()),
-                    (d.color * d.intensity, d.ambient, None),
+                    (d.split.radiance(d.color, d.intensity), d.ambient, None),
                 ),
                 Light::Point(p) => (LightGeometry::Point(p.position), point(p)),
                 // OpenGL: a cutoff of 180 is no cone at all, whatever the exponent.
@@ -170,8 +170,8 @@ impl PreparedMaterial {
             }
             PreparedLight {
                 geometry,
-                diffuse: material.diffuse * radiance,
-                specular: material.specular * radiance * spec_scale,
+                diffuse: material.diffuse * id,
+                specular: material.specular * is * spec_scale,
                 ambient: if per_pixel { light_ambient } else { Vec3::ZERO },
                 attenuation: att,
             }

@@ -22,6 +22,7 @@ use rayon::prelude::*;
 
 use crate::camera::Camera;
 use crate::error::{RasterError, Result};
+use crate::material::Material;
 use crate::render::{RenderOptions, RenderStats};
 use crate::scene::Scene;
 use crate::shading::{normalize_lanes, PreparedMaterial, ShadingMode, LANES};
@@ -48,7 +49,7 @@ struct ChunkOut {
 
 struct PrimitiveContext<'a> {
     verts: &'a Vertices,
-    materials: &'a [PreparedMaterial],
+    materials: &'a [Sides],
     planes: ClipPlanes,
     eye: Vec3,
     options: &'a RenderOptions,
@@ -64,7 +65,7 @@ impl PrimitiveContext<'_> {
         let n = (b - a).cross(c - a).normalize_or_zero();
         let n = if flip { -n } else { n };
         let centroid = (a + b + c) / 3.0;
-        self.materials[object as usize].shade(n, centroid, self.eye)
+        self.materials[object as usize][flip as usize].shade(n, centroid, self.eye)
     }
 
     fn assemble(&self, object: u32, first_vertex: u32, indices: &[[u32; 3]]) -> ChunkOut {
@@ -163,44 +164,53 @@ impl PrimitiveContext<'_> {
     /// Flat colours of the unclipped triangles that survived setup, [`LANES`] at a time
     /// (clipped pieces already carry their original triangle's colour).
     fn light_flat(&self, object: u32, tris: &mut [SetupTri]) {
-        let material = &self.materials[object as usize];
         let world = &self.verts.world;
-        let todo: Vec<usize> = (0..tris.len()).filter(|&i| !tris[i].clipped).collect();
-        for group in todo.chunks(LANES) {
-            let mut raw = [[0.0; LANES]; 3];
-            let mut p = [[0.0; LANES]; 3];
-            for (k, &i) in group.iter().enumerate() {
-                let t = &tris[i];
-                let [a, b, c] = t.v.map(|v| world[v as usize]);
-                // Setup swapped two vertices of front faces; undo it for the true normal.
-                let n = if t.front {
-                    (c - a).cross(b - a)
-                } else {
-                    (b - a).cross(c - a)
-                };
-                // Two-sided lighting lights back faces with the flipped normal.
-                let n = if self.two_sided && !t.front { -n } else { n };
-                let centroid = (a + b + c) / 3.0;
-                for ax in 0..3 {
-                    raw[ax][k] = n[ax];
-                    p[ax][k] = centroid[ax];
+        // Two-sided lighting lights back faces with the flipped normal and their material.
+        let side = |t: &SetupTri| self.two_sided && !t.front;
+        for back in [false, true] {
+            let material = &self.materials[object as usize][back as usize];
+            let todo: Vec<usize> = (0..tris.len())
+                .filter(|&i| !tris[i].clipped && side(&tris[i]) == back)
+                .collect();
+            for group in todo.chunks(LANES) {
+                let mut raw = [[0.0; LANES]; 3];
+                let mut p = [[0.0; LANES]; 3];
+                for (k, &i) in group.iter().enumerate() {
+                    let t = &tris[i];
+                    let [a, b, c] = t.v.map(|v| world[v as usize]);
+                    // Setup swapped two vertices of front faces; undo it for the true normal.
+                    let n = if t.front {
+                        (c - a).cross(b - a)
+                    } else {
+                        (b - a).cross(c - a)
+                    };
+                    let n = if back { -n } else { n };
+                    let centroid = (a + b + c) / 3.0;
+                    for ax in 0..3 {
+                        raw[ax][k] = n[ax];
+                        p[ax][k] = centroid[ax];
+                    }
                 }
-            }
-            let mut n = [[0.0; LANES]; 3];
-            normalize_lanes(&mut n, |k| (raw[0][k], raw[1][k], raw[2][k]));
-            let c = material.shade_lanes(&n, &p, self.eye);
-            for (k, &i) in group.iter().enumerate() {
-                tris[i].flat = Vec3::new(c[0][k], c[1][k], c[2][k]);
+                let mut n = [[0.0; LANES]; 3];
+                normalize_lanes(&mut n, |k| (raw[0][k], raw[1][k], raw[2][k]));
+                let c = material.shade_lanes(&n, &p, self.eye);
+                for (k, &i) in group.iter().enumerate() {
+                    tris[i].flat = Vec3::new(c[0][k], c[1][k], c[2][k]);
+                }
             }
         }
     }
 }
 
+/// An object's prepared materials for its front faces (`[0]`) and the faces lit as back
+/// faces under two-sided lighting (`[1]`, the front one again without a back material).
+pub(crate) type Sides = [PreparedMaterial; 2];
+
 /// Geometry ready for the tile stage: transformed vertices and binned, set-up triangles.
 pub(crate) struct Prepared {
     pub verts: Vertices,
     pub tris: Binned,
-    pub materials: Vec<PreparedMaterial>,
+    pub materials: Vec<Sides>,
     pub eye: Vec3,
     pub stats: RenderStats,
     t_start: Instant,
@@ -239,21 +249,27 @@ pub(crate) fn prepare(scene: &Scene, camera: &Camera, options: &RenderOptions) -
     }
     let eye = camera.eye().as_vec3();
     let view_proj = camera.projection_matrix(w as f64 / h as f64) * camera.view_matrix();
-    let materials: Vec<PreparedMaterial> = scene
+    let prepare_material = |m: &Material| {
+        let pm = PreparedMaterial::new(m, scene.ambient(), scene.lights(), options.specular);
+        if scene.local_viewer() {
+            pm
+        } else {
+            pm.with_infinite_viewer((camera.eye() - camera.target()).as_vec3())
+        }
+    };
+    let two_sided = scene.two_sided();
+    let materials: Vec<Sides> = scene
         .objects()
         .iter()
         .map(|o| {
-            let pm = PreparedMaterial::new(
-                o.material(),
-                scene.ambient(),
-                scene.lights(),
-                options.specular,
-            );
-            if scene.local_viewer() {
-                pm
+            let front = prepare_material(o.material());
+            let back_material = o.material_for(true, two_sided);
+            let back = if back_material == o.material() {
+                front.clone()
             } else {
-                pm.with_infinite_viewer((camera.eye() - camera.target()).as_vec3())
-            }
+                prepare_material(back_material)
+            };
+            [front, back]
         })
         .collect();
     check_dynamic_range(scene, &materials)?;
@@ -335,9 +351,10 @@ pub const MAX_RADIANCE: f64 = 1e37;
 
 /// Refuses scenes whose lighting could overflow f32: an overflowed term is `inf`, and
 /// `inf · 0` (a zero fog factor, barycentric or spot factor) is NaN.
-fn check_dynamic_range(scene: &Scene, materials: &[PreparedMaterial]) -> Result<()> {
-    for (i, m) in materials.iter().enumerate() {
-        let bound = m.max_value();
+fn check_dynamic_range(scene: &Scene, materials: &[Sides]) -> Result<()> {
+    for (i, sides) in materials.iter().enumerate() {
+        // Front and back materials (the back one is the front one again without its own).
+        let bound = sides[0].max_value().max(sides[1].max_value());
         if bound > MAX_RADIANCE || bound.is_nan() {
             return Err(RasterError::invalid(format!(
                 "object {i}: its lighting can reach {bound:.3e}, beyond the {MAX_RADIANCE:e} \

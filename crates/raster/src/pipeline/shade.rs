@@ -11,6 +11,7 @@ use super::raster::{TileBuffers, NO_TRIANGLE};
 use super::setup::{Edges, SetupTri, HALF, ONE};
 use super::tiles::{TileRect, TILE};
 use super::vertex::Vertices;
+use super::Sides;
 use crate::camera::{Camera, EyeDistance};
 use crate::fog::Fog;
 use crate::shading::{normalize_lanes, Lanes, PreparedMaterial, ShadingMode, LANES};
@@ -46,7 +47,7 @@ impl Pixel for f32 {
 pub(crate) struct ShadeContext<'a> {
     pub tris: &'a Binned,
     pub verts: &'a Vertices,
-    pub materials: &'a [PreparedMaterial],
+    pub materials: &'a [Sides],
     pub camera: &'a Camera,
     pub eye: Vec3,
     pub background: Vec3,
@@ -158,7 +159,8 @@ impl<'a> Current<'a> {
             PHONG => {
                 let n = v.map(|k| ctx.verts.normal[k]);
                 let p = v.map(|k| ctx.verts.world[k]);
-                (n, p, Some(&ctx.materials[t.object as usize]))
+                let back = ctx.two_sided && !t.front;
+                (n, p, Some(&ctx.materials[t.object as usize][back as usize]))
             }
             _ => ([Vec3::ZERO; 3], [Vec3::ZERO; 3], None),
         };

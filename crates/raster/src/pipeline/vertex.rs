@@ -8,8 +8,9 @@ use rayon::prelude::*;
 
 use super::clip::ClipPlanes;
 use super::setup::{snap, Snapped};
+use super::Sides;
 use crate::scene::Scene;
-use crate::shading::{PreparedMaterial, ShadingMode, LANES};
+use crate::shading::{ShadingMode, LANES};
 
 /// Outcode bit of a vertex whose snapped coordinates are unusable (non-finite).
 pub(crate) const INVALID: u8 = 0x80;
@@ -26,7 +27,7 @@ pub(crate) struct Vertices {
     pub world: Vec<Vec3>,
     pub normal: Vec<Vec3>,
     pub color: Vec<Vec3>,
-    /// Gouraud with two-sided lighting: colours lit with the flipped normal.
+    /// Gouraud with two-sided lighting: colours lit with the flipped normal and the back material.
     pub color_back: Vec<Vec3>,
 }
 
@@ -71,7 +72,7 @@ pub(crate) fn transform(
     scene: &Scene,
     view_proj: DMat4,
     mode: ShadingMode,
-    materials: &[PreparedMaterial],
+    materials: &[Sides],
     eye: Vec3,
     planes: &ClipPlanes,
     size: (f64, f64),
@@ -87,7 +88,7 @@ pub(crate) fn transform(
     if need_world {
         out.world.reserve_exact(total);
     }
-    for (obj, pm) in scene.objects().iter().zip(materials) {
+    for (obj, [front, back]) in scene.objects().iter().zip(materials) {
         let mesh = obj.mesh();
         let pos = mesh.positions();
         let model = obj.transform();
@@ -141,8 +142,10 @@ pub(crate) fn transform(
                 let nm = obj.normal_matrix();
                 let normals = mesh.vertex_normals();
                 // Lit LANES vertices at a time (SIMD lane loops), in order; with two-sided
-                // lighting a second colour per vertex, lit with the flipped normal.
+                // lighting a second colour per vertex, lit with the flipped normal and the
+                // back material.
                 let light = |flip: f32| {
+                    let pm = if flip > 0.0 { front } else { back };
                     pos.par_chunks(LANES)
                         .zip(normals.par_chunks(LANES))
                         .with_min_len(CHUNK / LANES)

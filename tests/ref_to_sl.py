@@ -1,0 +1,23 @@
+"""Translation of the float64 reference's scene descriptions (tests/reference.py) into
+shadelab_rs objects, shared by the tests that compare the two."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import reference as ref
+import shadelab_rs as sl
+
+_CLASSES = {
+    ref.DirectionalLight: sl.DirectionalLight,
+    ref.PointLight: sl.PointLight,
+    ref.SpotLight: sl.SpotLight,
+    ref.AreaLight: sl.AreaLight,
+}
+
+
+def sl_light(light):
+    """The shadelab_rs light with every parameter of the reference ``light``: the two
+    sides' dataclass fields and keyword arguments have the same names."""
+    kwargs = {f.name: getattr(light, f.name) for f in dataclasses.fields(light)}
+    return _CLASSES[type(light)](**kwargs)
