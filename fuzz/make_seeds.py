@@ -51,6 +51,8 @@ def scene(
     lights=(),
     fog=None,
     threads=2,
+    back_materials=None,
+    split_colors=None,
 ) -> bytes:
     flags = shading + 3 * specular + 0x10 * cull + 0x20 * two_sided + 0x40 * infinite_viewer
     out = bytes([size[0] - 1, size[1] - 1, flags, int(ortho)])
@@ -94,7 +96,18 @@ def scene(
     else:
         mode, *args = fog
         out += bytes([1, mode]) + b"".join(f(a) for a in args[:-1]) + v3(args[-1])
-    return out + bytes([threads - 1])
+    out += bytes([threads - 1])
+    # Extension block: a back material per object, split colours per light (None: absent).
+    for m in back_materials or []:
+        out += bytes([m is not None])
+        if m is not None:
+            out += v3(m[0]) + v3(m[1]) + v3(m[2]) + f(m[3])
+    for split in split_colors or []:
+        out += bytes([split is not None])
+        if split is not None:
+            for c in split:
+                out += bytes([c is not None]) + (v3(c) if c is not None else b"")
+    return out
 
 
 TRI = {"v": [(-1, -1, 0), (1, -1, 0), (0, 1, 0)], "f": [(0, 1, 2)]}
@@ -180,6 +193,13 @@ PIPELINE = {
         objects=[{**TRI, "transform": [(2, 0, 0, 0.5), (0, 0.5, 0, 0), (0, 0, 1, -1)]}],
         lights=[SUN],
         infinite_viewer=True,
+    ),
+    "back-material-and-split-colors": scene(
+        two_sided=True,
+        objects=[{**TRI, "f": [(0, 1, 2), (2, 1, 0)]}],
+        lights=[SUN, ("point", (0, 0, 2), (1, 1, 1), 1, (1, 0, 0))],
+        back_materials=[((0.5, 0, 0), (0, 0.75, 0), (0, 0, 1), 8)],
+        split_colors=[((1, 0.5, 0), None), (None, (0, 0, 2))],
     ),
     "error-nan-vertex": scene(objects=[{**TRI, "v": [(-1, -1, 0), (1, "nan", 0), (0, 1, 0)]}]),
     "error-non-affine": scene(

@@ -14,12 +14,12 @@ use crate::area_light::{AreaLight, AreaShape};
 use crate::camera::{Camera, Projection};
 use crate::error::RasterError;
 use crate::fog::{Fog, FogMode};
-use crate::light::{DirectionalLight, PointLight, SpotLight};
+use crate::light::{DirectionalLight, Light, PointLight, SplitColors, SpotLight};
 use crate::material::Material;
 use crate::mesh::Mesh;
 use crate::obj::{merge_parts, parse_obj_parts};
 use crate::render::{coverage_counts, render, ColorBuffer, ColorFormat, RenderOptions};
-use crate::scene::Scene;
+use crate::scene::{Object, Scene};
 use crate::shading::{ShadingMode, SpecularModel};
 
 /// Separates the OBJ text from the MTL text in an `obj_loader` input.
@@ -248,6 +248,8 @@ fn decode(b: &mut Bytes) -> Option<Case> {
     };
     let camera = ok_or_message(camera)?;
     let mut scene = ok_or_message(Scene::new(b.color()))?;
+    let mut objects = Vec::new();
+    let mut lights: Vec<Light> = Vec::new();
     scene.set_two_sided(flags & 0x20 != 0);
     scene.set_local_viewer(flags & 0x40 == 0);
     for _ in 0..1 + b.u8() % 3 {
@@ -272,7 +274,11 @@ fn decode(b: &mut Bytes) -> Option<Case> {
         } else {
             Mat4::IDENTITY
         };
-        ok_or_message(scene.add(Arc::new(mesh), material, transform))?;
+        objects.push(ok_or_message(Object::new(
+            Arc::new(mesh),
+            material,
+            transform,
+        ))?);
     }
     for _ in 0..b.u8() % 4 {
         let light: crate::Result<crate::light::Light> = match b.u8() % 4 {
@@ -298,9 +304,7 @@ fn decode(b: &mut Bytes) -> Option<Case> {
             .map(|a| a.with_one_sided(b.flag()))
             .map(Into::into),
         };
-        if let Some(light) = ok_or_message(light) {
-            scene.add_light(light);
-        }
+        lights.extend(ok_or_message(light));
     }
     if b.flag() {
         let mode = match b.u8() % 3 {
@@ -314,6 +318,32 @@ fn decode(b: &mut Bytes) -> Option<Case> {
         scene.set_fog(ok_or_message(Fog::new(mode, b.color())));
     }
     options.threads = Some(1 + (b.u8() % 3) as usize);
+    // Extension block, read after everything above so that older inputs (which end
+    // earlier, and read zeros here) keep their meaning: back materials and per-light
+    // diffuse/specular colours.
+    for object in objects {
+        let back = if b.flag() {
+            ok_or_message(Material::new(b.color(), b.color(), b.color(), b.level()))
+        } else {
+            None
+        };
+        scene.add_object(object.with_back_material(back));
+    }
+    for mut light in lights {
+        if b.flag() {
+            let diffuse = b.flag().then(|| b.color());
+            let specular = b.flag().then(|| b.color());
+            if let Some(split) = ok_or_message(SplitColors::new(diffuse, specular)) {
+                match &mut light {
+                    Light::Directional(d) => d.split = split,
+                    Light::Point(p) => p.split = split,
+                    Light::Spot(s) => s.point.split = split,
+                    Light::Area(a) => a.split = split,
+                }
+            }
+        }
+        scene.add_light(light);
+    }
     Some(Case {
         scene,
         camera,
