@@ -7,7 +7,7 @@ PY := $(VENV)/bin/python
 DEPS := $(VENV)/.deps-stamp
 ENVS := VIRTUAL_ENV=$(abspath $(VENV)) PATH="$(abspath $(VENV))/bin:$$PATH"
 
-.PHONY: help demo test lint build bench docs-images wheel wheel-check clean fuzz
+.PHONY: help demo test lint build bench bench-peers docs-images wheel wheel-check clean fuzz
 
 help:  ## list targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
@@ -55,8 +55,18 @@ fuzz:  ## run each cargo-fuzz target for FUZZ_SECONDS seconds (default 60; needs
 		[ $$status -eq 0 ] || { tail -30 logs/$$t.log; echo "make fuzz: $$t failed; see fuzz/logs/$$t.log and fuzz/artifacts/$$t" >&2; exit 1; }; \
 	done
 
-bench: build  ## benchmarks -> docs/BENCHMARKS.md, docs/FEATURE_COSTS.md
+BENCH_DEPS := $(VENV)/.bench-stamp
+
+$(BENCH_DEPS): bench/peers/install.sh bench/requirements-bench.txt $(DEPS)
+	VENV=$(VENV) sh bench/peers/install.sh
+	touch $@
+
+bench-peers: $(BENCH_DEPS)  ## install the peers: Mesa llvmpipe (headless EGL, apt), moderngl, VTK, matplotlib
+
+bench: build $(BENCH_DEPS)  ## benchmarks, speed against error, llvmpipe, feature costs -> docs/BENCHMARKS.md, docs/FEATURE_COSTS.md (~25 min)
 	$(PY) bench/bench_render.py --write docs/BENCHMARKS.md
+	$(PY) bench/speed_error.py --write docs/BENCHMARKS.md
+	$(PY) bench/speed_error_vtk.py --write docs/BENCHMARKS.md
 	$(PY) bench/bench_features.py --write docs/FEATURE_COSTS.md $(if $(AGAINST),--against-commit $(AGAINST))
 
 docs-images: build  ## render the lighting guide's images -> docs/lighting/*.png

@@ -531,8 +531,13 @@ def markdown(
             out.append(f"| {name} | {mode} | {' | '.join(cells)} |")
     out += [
         "",
-        "No other renderer was run here; the comparison with Mesa's llvmpipe on the same "
-        "scenes is a later step.",
+        "This script runs shadelab_rs only; `make bench` then runs `bench/speed_error.py`,"
+        " whose section below compares it with Mesa's llvmpipe, alternating frame by frame.",
+        "",
+        "What each lighting feature (lights, attenuation, spot cones, area samples, fog, ...)"
+        " costs per pixel, and the baseline against the build before the lighting work:"
+        " [FEATURE_COSTS.md](FEATURE_COSTS.md) (`bench/bench_features.py`, also run by"
+        " `make bench`).",
         "",
     ]
     return "\n".join(out)

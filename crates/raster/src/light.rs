@@ -189,8 +189,11 @@ impl SpotLight {
         if cos_angle < cos_cutoff {
             return 0.0;
         }
+        // Exponents 0 and 1 exactly (no polynomial pow): 1 is every one-sided area light's.
         let base = if exponent == 0.0 {
             1.0
+        } else if exponent == 1.0 {
+            cos_angle.max(0.0)
         } else {
             crate::shading::pow01(cos_angle.max(0.0), exponent)
         };

@@ -69,12 +69,13 @@ impl ShadeContext<'_> {
         }
     }
 
-    /// `c` seen through the fog at pixel (x, y) with eye depth `depth` (unchanged without fog).
+    /// `c` seen through the fog at pixel (x, y) with eye depth `depth`. `FOG` is whether the
+    /// scene has fog, fixed per render so the foggless loops carry no fog code at all.
     #[inline(always)]
-    fn fogged(&self, c: Vec3, x: usize, y: usize, depth: f32) -> Vec3 {
+    fn fogged<const FOG: bool>(&self, c: Vec3, x: usize, y: usize, depth: f32) -> Vec3 {
         match &self.fog {
-            Some((fog, dist)) => fog.apply(c, dist.at(x, y, depth)),
-            None => c,
+            Some((fog, dist)) if FOG => fog.apply(c, dist.at(x, y, depth)),
+            _ => c,
         }
     }
 }
@@ -94,10 +95,18 @@ pub(crate) fn shade_tile<P: Pixel>(
     color: &mut [&mut [P]],
     depth: Option<&mut [&mut [f32]]>,
 ) {
-    match mode {
-        ShadingMode::Flat => shade_impl::<P, FLAT>(ctx, rect, buf, color, depth),
-        ShadingMode::Gouraud => shade_impl::<P, GOURAUD>(ctx, rect, buf, color, depth),
-        ShadingMode::Phong => shade_phong(ctx, rect, buf, color, depth),
+    // One monomorphised loop per (mode, fog): a scene without fog pays nothing for it.
+    match (mode, ctx.fog.is_some()) {
+        (ShadingMode::Flat, false) => shade_impl::<P, FLAT, false>(ctx, rect, buf, color, depth),
+        (ShadingMode::Flat, true) => shade_impl::<P, FLAT, true>(ctx, rect, buf, color, depth),
+        (ShadingMode::Gouraud, false) => {
+            shade_impl::<P, GOURAUD, false>(ctx, rect, buf, color, depth)
+        }
+        (ShadingMode::Gouraud, true) => {
+            shade_impl::<P, GOURAUD, true>(ctx, rect, buf, color, depth)
+        }
+        (ShadingMode::Phong, false) => shade_phong::<P, false>(ctx, rect, buf, color, depth),
+        (ShadingMode::Phong, true) => shade_phong::<P, true>(ctx, rect, buf, color, depth),
     }
 }
 
@@ -175,7 +184,7 @@ impl<'a> Current<'a> {
     }
 }
 
-fn shade_impl<P: Pixel, const MODE: u8>(
+fn shade_impl<P: Pixel, const MODE: u8, const FOG: bool>(
     ctx: &ShadeContext<'_>,
     rect: TileRect,
     buf: &TileBuffers,
@@ -183,7 +192,7 @@ fn shade_impl<P: Pixel, const MODE: u8>(
     mut depth: Option<&mut [&mut [f32]]>,
 ) {
     // Fog needs every pixel's eye depth, like the depth output.
-    let want_depth = depth.is_some() || ctx.fog.is_some();
+    let want_depth = depth.is_some() || FOG;
     let mut cur = Current::empty();
     // Stored samples of the background and of the last flat colour, converted once.
     let mut background = [P::default(); 3];
@@ -225,7 +234,7 @@ fn shade_impl<P: Pixel, const MODE: u8>(
                 d[j][i] = eye_depth;
             }
             let c = if MODE == FLAT {
-                if ctx.fog.is_none() {
+                if !FOG {
                     let entry = &mut flat_cache[id as usize % FLAT_CACHE];
                     if entry.0 != id {
                         entry.0 = id;
@@ -240,7 +249,10 @@ fn shade_impl<P: Pixel, const MODE: u8>(
                 let a = &cur.attr;
                 a[0] * (q0 * r) + a[1] * (q1 * r) + a[2] * (q2 * r)
             };
-            P::store(out, ctx.fogged(c, rect.x0 + i, rect.y0 + j, eye_depth));
+            P::store(
+                out,
+                ctx.fogged::<FOG>(c, rect.x0 + i, rect.y0 + j, eye_depth),
+            );
         }
     }
 }
@@ -259,7 +271,12 @@ struct PhongBatch<'a> {
 }
 
 impl<'a> PhongBatch<'a> {
-    fn flush<P: Pixel>(&mut self, ctx: &ShadeContext<'_>, rect: TileRect, color: &mut [&mut [P]]) {
+    fn flush<P: Pixel, const FOG: bool>(
+        &mut self,
+        ctx: &ShadeContext<'_>,
+        rect: TileRect,
+        color: &mut [&mut [P]],
+    ) {
         let eye = ctx.eye;
         if let Some(m) = self.material.filter(|_| self.len > 0) {
             let mut n = [[0.0; LANES]; 3];
@@ -268,7 +285,7 @@ impl<'a> PhongBatch<'a> {
             let c = m.shade_lanes(&n, &self.p, eye);
             for (k, &(j, i)) in self.at[..self.len].iter().enumerate() {
                 let lit = Vec3::new(c[0][k], c[1][k], c[2][k]);
-                let lit = ctx.fogged(lit, rect.x0 + i, rect.y0 + j, self.depth[k]);
+                let lit = ctx.fogged::<FOG>(lit, rect.x0 + i, rect.y0 + j, self.depth[k]);
                 P::store(&mut color[j][i * 3..i * 3 + 3], lit);
             }
         }
@@ -276,7 +293,7 @@ impl<'a> PhongBatch<'a> {
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn push<P: Pixel>(
+    fn push<P: Pixel, const FOG: bool>(
         &mut self,
         ctx: &ShadeContext<'_>,
         rect: TileRect,
@@ -288,7 +305,7 @@ impl<'a> PhongBatch<'a> {
         color: &mut [&mut [P]],
     ) {
         if self.len > 0 && !std::ptr::eq(m, self.material.unwrap_or(m)) {
-            self.flush(ctx, rect, color);
+            self.flush::<P, FOG>(ctx, rect, color);
         }
         self.material = Some(m);
         let k = self.len;
@@ -298,20 +315,20 @@ impl<'a> PhongBatch<'a> {
         self.depth[k] = depth;
         self.len += 1;
         if self.len == LANES {
-            self.flush(ctx, rect, color);
+            self.flush::<P, FOG>(ctx, rect, color);
         }
     }
 }
 
 /// Phong: interpolation per pixel, lighting [`LANES`] pixels at a time.
-fn shade_phong<P: Pixel>(
+fn shade_phong<P: Pixel, const FOG: bool>(
     ctx: &ShadeContext<'_>,
     rect: TileRect,
     buf: &TileBuffers,
     color: &mut [&mut [P]],
     mut depth: Option<&mut [&mut [f32]]>,
 ) {
-    let want_depth = depth.is_some() || ctx.fog.is_some();
+    let want_depth = depth.is_some() || FOG;
     let mut cur = Current::empty();
     let mut background = [P::default(); 3];
     P::store(&mut background, ctx.background);
@@ -360,10 +377,10 @@ fn shade_phong<P: Pixel>(
             let n = if ctx.two_sided && !t.front { -n } else { n };
             let p = cur.pos[0] * b0 + cur.pos[1] * b1 + cur.pos[2] * b2;
             let m = cur.material.expect("loaded for phong");
-            batch.push(ctx, rect, m, n, p, (j, i), eye_depth, color);
+            batch.push::<P, FOG>(ctx, rect, m, n, p, (j, i), eye_depth, color);
         }
     }
-    batch.flush(ctx, rect, color);
+    batch.flush::<P, FOG>(ctx, rect, color);
 }
 
 /// The world-space face normal in the triangle's original winding (zero if degenerate).
