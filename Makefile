@@ -7,7 +7,7 @@ PY := $(VENV)/bin/python
 DEPS := $(VENV)/.deps-stamp
 ENVS := VIRTUAL_ENV=$(abspath $(VENV)) PATH="$(abspath $(VENV))/bin:$$PATH"
 
-.PHONY: help demo test lint build bench bench-peers docs-images wheel wheel-check clean
+.PHONY: help demo test lint build bench bench-peers docs-images wheel wheel-check clean fuzz
 
 help:  ## list targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
@@ -35,6 +35,25 @@ test: lint build  ## lint, stub check, cargo test, pytest
 	$(PY) -m mypy python/shadelab_rs
 	cargo test
 	$(PY) -m pytest -q
+
+FUZZ_SECONDS ?= 60
+FUZZ_TARGETS := obj_loader pipeline
+
+# cargo-fuzz needs nightly; the crate in fuzz/ is its own workspace. New corpus entries go to
+# fuzz/corpus/<target> (not committed), crashes to fuzz/artifacts/<target>; the committed
+# seeds in fuzz/seeds/<target> are read too. No sanitizer: the renderer has no unsafe code.
+fuzz:  ## run each cargo-fuzz target for FUZZ_SECONDS seconds (default 60; needs nightly)
+	@rustc +nightly --version >/dev/null 2>&1 || { echo "make fuzz: no nightly Rust toolchain (cargo-fuzz needs one): rustup toolchain install nightly" >&2; exit 1; }
+	@cargo fuzz --version >/dev/null 2>&1 || cargo install cargo-fuzz --locked
+	cd fuzz && cargo +nightly fuzz build -s none -a
+	cd fuzz && for t in $(FUZZ_TARGETS); do \
+		mkdir -p corpus/$$t logs && \
+		cargo +nightly fuzz run -s none -a $$t corpus/$$t seeds/$$t -- \
+			-max_total_time=$(FUZZ_SECONDS) -max_len=4096 -timeout=10 -rss_limit_mb=4096 \
+			$$( [ -f $$t.dict ] && echo -dict=$$t.dict ) > logs/$$t.log 2>&1; \
+		status=$$?; grep -E '^#[0-9]+[[:space:]]+DONE|^Done' logs/$$t.log; \
+		[ $$status -eq 0 ] || { tail -30 logs/$$t.log; echo "make fuzz: $$t failed; see fuzz/logs/$$t.log and fuzz/artifacts/$$t" >&2; exit 1; }; \
+	done
 
 BENCH_DEPS := $(VENV)/.bench-stamp
 

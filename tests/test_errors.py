@@ -502,6 +502,14 @@ BAD_OBJS = {
     "bad_face.obj": (TRIANGLE_OBJ + "f 1 2 3\nf 1 x 3\n", r":5: malformed face"),
     "bad_normal_index.obj": (TRIANGLE_OBJ + "vn 0 0 1\nf 1//1 2//1 3//7\n", r":5: .*normal"),
     "nan_vertex.obj": ("v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n", r": .*vertex 1 .*non-finite"),
+    # Faces with missing indices (fewer than three) were silently dropped by the parser.
+    "two_index_face.obj": (
+        TRIANGLE_OBJ + "f 1 2 3\nf 1 2\n",
+        r":5: face with 2 vertex indices; a face needs at least 3",
+    ),
+    "one_index_face.obj": (TRIANGLE_OBJ + "f 3\nf 1 2 3\n", r":4: face with 1 vertex indices"),
+    "empty_face.obj": (TRIANGLE_OBJ + "f\n", r":4: face with 0 vertex indices"),
+    "truncated_face.obj": (TRIANGLE_OBJ + "f 1 2", r":4: face with 2 vertex indices"),
 }
 
 
@@ -512,6 +520,63 @@ def test_malformed_obj(tmp_path, name, load):
     path = _write(tmp_path, name, content)
     e = expect_error(sl.ObjParseError, re.escape(str(path)) + message, load, path)
     assert isinstance(e, ValueError)
+
+
+def _obj_triangles(mesh):
+    return mesh.vertices[mesh.faces].tolist()
+
+
+def test_obj_polygons_and_relative_indices_load_as_documented(tmp_path):
+    """A pentagon given with negative (relative) indices is fan-triangulated in order."""
+    pts = [[0, 0, 0], [2, 0, 0], [3, 1, 0], [1, 2, 0], [-1, 1, 0]]
+    text = "".join(f"v {x} {y} {z}\n" for x, y, z in pts) + "f -5 -4 -3 -2 -1\n"
+    mesh = sl.load_obj(_write(tmp_path, "penta.obj", text))
+    p = pts
+    assert _obj_triangles(mesh) == [[p[0], p[1], p[2]], [p[0], p[2], p[3]], [p[0], p[3], p[4]]]
+
+
+@pytest.mark.parametrize(
+    "mtl",
+    [
+        None,  # the MTL file named by mtllib does not exist
+        "newmtl red\nKd 0.5 0.25 0\nmap_Kd missing-texture.png\n",  # texture missing
+        "newmtl red\nKd 0.5 zero 0\n",  # malformed MTL
+    ],
+)
+def test_obj_with_missing_or_broken_mtl_loads_the_geometry(tmp_path, mtl):
+    """Documented recovery: a missing or malformed MTL leaves the part without material; a
+    texture the MTL names is ignored (the renderer has no textures), the material stays."""
+    if mtl is not None:
+        (tmp_path / "m.mtl").write_text(mtl)
+    text = "mtllib m.mtl\n" + TRIANGLE_OBJ + "usemtl red\nf 1 2 3\n"
+    [(_name, mesh, material)] = sl.load_obj_parts(_write(tmp_path, "x.obj", text))
+    assert mesh.n_faces == 1
+    if mtl is not None and "map_Kd" in mtl:
+        np.testing.assert_array_equal(material.diffuse, np.float32([0.5, 0.25, 0]))
+    else:
+        assert material is None
+
+
+def test_lighting_beyond_float32_range_is_an_error():
+    """Lighting whose sum could overflow float32 is refused (it used to give inf, and NaN
+    where the inf met a zero fog factor or barycentric)."""
+    s = sl.Scene(ambient=(0, 0, 0), fog=sl.Fog("exp", density=100.0))
+    s.add(sl.Mesh([[-1, -1, 0], [1, -1, 0], [0, 1, 0]], [[0, 1, 2]]))
+    for _ in range(2):
+        s.add_light(sl.DirectionalLight((0, 0, -1), intensity=3e38))
+    cam = sl.Camera.look_at((0, 0, 3), (0, 0, 0))
+    for shading in ("flat", "gouraud", "phong"):
+        expect_error(
+            ValueError,
+            r"object 0: its lighting can reach .*e38, beyond the 1e37",
+            sl.render,
+            s,
+            cam,
+            8,
+            8,
+            shading=shading,
+            dtype="float32",
+        )
 
 
 def test_garbage_non_obj_file(tmp_path):
@@ -694,3 +759,15 @@ def test_light_diffuse_and_specular_colours_are_validated(make):
     expect_error(ValueError, r"specular\[1\]", make, specular=(0, np.nan, 0))
     expect_error(ValueError, "diffuse must be 3", make, diffuse=(1, 1))
     expect_error(TypeError, "specular", make, specular="white")
+
+
+def test_a_forced_internal_panic_arrives_as_runtime_error():
+    """The guard every entry point runs behind turns a Rust panic into ``RuntimeError``
+    (never pyo3's ``PanicException``): forced here through a test hook that panics."""
+    from shadelab_rs import _core
+
+    expect_error(
+        RuntimeError,
+        r"internal error in _panic_for_tests \(please report it\): forced by the test suite",
+        _core._panic_for_tests,
+    )

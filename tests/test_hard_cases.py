@@ -211,3 +211,243 @@ def test_zero_given_normals_fall_back(mode):
     centre = img[16, 16]
     want = {"flat": 1.1, "gouraud": 0.1, "phong": 1.1}[mode]
     np.testing.assert_allclose(centre, want, rtol=1e-5)
+
+
+# --------------------------------------------------------------------------------------------
+# Slivers below 1e-4 degrees against the float64 reference
+# --------------------------------------------------------------------------------------------
+
+#: Sub-pixel units of the renderer's 16.8 fixed point.
+UNIT = 1.0 / 256.0
+
+
+def _pixel_camera(width, height):
+    """Orthographic camera mapping world (x, y) to screen (x, height - y), one unit per pixel,
+    for the reference and for shadelab_rs (exact in both for power-of-two sizes)."""
+    c = (width / 2, height / 2)
+    r = ref.Camera(
+        eye=(*c, 10.0), target=(*c, 0.0), up=(0, 1, 0), ortho_height=height, near=1.0, far=100.0
+    )
+    s = sl.Camera.orthographic(r.eye, r.target, up=r.up, height=height, near=1.0, far=100.0)
+    return r, s
+
+
+def _min_angle_deg(p):
+    angles = []
+    for k in range(3):
+        a, b, c = p[k], p[(k + 1) % 3], p[(k + 2) % 3]
+        u, w = b - a, c - a
+        angles.append(math.degrees(math.atan2(abs(u[0] * w[1] - u[1] * w[0]), u @ w)))
+    return min(angles)
+
+
+def _edge_values(screen_pts, width, height):
+    """Exact integer edge functions (in 1/256-px units, y down) of every pixel centre."""
+    q = [(round(x * 256), round(y * 256)) for x, y in screen_pts]
+    xs = np.arange(width, dtype=np.int64) * 256 + 128
+    ys = np.arange(height, dtype=np.int64) * 256 + 128
+    px, py = np.meshgrid(xs, ys)
+    out = []
+    for k in range(3):
+        (ax, ay), (bx, by) = q[k], q[(k + 1) % 3]
+        out.append((bx - ax) * (py - ay) - (by - ay) * (px - ax))
+    return out
+
+
+# Slivers in screen pixels (y down), every coordinate a multiple of 1/256 px; the far ends
+# differ by 1/256 px, so the apex angle is below 1e-4 degrees. Near-horizontal in a wide
+# image and near-vertical in a tall one (x and y are rasterized differently).
+SLIVERS = {
+    "flat-row": (4096, 32, [(8, 10.5 - 2 * UNIT), (4088, 10.5 + UNIT), (4088, 10.5 + 2 * UNIT)]),
+    "rising": (4096, 32, [(8, 4 + 56 * UNIT), (4088, 28 + 72 * UNIT), (4088, 28 + 73 * UNIT)]),
+    "steep": (32, 4096, [(10.5 - 2 * UNIT, 8), (10.5 + UNIT, 4088), (10.5 + 2 * UNIT, 4088)]),
+}
+
+
+@pytest.mark.parametrize("mode", MODES)
+@pytest.mark.parametrize("name", list(SLIVERS))
+@pytest.mark.parametrize("winding", ["ccw", "cw"])
+def test_slivers_below_1e_minus_4_degrees_match_the_float64_reference(name, mode, winding):
+    """Coverage equals the reference's pixel-centre test exactly (no centre lies on an edge,
+    checked with exact integers, so the fill rule plays no part), colours are within 1 LSB
+    (uint8) and 1e-5 (float32). Depth is within 2e-6 of the depth range (far - near = 99):
+    the depth plane is stepped in float32 from the tile's first pixel, and a sliver's plane is
+    so steep across the sliver that the large terms z0 + dz/dx·i + dz/dy·j cancel, leaving a
+    few float32 ulps of them (measured up to 8.4e-7 of the range)."""
+    width, height, pts = SLIVERS[name]
+    pts = np.array(pts, float)
+    assert _min_angle_deg(pts) < 1e-4
+    edges = _edge_values(pts, width, height)
+    on_edge = np.zeros((height, width), bool)
+    inside_closed = np.ones((height, width), bool)
+    sign = np.sign(edges[0] + edges[1] + edges[2]).max()  # orientation of the triangle
+    for e in edges:
+        inside_closed &= e * sign >= 0
+    for e in edges:
+        on_edge |= inside_closed & (e == 0)
+    assert not on_edge.any()
+    world = np.stack([pts[:, 0], height - pts[:, 1], [-1.0, -3.0, -3.5]], axis=1)
+    normals = np.array([[0, 0, 1], [0.6, 0, 0.8], [0, -0.6, 0.8]], float)
+    faces = [[0, 1, 2]] if winding == "ccw" else [[0, 2, 1]]
+    r_cam, s_cam = _pixel_camera(width, height)
+    mat = sl.Material(ambient=(0.1, 0.2, 0.3), diffuse=(0.8, 0.6, 0.4), specular=(0.5,) * 3)
+    light = (0.3, -0.5, -1.0)
+    s = sl.Scene(ambient=(0.2, 0.2, 0.2))
+    s.add(sl.Mesh(world, faces, normals=normals), material=mat)
+    s.add_light(sl.DirectionalLight(light))
+    img, depth = sl.render(
+        s, s_cam, width, height, shading=mode, dtype="float32", return_depth=True
+    )
+    img8 = sl.render(s, s_cam, width, height, shading=mode)
+    r = ref.render_reference(
+        world,
+        faces,
+        camera=r_cam,
+        width=width,
+        height=height,
+        material=ref.Material(mat.ambient, mat.diffuse, mat.specular, mat.shininess),
+        lights=[ref.DirectionalLight(light)],
+        normals=normals,
+        shading=mode,
+    )
+    covered = np.isfinite(depth)
+    assert np.array_equal(covered, r.mask)
+    assert np.array_equal(covered, inside_closed)
+    assert covered.sum() >= {"flat-row": 600, "rising": 5, "steep": 600}[name]
+    assert np.abs(img[covered] - r.color[covered]).max() <= 1e-5
+    assert np.abs(img8.astype(int) - ref.to_uint8(r.color)).max() <= 1
+    assert np.abs(depth[covered] - r.depth[covered]).max() <= 2e-6 * (100.0 - 1.0)
+
+
+# --------------------------------------------------------------------------------------------
+# Vertices with w = 0, w ≈ 0 and w < 0 against the clipped float64 reference
+# --------------------------------------------------------------------------------------------
+
+#: Pixels whose centre is nearer than this to a (clipped) edge may legitimately differ in
+#: coverage: vertices are snapped to 1/256 px (see test_reference_compare.py).
+EDGE_PX = 0.05
+
+W_TRIANGLES = {
+    # One vertex a hair in front of the eye plane (w = 1e-9, far inside the near plane).
+    "w-1e-9": [(-3.0, -1.0, -4.0), (3.0, -1.2, -4.0), (0.2, 0.5, -1e-9)],
+    # One vertex exactly in the eye plane (w = 0), off the eye.
+    "w-0": [(0.5, -0.3, 0.0), (-2.0, 0.8, -5.0), (2.0, 1.0, -5.0)],
+    # One vertex behind the camera (w < 0).
+    "w-negative": [(-2.0, 1.0, 1.5), (2.0, 1.5, -6.0), (-1.0, -0.5, -3.0)],
+    # Two vertices behind, one in front: only a small piece is visible.
+    "two-behind": [(-2.0, -1.0, 2.0), (2.0, -1.0, 3.0), (0.3, 0.2, -2.0)],
+}
+
+
+def _clipped_edges(tri, cam, width, height):
+    pts = ref._clip_polygon([tuple(p) for p in tri], cam.near, cam.far)
+    s = ref.project_to_screen(np.asarray(pts), cam, width, height)
+    return np.stack([s, np.roll(s, -1, axis=0)], axis=1)
+
+
+def _distance_to_segments(mask, segs):
+    rows, cols = np.nonzero(mask)
+    c = np.stack([cols + 0.5, rows + 0.5], axis=1)[:, None, :]
+    a, b = segs[None, :, 0], segs[None, :, 1]
+    ab, ap = b - a, c - a
+    t = np.clip(np.sum(ap * ab, -1) / np.sum(ab * ab, -1), 0.0, 1.0)
+    d = ap - t[..., None] * ab
+    return np.sqrt(np.sum(d * d, -1)).min(axis=1)
+
+
+@pytest.mark.parametrize("mode", MODES)
+@pytest.mark.parametrize("name", list(W_TRIANGLES))
+def test_vertices_at_w_zero_and_behind_match_the_clipped_reference(name, mode):
+    """The camera sits at the origin looking down -z (so w = -z): coverage differs from the
+    clipped float64 reference only within EDGE_PX of a clipped edge; elsewhere colours are
+    within 1 LSB and depth within the snapping bound; no NaN anywhere."""
+    tri = np.array(W_TRIANGLES[name], float)
+    width, height = 96, 64
+    r_cam = ref.Camera(eye=(0, 0, 0), target=(0, 0, -1), up=(0, 1, 0), fov_y=60.0, near=0.01)
+    s_cam = sl.Camera.look_at((0, 0, 0), (0, 0, -1), fov_y=60.0, near=0.01, far=100.0)
+    mat = sl.Material(ambient=(0.2, 0.1, 0.0), diffuse=(0.6, 0.8, 1.0), specular=(0.5,) * 3)
+    normals = np.array([[0, 0, 1], [0.6, 0, 0.8], [0, 0.6, 0.8]], float)
+    lights = [(-0.3, -0.5, -1.0)]
+    s = sl.Scene(ambient=(0.2, 0.2, 0.2))
+    s.add(sl.Mesh(tri, [[0, 1, 2]], normals=normals), material=mat)
+    s.add_light(sl.DirectionalLight(lights[0]))
+    img, depth = sl.render(
+        s, s_cam, width, height, shading=mode, dtype="float32", return_depth=True
+    )
+    img8 = sl.render(s, s_cam, width, height, shading=mode)
+    assert not np.isnan(img).any() and not np.isnan(depth).any()
+    r = ref.render_reference(
+        tri,
+        [[0, 1, 2]],
+        camera=r_cam,
+        width=width,
+        height=height,
+        material=ref.Material(mat.ambient, mat.diffuse, mat.specular, mat.shininess),
+        lights=[ref.DirectionalLight(lights[0])],
+        normals=normals,
+        shading=mode,
+    )
+    covered = np.isfinite(depth)
+    assert r.mask.sum() > 100
+    differ = covered != r.mask
+    if differ.any():
+        assert _distance_to_segments(differ, _clipped_edges(tri, r_cam, width, height)).max() < (
+            EDGE_PX
+        )
+    inner = covered & r.mask & (r.edge_dist > EDGE_PX)
+    assert np.abs(img8[inner].astype(int) - ref.to_uint8(r.color[inner])).max() <= 1
+    # Depth: snapping moves the sample by at most 1/512 px per axis, so the error is bounded
+    # by (|dd/dx| + |dd/dy|) / 512 plus float32 rounding. The camera frame is the world frame
+    # here, so on the plane n.p = k the ray t·(X, Y, -1) has t = k / n.(X, Y, -1), and
+    # dt/dx = t² |nx| dX/dx / |k| (likewise for y).
+    n = np.cross(tri[1] - tri[0], tri[2] - tri[0])
+    k = n @ tri[0]
+    tan = math.tan(math.radians(30.0))
+    dxdx, dydy = 2 * tan * (width / height) / width, 2 * tan / height
+    slope = r.depth**2 * (abs(n[0]) * dxdx + abs(n[1]) * dydy) / abs(k)
+    bound = slope / 512 + 1e-5 * r.depth
+    assert (np.abs(depth[inner] - r.depth[inner]) <= bound[inner]).all()
+
+
+# --------------------------------------------------------------------------------------------
+# Zero normals and cancelling normals coming from OBJ files
+# --------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_zero_normals_in_an_obj_file_fall_back(tmp_path, mode):
+    """``vn 0 0 0`` in a file gives the same image as zero normals given from Python (Phong:
+    face normal, Gouraud: ambient only), and no NaN."""
+    p = tmp_path / "zero.obj"
+    p.write_text("v -1 -1 0\nv 1 -1 0\nv 0 1 0\nvn 0 0 0\nf 1//1 2//1 3//1\n")
+    from_file = sl.load_obj(p)
+    np.testing.assert_array_equal(from_file.normals, np.zeros((3, 3)))
+    given = sl.Mesh(from_file.vertices, from_file.faces, normals=np.zeros((3, 3)))
+    images = []
+    for mesh in (from_file, given):
+        s = sl.Scene(ambient=(0.1, 0.1, 0.1))
+        s.add(mesh, material=sl.Material(ambient=(1, 1, 1), diffuse=(1, 1, 1), specular=(0, 0, 0)))
+        s.add_light(sl.DirectionalLight((0, 0, -1)))
+        cam = sl.Camera.look_at((0, 0, 3), (0, 0, 0))
+        images.append(sl.render(s, cam, 32, 32, shading=mode, dtype="float32"))
+    assert np.isfinite(images[0]).all()
+    assert np.array_equal(images[0], images[1])
+    want = {"flat": 1.1, "gouraud": 0.1, "phong": 1.1}[mode]
+    np.testing.assert_allclose(images[0][16, 16], want, rtol=1e-5)
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_two_sided_sheet_in_an_obj_file_has_defined_normals(tmp_path, mode):
+    """A sheet given twice, once per side, without normals: the generated normals cancel at
+    every vertex and fall back to the first face's (+z), so the lit side is the +z side and
+    both faces shade identically; no NaN."""
+    p = tmp_path / "sheet.obj"
+    # Every vertex is used by as many +z as -z triangles, so the unit normals cancel exactly.
+    p.write_text("v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\nf 3 2 1\nf 4 3 1\n")
+    mesh = sl.load_obj(p)
+    np.testing.assert_allclose(mesh.normals, [[0, 0, 1]] * len(mesh.normals), atol=0)
+    s = sl.Scene(ambient=(0, 0, 0))
+    s.add(mesh, material=sl.Material(ambient=(0, 0, 0), diffuse=(1, 1, 1), specular=(0, 0, 0)))
+    s.add_light(sl.DirectionalLight((0, 0, -1)))
+    front = sl.render(s, sl.Camera.look_at((0, 0, 3), (0, 0, 0)), 16, 16, shading=mode)
+    assert (front[4:12, 4:12] == 255).all()

@@ -107,7 +107,7 @@ def near_the_terminator(lights, p, n):
     kd=rgb,
     ks=rgb,
     ke=rgb,
-    shininess=st.one_of(st.floats(0.0, 128.0), st.sampled_from([0.0, 1.0, 1e3, 1e4])),
+    shininess=st.one_of(st.floats(0.0, 128.0, width=32), st.sampled_from([0.0, 1.0, 1e3, 1e4])),
     ambient=rgb,
     lights=st.lists(lights(), min_size=1, max_size=3),
     normal=st.tuples(st.floats(-0.7, 0.7), st.floats(-0.7, 0.7)),

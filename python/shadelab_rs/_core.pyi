@@ -691,3 +691,7 @@ def render_frame(
     ``triangles_culled``, ``triangles_dropped``), ``light_sources`` (point sources lit per
     shaded point; an area light counts its ``n_points``) and per-stage wall times in
     milliseconds (keys ending in ``_ms``)."""
+
+def _panic_for_tests() -> None:
+    """Test hook: panics inside Rust behind the guard every entry point uses, so the test
+    suite can check that a panic arrives as ``RuntimeError``, never ``PanicException``."""

@@ -5,7 +5,7 @@ use pyo3::exceptions::{
     PyFileNotFoundError, PyIsADirectoryError, PyMemoryError, PyOSError, PyRuntimeError,
     PyValueError,
 };
-use pyo3::PyErr;
+use pyo3::{pyfunction, PyErr, PyResult};
 use shadelab_raster::RasterError;
 
 create_exception!(
@@ -43,4 +43,11 @@ pub fn no_panic<T>(what: &str, f: impl FnOnce() -> T) -> Result<T, PyErr> {
             "internal error in {what} (please report it): {detail}"
         ))
     })
+}
+
+/// Test hook: panics inside Rust behind the same guard as every entry point, so the test
+/// suite can check that a panic arrives as `RuntimeError`, never as `PanicException`.
+#[pyfunction]
+pub fn _panic_for_tests() -> PyResult<()> {
+    no_panic("_panic_for_tests", || panic!("forced by the test suite"))
 }

@@ -35,5 +35,10 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(mesh::load_obj_parts, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(render::render_frame, m)?)?;
+    // A test hook: set as an attribute, so it stays out of `__all__`.
+    m.setattr(
+        "_panic_for_tests",
+        wrap_pyfunction!(errors::_panic_for_tests, m)?,
+    )?;
     Ok(())
 }

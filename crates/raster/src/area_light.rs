@@ -1,8 +1,6 @@
 //! Area lights: a rectangle or disk modelled, as in the classic local illumination model, by a
 //! collection of point sources.
 
-use std::cmp::Ordering;
-
 use glam::Vec3;
 
 use crate::error::{RasterError, Result};
@@ -76,10 +74,13 @@ impl AreaLight {
         let position = finite_vec(position, "position")?;
         let u = finite_vec(u, "u")?;
         let v = finite_vec(v, "v")?;
-        let n = u.cross(v);
+        // In f64: for f32 edges far from 1 (1e30, 1e-30) the f32 cross product and lengths
+        // overflow or underflow (fuzzing found an accepted light whose normal was zero).
+        let (ud, vd) = (u.as_dvec3(), v.as_dvec3());
+        let n = ud.cross(vd);
         // Relative test: parallel or zero edges leave no area to sample (or no normal).
-        // Written so that NaN lengths (overflowing edges) fail too.
-        if n.length().partial_cmp(&(1e-6 * u.length() * v.length())) != Some(Ordering::Greater) {
+        // (f64 holds every product of finite f32 values: no NaN here.)
+        if n.length() <= 1e-6 * ud.length() * vd.length() {
             return Err(RasterError::invalid(format!(
                 "area light edges u={:?} and v={:?} must be non-zero and not parallel",
                 u.to_array(),
@@ -165,7 +166,12 @@ impl AreaLight {
 
     /// Unit normal `u × v / |u × v|` (the emitting side of a one-sided light).
     pub fn normal(&self) -> Vec3 {
-        self.u.cross(self.v).normalize()
+        // f64: the f32 cross product of large or tiny edges overflows or underflows.
+        self.u
+            .as_dvec3()
+            .cross(self.v.as_dvec3())
+            .normalize()
+            .as_vec3()
     }
 
     /// Outline.
@@ -253,6 +259,26 @@ impl AreaLight {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Fuzzing found a one-sided light with huge edges whose f32 normal overflowed to zero
+    /// (`fuzz/seeds/pipeline/crash-area-light-normal-overflow`): `point_lights` then
+    /// panicked building its spot lights. Normals and the edge check are now in f64.
+    #[test]
+    fn huge_and_tiny_edges_have_a_unit_normal() {
+        for scale in [1e-30f32, 1e-20, 1e20, 1e30, 3e38] {
+            let light = AreaLight::new(
+                Vec3::ZERO,
+                Vec3::X * scale,
+                Vec3::Y * scale,
+                AreaShape::Rectangle,
+                2,
+            )
+            .unwrap()
+            .with_one_sided(true);
+            assert_eq!(light.normal(), Vec3::Z, "scale {scale}");
+            assert_eq!(light.point_lights().len(), 4);
+        }
+    }
 
     fn rect(samples: u32) -> AreaLight {
         AreaLight::new(

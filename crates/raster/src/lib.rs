@@ -26,6 +26,8 @@ mod area_light;
 mod camera;
 mod error;
 mod fog;
+#[doc(hidden)]
+pub mod fuzzing;
 mod light;
 mod material;
 mod mesh;
@@ -46,8 +48,9 @@ pub use light::{
 };
 pub use material::{preset_names, Material, Preset, PRESETS};
 pub use mesh::{face_normal, generate_vertex_normals, Mesh};
-pub use obj::{load_obj, load_obj_parts, ObjPart};
+pub use obj::{load_obj, load_obj_parts, parse_obj_parts, ObjPart};
 pub use pipeline::shade::Pixel;
+pub use pipeline::MAX_RADIANCE;
 pub use pool::{default_threads, MAX_THREADS};
 pub use render::{
     coverage_counts, render, render_into, ColorBuffer, ColorFormat, Frame, RenderOptions,

@@ -1,14 +1,17 @@
 //! Wavefront OBJ (+ MTL) loading through tobj.
 //!
 //! Polygons are triangulated (fan), positions/normals/UVs are re-indexed to one index per
-//! distinct corner, and `Ka`/`Kd`/`Ks`/`Ns`/`Ke` from the MTL file become [`Material`]s. Recovery
-//! rules: a missing or unreadable MTL file leaves the parts without material (geometry still
-//! loads); normals are used only when every face corner of a group has one, otherwise they
-//! are generated per OBJ position (shared across UV seams); points and lines are ignored. Parse errors name the file and, where a line can
-//! be found, the line.
+//! distinct corner, and `Ka`/`Kd`/`Ks`/`Ns`/`Ke` from the MTL file become [`Material`]s.
+//! Recovery rules: a missing, unreadable or malformed MTL file leaves the parts without
+//! material (geometry still loads), and texture maps an MTL names are ignored (the renderer
+//! has no textures); normals are used only when every face corner of a group has one,
+//! otherwise they are generated per OBJ position (shared across UV seams); points (`p`) and
+//! lines (`l`) are ignored. A face (`f`) with fewer than three vertex references is an
+//! error naming its line. Parse errors name the file and, where a line can be found, the
+//! line.
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use glam::{Vec2, Vec3};
 
@@ -27,20 +30,43 @@ pub struct ObjPart {
     pub material: Option<Material>,
 }
 
-/// Loads every part of an OBJ file.
+/// Loads every part of an OBJ file. A `mtllib` file is looked up next to the OBJ file.
 pub fn load_obj_parts(path: impl AsRef<Path>) -> Result<Vec<ObjPart>> {
     let path = path.as_ref();
-    let meta = std::fs::metadata(path).map_err(|e| match e.kind() {
+    let io_error = |e: std::io::Error| match e.kind() {
         std::io::ErrorKind::NotFound => RasterError::NotFound(path.to_path_buf()),
         _ => RasterError::Io {
             path: path.to_path_buf(),
             message: e.to_string(),
         },
-    })?;
+    };
+    let meta = std::fs::metadata(path).map_err(io_error)?;
     if meta.is_dir() {
         return Err(RasterError::Io {
             path: path.to_path_buf(),
             message: "is a directory".into(),
+        });
+    }
+    let bytes = std::fs::read(path).map_err(io_error)?;
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    parse_obj_parts(&bytes, path, |mtl| std::fs::read(dir.join(mtl)).ok())
+}
+
+/// Parses OBJ text held in memory into its parts, by the same rules as [`load_obj_parts`].
+///
+/// `path` only names the source in error messages. `read_mtl` is asked for the bytes of each
+/// `mtllib` file (by the name the OBJ text gives); `None` means the file is missing or
+/// unreadable, and the parts then load without material.
+pub fn parse_obj_parts(
+    bytes: &[u8],
+    path: &Path,
+    read_mtl: impl Fn(&Path) -> Option<Vec<u8>>,
+) -> Result<Vec<ObjPart>> {
+    if let Some((line, message)) = check_faces(bytes) {
+        return Err(RasterError::Parse {
+            path: path.to_path_buf(),
+            line: Some(line),
+            message,
         });
     }
     let options = tobj::LoadOptions {
@@ -51,7 +77,17 @@ pub fn load_obj_parts(path: impl AsRef<Path>) -> Result<Vec<ObjPart>> {
         ignore_points: true,
         ignore_lines: true,
     };
-    let (models, materials) = tobj::load_obj(path, &options).map_err(|e| convert_error(path, e))?;
+    let (models, materials) = tobj::load_obj_buf(
+        &mut std::io::Cursor::new(bytes),
+        &options,
+        |mtl| match read_mtl(mtl) {
+            // tobj 4.0.5 panics on a colour line with fewer than three numbers.
+            Some(text) if has_short_color(&text) => Err(tobj::LoadError::MaterialParseError),
+            Some(text) => tobj::load_mtl_buf(&mut std::io::Cursor::new(text)),
+            None => Err(tobj::LoadError::OpenFileFailed),
+        },
+    )
+    .map_err(|e| convert_error(path, bytes, e))?;
     let materials = materials.unwrap_or_default();
     let mut parts = Vec::new();
     for m in models {
@@ -169,7 +205,7 @@ pub fn load_obj(path: impl AsRef<Path>) -> Result<Mesh> {
     merge_parts(parts)
 }
 
-fn merge_parts(mut parts: Vec<ObjPart>) -> Result<Mesh> {
+pub(crate) fn merge_parts(mut parts: Vec<ObjPart>) -> Result<Mesh> {
     if parts.len() == 1 {
         return Ok(parts.pop().expect("one part").mesh);
     }
@@ -220,8 +256,90 @@ fn material_from_mtl(path: &Path, m: &tobj::Material) -> Result<Material> {
         })
 }
 
+/// Checks every face (`f`) line before tobj parses the file, returning the first problem as
+/// (1-based line, message): fewer than three vertex references (tobj would read the line as
+/// a point or a line element and drop it silently), a reference that does not parse, or an
+/// index outside the elements defined so far. tobj's own range checks multiply the index
+/// without overflow checks, so in release builds an index near ±2^63 could wrap onto a valid
+/// element (found by fuzzing); checking here makes every index error exact and names its
+/// line.
+fn check_faces(bytes: &[u8]) -> Option<(usize, String)> {
+    // Split as tobj does (`lines`, then Unicode `split_whitespace`); lossy decoding keeps the
+    // lines before any non-UTF-8 one intact (tobj parses those before failing).
+    let text = String::from_utf8_lossy(bytes);
+    let (mut nv, mut nvt, mut nvn) = (0i64, 0i64, 0i64);
+    for (i, line) in text.lines().enumerate() {
+        let mut fields = line.split_whitespace();
+        match fields.next() {
+            Some("v") => nv += 1,
+            Some("vt") => nvt += 1,
+            Some("vn") => nvn += 1,
+            Some("f") => {
+                let refs: Vec<&str> = fields.collect();
+                if refs.len() < 3 {
+                    let n = refs.len();
+                    return Some((
+                        i + 1,
+                        format!("face with {n} vertex indices; a face needs at least 3"),
+                    ));
+                }
+                for r in refs {
+                    if let Err(message) = face_ref(r, nv, nvt, nvn) {
+                        return Some((i + 1, message));
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    None
+}
+
+/// Checks one `v`, `v/vt`, `v//vn` or `v/vt/vn` reference against the element counts.
+fn face_ref(r: &str, nv: i64, nvt: i64, nvn: i64) -> std::result::Result<(), String> {
+    let parts: Vec<&str> = r.split('/').collect();
+    if parts.len() > 3 || parts[0].is_empty() {
+        return Err(format!(
+            "malformed face: '{r}' (expected v, v/vt, v//vn or v/vt/vn)"
+        ));
+    }
+    for (part, (n, what)) in parts
+        .iter()
+        .zip([(nv, "vertex"), (nvt, "texture"), (nvn, "normal")])
+    {
+        if part.is_empty() {
+            continue;
+        }
+        let Ok(k) = part.parse::<i64>() else {
+            return Err(format!(
+                "malformed face: '{r}' ('{part}' is not an integer)"
+            ));
+        };
+        if !((k > 0 && k <= n) || (k < 0 && k >= -n)) {
+            return Err(format!(
+                "face {what} index out of range: '{r}' refers to {k}, with {n} defined so far \
+                 (indices are 1-based; negative ones count back from the last)"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Whether an MTL text has a `Ka`/`Kd`/`Ks`/`Ke` line with fewer than three values: tobj's
+/// `parse_float3` unwraps a conversion that then fails (a panic, found by fuzzing), so such
+/// a file is treated as malformed before tobj sees it.
+fn has_short_color(text: &[u8]) -> bool {
+    // Split as tobj does (`lines`, then Unicode `split_whitespace`). tobj reads line by line
+    // and parses every line before the first one that is not UTF-8, so check those too
+    // (fuzzing found that case): lossy decoding keeps them intact.
+    String::from_utf8_lossy(text).lines().any(|line| {
+        let mut fields = line.split_whitespace();
+        matches!(fields.next(), Some("Ka" | "Kd" | "Ks" | "Ke")) && fields.count() < 3
+    })
+}
+
 /// Maps a tobj error to ours, finding the offending line where the error kind allows.
-fn convert_error(path: &Path, e: tobj::LoadError) -> RasterError {
+fn convert_error(path: &Path, text: &[u8], e: tobj::LoadError) -> RasterError {
     use tobj::LoadError as E;
     let p = path.to_path_buf();
     let (prefix, message): (Option<&str>, String) = match e {
@@ -242,7 +360,7 @@ fn convert_error(path: &Path, e: tobj::LoadError) -> RasterError {
         E::InvalidPolygon => (Some("f"), "face with fewer than 3 vertices".into()),
         other => (None, other.to_string()),
     };
-    let line = prefix.and_then(|kw| find_bad_line(&p, kw));
+    let line = prefix.and_then(|kw| find_bad_line(text, kw));
     RasterError::Parse {
         path: p,
         line,
@@ -252,9 +370,8 @@ fn convert_error(path: &Path, e: tobj::LoadError) -> RasterError {
 
 /// Best effort: the first line starting with `keyword` that does not parse, by our own
 /// light check of the same grammar (tobj does not report lines).
-fn find_bad_line(path: &PathBuf, keyword: &str) -> Option<usize> {
-    let text = std::fs::read(path).ok()?;
-    let text = String::from_utf8_lossy(&text);
+fn find_bad_line(text: &[u8], keyword: &str) -> Option<usize> {
+    let text = String::from_utf8_lossy(text);
     let (mut nv, mut nvt, mut nvn) = (0i64, 0i64, 0i64);
     for (i, line) in text.lines().enumerate() {
         let mut it = line.split_whitespace();
@@ -302,6 +419,7 @@ fn face_ref_ok(f: &str, nv: i64, nvt: i64, nvn: i64) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::path::PathBuf;
 
     fn write(name: &str, text: &str) -> PathBuf {
         let dir = std::env::temp_dir().join(format!("shadelab-obj-{}", std::process::id()));
@@ -335,6 +453,172 @@ mod tests {
         assert!(e.to_string().contains("no triangles"), "{e}");
         let e = load_obj("/definitely/not/here.obj").unwrap_err();
         assert!(matches!(e, RasterError::NotFound(_)));
+    }
+
+    #[test]
+    fn faces_with_fewer_than_three_indices_are_errors_naming_the_line() {
+        for (face, n) in [
+            ("f 1 2", 2),
+            ("f 3", 1),
+            ("f", 0),
+            ("f\t1/1 \t2/2\r", 2),
+            ("f\u{a0}1\u{2003}2", 2),
+        ] {
+            let text =
+                format!("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nf 1 2 3\n{face}\nf 1 2 3\n");
+            let e = load_obj(write("short.obj", &text)).unwrap_err();
+            assert!(matches!(e, RasterError::Parse { line: Some(7), .. }), "{e}");
+            let want =
+                format!("short.obj:7: face with {n} vertex indices; a face needs at least 3");
+            assert!(e.to_string().ends_with(&want), "{e}");
+        }
+        // `l` (line) and `p` (point) elements are not faces: they are ignored, as documented.
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\np 3\nf 1 2 3\n";
+        assert_eq!(
+            load_obj(write("lines.obj", text)).unwrap().triangle_count(),
+            1
+        );
+    }
+
+    /// Fuzzing found tobj overflowing `index * 2` on a relative texture index beyond the
+    /// file's start (`fuzz/seeds/obj_loader/crash-relative-uv-index-overflow`); in release
+    /// builds such products wrap, and an index near ±2^63 could alias a valid element. Every
+    /// face reference is now range-checked first, with its line.
+    #[test]
+    fn every_face_index_is_range_checked_with_its_line() {
+        let head = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvn 0 0 1\n";
+        for (face, want) in [
+            (
+                "f 1/1 2/-12 3/1",
+                "face texture index out of range: '2/-12' refers to -12, with 2",
+            ),
+            (
+                "f 1 2 -9223372036854775807",
+                "face vertex index out of range: '-9223372036854775807'",
+            ),
+            (
+                "f 1 2 6148914691236517206",
+                "face vertex index out of range: '6148914691236517206'",
+            ),
+            (
+                "f 1/0 2/1 3/1",
+                "face texture index out of range: '1/0' refers to 0",
+            ),
+            (
+                "f 1//2 2//1 3//1",
+                "face normal index out of range: '1//2' refers to 2, with 1",
+            ),
+            (
+                "f 1 2 4",
+                "face vertex index out of range: '4' refers to 4, with 3",
+            ),
+            ("f 1/1/1/1 2 3", "malformed face: '1/1/1/1'"),
+            ("f /1 2 3", "malformed face: '/1'"),
+            ("f 1 2 3x", "malformed face: '3x' ('3x' is not an integer)"),
+        ] {
+            let text = format!("{head}f 1 2 3\n{face}\n");
+            let e = load_obj(write("range.obj", &text)).unwrap_err();
+            let msg = e.to_string();
+            assert!(msg.contains(&format!("range.obj:8: {want}")), "{msg}");
+        }
+        // Indices count only the elements defined before the face.
+        let e = load_obj(write("later.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\nv 0 1 0\n"));
+        assert!(e
+            .unwrap_err()
+            .to_string()
+            .contains("later.obj:3: face vertex index"));
+    }
+
+    #[test]
+    fn polygons_are_fan_triangulated_with_relative_indices() {
+        // A pentagon given with negative (relative) indices, then a triangle mixing both.
+        let text = "v 0 0 0\nv 2 0 0\nv 3 1 0\nv 1 2 0\nv -1 1 0\nf -5 -4 -3 -2 -1\n\
+                    v 5 5 5\nf 1 -1 -3\n";
+        let m = load_obj(write("penta.obj", text)).unwrap();
+        let tris: Vec<[Vec3; 3]> = m
+            .indices()
+            .iter()
+            .map(|t| t.map(|i| m.positions()[i as usize]))
+            .collect();
+        let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+        let (p0, p1, p2, p3, p4) = (
+            v(0., 0., 0.),
+            v(2., 0., 0.),
+            v(3., 1., 0.),
+            v(1., 2., 0.),
+            v(-1., 1., 0.),
+        );
+        assert_eq!(
+            tris,
+            vec![
+                [p0, p1, p2],
+                [p0, p2, p3],
+                [p0, p3, p4],
+                [p0, v(5., 5., 5.), p3]
+            ]
+        );
+    }
+
+    #[test]
+    fn truncated_and_binary_files_are_errors() {
+        let e = load_obj(write("trunc.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2")).unwrap_err();
+        assert!(e.to_string().contains("trunc.obj:4: face with 2"), "{e}");
+        let e = load_obj(write("trunc2.obj", "v 0 0 0\nv 1 0 0\nv 0 1")).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("trunc2.obj:3: malformed vertex position"),
+            "{e}"
+        );
+        let garbage: Vec<u8> = (0..=255u8).cycle().take(2048).collect();
+        let e = parse_obj_parts(&garbage, Path::new("bin.obj"), |_| None).unwrap_err();
+        assert!(matches!(e, RasterError::Parse { .. }), "{e}");
+        assert!(e.to_string().starts_with("bin.obj"), "{e}");
+    }
+
+    /// Fuzzing found that tobj panics on an MTL colour line with fewer than three numbers
+    /// (`fuzz/seeds/obj_loader/crash-mtl-short-color`): such an MTL is malformed, so the
+    /// parts load without material, as for any malformed MTL.
+    #[test]
+    fn mtl_colour_with_fewer_than_three_values_is_malformed_not_a_panic() {
+        let obj = b"mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n";
+        for line in ["Ka 0.5", "Kd 1 2", "Ks", "Ke 0 0", "Kd\u{a0}1\u{2003}2"] {
+            let mtl = format!("newmtl m\n{line}\n").into_bytes();
+            let parts = parse_obj_parts(obj, Path::new("x.obj"), |_| Some(mtl.clone())).unwrap();
+            assert!(parts[0].material.is_none(), "{line}");
+        }
+        // Three values (or more: tobj reads the first three) are fine.
+        // A short colour line before a line that is not UTF-8 (tobj parses the lines before).
+        let mtl = b"newmtl m\nKa 0.1 0\nKd \xff\xff 1\n".to_vec();
+        let parts = parse_obj_parts(obj, Path::new("x.obj"), |_| Some(mtl.clone())).unwrap();
+        assert!(parts[0].material.is_none());
+        let mtl = b"newmtl m\nKd 0.5 0.25 1 9\n".to_vec();
+        let parts = parse_obj_parts(obj, Path::new("x.obj"), |_| Some(mtl.clone())).unwrap();
+        assert_eq!(
+            parts[0].material.unwrap().diffuse,
+            Vec3::new(0.5, 0.25, 1.0)
+        );
+    }
+
+    #[test]
+    fn mtl_naming_a_missing_texture_still_gives_its_material() {
+        write(
+            "tex.mtl",
+            "newmtl t\nKd 0.25 0.5 0.75\nmap_Kd does-not-exist.png\nmap_Ks nope.png\n",
+        );
+        let p = write(
+            "tex.obj",
+            "mtllib tex.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nusemtl t\nf 1/1 2/1 3/1\n",
+        );
+        let parts = load_obj_parts(&p).unwrap();
+        assert_eq!(
+            parts[0].material.unwrap().diffuse,
+            Vec3::new(0.25, 0.5, 0.75)
+        );
+        // A malformed MTL is treated like a missing one: geometry without material.
+        let mtl = b"newmtl x\nKd 1 nope 1\n".to_vec();
+        let obj = b"mtllib x.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl x\nf 1 2 3\n";
+        let parts = parse_obj_parts(obj, Path::new("x.obj"), |_| Some(mtl.clone())).unwrap();
+        assert!(parts[0].material.is_none());
     }
 
     #[test]

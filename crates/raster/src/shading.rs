@@ -195,6 +195,34 @@ impl PreparedMaterial {
         }
     }
 
+    /// An upper bound (in f64) on every channel [`PreparedMaterial::shade`] can return: the
+    /// constant terms plus, per light, its largest attenuation (`1 / max(kc, MIN_ATTENUATION_DENOMINATOR)`)
+    /// times its ambient, diffuse and specular colours (spot factors, `n·l` and the
+    /// specular power are at most 1). Infinite when folding the terms already overflowed
+    /// (or met a zero as `0·inf = NaN`).
+    pub(crate) fn max_value(&self) -> f64 {
+        // A folded term that overflowed is inf, or NaN where it met a zero (0·inf): both
+        // make the bound infinite (`max_element` would skip a NaN).
+        let max = |v: Vec3| {
+            if v.is_finite() {
+                v.max_element() as f64
+            } else {
+                f64::INFINITY
+            }
+        };
+        let lights: f64 = self
+            .lights
+            .iter()
+            .map(|l| {
+                let att = l.attenuation.map_or(1.0, |k| {
+                    1.0 / (k[0] as f64).max(MIN_ATTENUATION_DENOMINATOR as f64)
+                });
+                att * (max(l.ambient) + max(l.diffuse) + max(l.specular))
+            })
+            .sum();
+        max(self.base) + lights
+    }
+
     /// Uses an infinite viewer (OpenGL's `GL_LIGHT_MODEL_LOCAL_VIEWER` off): `v` is the
     /// constant unit vector `toward_eye` instead of the direction from each point to the eye.
     pub fn with_infinite_viewer(mut self, toward_eye: Vec3) -> Self {
@@ -305,7 +333,10 @@ pub(crate) fn pow01(x: f32, f: f32) -> f32 {
     // log2(m) = 2/ln 2 · atanh(t), |t| ≤ 0.1716: five odd terms reach f32 precision.
     let log2m =
         t * (2.885_39 + t2 * (0.961_796_7 + t2 * (0.577_078 + t2 * (0.412_198 + t2 * 0.320_6))));
-    let y = (f * (e + log2m)).max(-126.0);
+    // Clamped to ≤ 0 too: a dot product of unit vectors can exceed 1 by rounding, and with a
+    // huge exponent y then overflowed `i + 127` below (a NaN colour in release builds; found
+    // by fuzzing). x ≥ 1 gives 1.
+    let y = (f * (e + log2m)).clamp(-126.0, 0.0);
     // Round to nearest by truncating y − 0.5 (y ≤ ~0): no libm call on baseline x86-64.
     let i = (y - 0.5) as i32;
     let z = (y - i as f32) * std::f32::consts::LN_2; // |z| ≤ ln2 / 2
@@ -751,6 +782,17 @@ mod tests {
                     "lane {k}: {got} vs {want}"
                 );
             }
+        }
+    }
+
+    /// Fuzzing found `n·h` a rounding step above 1 with a huge exponent overflowing the
+    /// exponent arithmetic (`fuzz/seeds/pipeline/crash-pow-above-one`).
+    #[test]
+    fn pow01_of_a_base_just_above_one_is_one() {
+        let above = 1.0 + f32::EPSILON;
+        for f in [0.0, 1.0, 1e4, 1e30, f32::MAX] {
+            assert_eq!(pow01(above, f), 1.0, "f = {f}");
+            assert_eq!(pow01(1.0, f), 1.0, "f = {f}");
         }
     }
 

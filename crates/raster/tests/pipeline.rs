@@ -391,3 +391,98 @@ fn sizes_are_validated_before_allocation() {
     let mut buf = vec![0u8; 10];
     assert!(render_into(&scene, &cam, &RenderOptions::new(4, 4), &mut buf, None).is_err());
 }
+
+/// Lighting that could overflow f32 is refused before rendering: an overflowed term is inf,
+/// and inf meeting a zero (fog factor, barycentric, spot factor) was NaN. Below the limit,
+/// huge HDR values come through finite.
+#[test]
+fn lighting_beyond_float32_range_is_refused_not_nan() {
+    let tri = Mesh::new(
+        vec![
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ],
+        vec![[0, 1, 2]],
+        None,
+        None,
+    )
+    .unwrap();
+    let tri = Arc::new(tri);
+    let camera = Camera::look_at(
+        DVec3::new(0.0, 0.0, 3.0),
+        DVec3::ZERO,
+        DVec3::Y,
+        45.0,
+        0.1,
+        10.0,
+    )
+    .unwrap();
+    let mut options = RenderOptions::new(8, 8);
+    options.shading = ShadingMode::Gouraud;
+    let m = Material::new(Vec3::ZERO, Vec3::ONE, Vec3::ZERO, 1.0).unwrap();
+    let scene_with = |intensity: f32, n: usize| {
+        let mut s = Scene::new(Vec3::ZERO).unwrap();
+        s.add(tri.clone(), m, Mat4::IDENTITY).unwrap();
+        for _ in 0..n {
+            s.add_light(DirectionalLight::new(-Vec3::Z, Vec3::ONE, intensity).unwrap());
+        }
+        s.set_fog(Some(
+            Fog::new(FogMode::Exp { density: 100.0 }, Vec3::ONE).unwrap(),
+        ));
+        s
+    };
+    let e = render(
+        &scene_with(3e38, 2),
+        &camera,
+        &options,
+        ColorFormat::F32,
+        false,
+    )
+    .unwrap_err();
+    let msg = e.to_string();
+    assert!(
+        msg.contains("object 0: its lighting can reach 6.000e38"),
+        "{msg}"
+    );
+    // An attenuated point light with kc = 0 can reach 1e6 times its colour.
+    let mut s = Scene::new(Vec3::ZERO).unwrap();
+    s.add(tri.clone(), m, Mat4::IDENTITY).unwrap();
+    s.add_light(
+        PointLight::new(Vec3::Z, Vec3::ONE, 1e32)
+            .unwrap()
+            .with_attenuation(0.0, 0.0, 1.0)
+            .unwrap(),
+    );
+    assert!(render(&s, &camera, &options, ColorFormat::F32, false).is_err());
+    // Fuzzing found a light whose colour·intensity overflows with kd = 0: the folded diffuse
+    // term was 0·inf = NaN, which the bound skipped (`fuzz/seeds/pipeline/crash-nan-folded-light`).
+    let mut s = Scene::new(Vec3::ZERO).unwrap();
+    let dark = Material::new(Vec3::ONE, Vec3::ZERO, Vec3::ZERO, 1.0).unwrap();
+    s.add(tri.clone(), dark, Mat4::IDENTITY).unwrap();
+    s.add_light(DirectionalLight::new(-Vec3::Z, Vec3::splat(f32::MAX), 2.875).unwrap());
+    let e = render(&s, &camera, &options, ColorFormat::F32, false).unwrap_err();
+    assert!(e.to_string().contains("its lighting can reach inf"), "{e}");
+    // 1e30 is fine: finite in float32 (fog factor ~0 leaves the fog colour), 255 in uint8.
+    let f = render(
+        &scene_with(1e30, 2),
+        &camera,
+        &options,
+        ColorFormat::F32,
+        false,
+    )
+    .unwrap();
+    let ColorBuffer::F32(c) = f.color else {
+        unreachable!()
+    };
+    assert!(c.iter().all(|v| v.is_finite()));
+    options.shading = ShadingMode::Phong;
+    let mut s = scene_with(1e30, 1);
+    s.set_fog(None);
+    let f = render(&s, &camera, &options, ColorFormat::F32, false).unwrap();
+    let ColorBuffer::F32(c) = f.color else {
+        unreachable!()
+    };
+    let centre = (4 * 8 + 4) * 3;
+    assert_eq!(c[centre], 1e30);
+}

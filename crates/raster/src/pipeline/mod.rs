@@ -272,6 +272,7 @@ pub(crate) fn prepare(scene: &Scene, camera: &Camera, options: &RenderOptions) -
             [front, back]
         })
         .collect();
+    check_dynamic_range(scene, &materials)?;
     let planes = ClipPlanes::new(options.width, options.height);
     let mut verts = vertex::transform(
         scene,
@@ -341,6 +342,37 @@ pub(crate) fn prepare(scene: &Scene, camera: &Camera, options: &RenderOptions) -
         stats,
         t_start: t_setup,
     })
+}
+
+/// Largest colour value the lighting of a scene may reach. Far below `f32::MAX`
+/// (3.4·10³⁸), so Gouraud interpolation and fog, which never exceed their inputs by more
+/// than rounding, stay finite too.
+pub const MAX_RADIANCE: f64 = 1e37;
+
+/// Refuses scenes whose lighting could overflow f32: an overflowed term is `inf`, and
+/// `inf · 0` (a zero fog factor, barycentric or spot factor) is NaN.
+fn check_dynamic_range(scene: &Scene, materials: &[Sides]) -> Result<()> {
+    for (i, sides) in materials.iter().enumerate() {
+        // Front and back materials (the back one is the front one again without its own).
+        let bound = sides[0].max_value().max(sides[1].max_value());
+        if bound > MAX_RADIANCE || bound.is_nan() {
+            return Err(RasterError::invalid(format!(
+                "object {i}: its lighting can reach {bound:.3e}, beyond the {MAX_RADIANCE:e} \
+                 that float32 colours can safely hold; scale down light intensities or \
+                 material colours"
+            )));
+        }
+    }
+    if let Some(fog) = scene.fog() {
+        let c = fog.color().max_element() as f64;
+        if c > MAX_RADIANCE {
+            return Err(RasterError::invalid(format!(
+                "fog color {c:.3e} is beyond the {MAX_RADIANCE:e} that float32 colours can \
+                 safely hold"
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Runs the whole pipeline into caller-provided row-major buffers.
