@@ -165,11 +165,10 @@ impl<'a> Current<'a> {
         let snapped_area = t.area2 as f64 / (ONE * ONE) as f64;
         let mut plane = [[0.0; 3]; 3];
         if area.is_finite() && area > 0.5 * snapped_area && area < 2.0 * snapped_area {
-            for k in 0..3 {
-                let (i, j) = ((k + 1) % 3, (k + 2) % 3);
-                let ((ax, ay), (bx, by)) = (s[i], s[j]);
+            for (k, pk) in plane.iter_mut().enumerate() {
+                let ((ax, ay), (bx, by)) = (s[(k + 1) % 3], s[(k + 2) % 3]);
                 let q = t.inv_w[k] as f64 / area;
-                plane[k] = [
+                *pk = [
                     -(by - ay) * q,
                     (bx - ax) * q,
                     ((by - ay) * ax - (bx - ax) * ay) * q,
@@ -179,9 +178,9 @@ impl<'a> Current<'a> {
             // E_k(P) over fixed-point P = ONE·(x, y), divided by the snapped area.
             let e = t.edges();
             let one = ONE as f64;
-            for k in 0..3 {
+            for (k, pk) in plane.iter_mut().enumerate() {
                 let q = t.inv_w[k] as f64 / t.area2 as f64;
-                plane[k] = [
+                *pk = [
                     e.a[k] as f64 * one * q,
                     e.b[k] as f64 * one * q,
                     e.c[k] as f64 * q,
