@@ -786,10 +786,10 @@ def markdown(ctx: dict, rows: list[Row], impl: list[ImplRow], plots: dict[str, s
             " legitimately change which triangle covers pixels nearer than that); coverage"
             " differences count in the silhouette column. The project's requirement for ours:"
             " ≥ 99.9 % of those pixels within 1 level (also a test:"
-            " `tests/test_reference_compare.py`). Ours interpolates attributes from the snapped"
-            " (1/256 px) vertex positions, which shifts Gouraud colours and Phong normals by up to"
-            " (colour slope per pixel) / 512, as that test's docstring derives; llvmpipe's much"
-            " smaller linear error suggests it interpolates from the unsnapped positions.",
+            " `tests/test_reference_compare.py`). Both renderers rasterize the snapped vertices"
+            " but interpolate colours and normals over the unsnapped triangle (ours since"
+            " commit 2143ab8; before it, ours interpolated over the snapped triangle and"
+            " its largest linear error was about 40× llvmpipe's).",
             "",
             "| mesh | triangles | mode | renderer | within 1 level | exact | RMSE lv / lin |"
             " max lv / lin | silhouette |",
