@@ -159,15 +159,17 @@ impl<'a> Current<'a> {
         let (w, h) = ctx.size;
         let s = t.v.map(|k| {
             let c = ctx.verts.clip[k as usize].as_dvec4();
-            ((c.x / c.w + 1.0) * 0.5 * w, (1.0 - c.y / c.w) * 0.5 * h)
+            let iw = 1.0 / c.w;
+            ((c.x * iw + 1.0) * 0.5 * w, (1.0 - c.y * iw) * 0.5 * h)
         });
         let area = (s[1].0 - s[0].0) * (s[2].1 - s[0].1) - (s[1].1 - s[0].1) * (s[2].0 - s[0].0);
         let snapped_area = t.area2 as f64 / (ONE * ONE) as f64;
         let mut plane = [[0.0; 3]; 3];
         if area.is_finite() && area > 0.5 * snapped_area && area < 2.0 * snapped_area {
+            let inv_area = 1.0 / area;
             for (k, pk) in plane.iter_mut().enumerate() {
                 let ((ax, ay), (bx, by)) = (s[(k + 1) % 3], s[(k + 2) % 3]);
-                let q = t.inv_w[k] as f64 / area;
+                let q = t.inv_w[k] as f64 * inv_area;
                 *pk = [
                     -(by - ay) * q,
                     (bx - ax) * q,
@@ -190,7 +192,12 @@ impl<'a> Current<'a> {
         plane
     }
 
-    fn load<const MODE: u8>(ctx: &ShadeContext<'a>, id: u32, t: &SetupTri) -> Self {
+    fn load<const MODE: u8>(
+        ctx: &ShadeContext<'a>,
+        id: u32,
+        t: &SetupTri,
+        planes: &mut PlaneCache,
+    ) -> Self {
         let v = t.v.map(|k| k as usize);
         let (attr, pos, material) = match MODE {
             GOURAUD => {
@@ -211,11 +218,37 @@ impl<'a> Current<'a> {
         };
         Current {
             id,
-            plane: Self::planes(ctx, t),
+            plane: planes.get(ctx, id, t),
             attr,
             pos,
             material,
         }
+    }
+}
+
+/// Weight planes of recently seen triangles, direct-mapped by id: a triangle's rows alternate
+/// with its neighbours' within a tile, and each row segment reloads [`Current`], so without
+/// this the planes (a dozen f64 products and four divisions) were recomputed per segment.
+struct PlaneCache {
+    entries: [(u32, [[f64; 3]; 3]); PLANE_CACHE],
+}
+
+const PLANE_CACHE: usize = 64;
+
+impl PlaneCache {
+    fn new() -> Self {
+        PlaneCache {
+            entries: [(NO_TRIANGLE, [[0.0; 3]; 3]); PLANE_CACHE],
+        }
+    }
+
+    #[inline]
+    fn get(&mut self, ctx: &ShadeContext<'_>, id: u32, t: &SetupTri) -> [[f64; 3]; 3] {
+        let e = &mut self.entries[id as usize % PLANE_CACHE];
+        if e.0 != id {
+            *e = (id, Current::planes(ctx, t));
+        }
+        e.1
     }
 }
 
@@ -229,6 +262,7 @@ fn shade_impl<P: Pixel, const MODE: u8, const FOG: bool>(
     // Fog needs every pixel's eye depth, like the depth output.
     let want_depth = depth.is_some() || FOG;
     let mut cur = Current::empty();
+    let mut planes = PlaneCache::new();
     // Stored samples of the background and of the last flat colour, converted once.
     let mut background = [P::default(); 3];
     P::store(&mut background, ctx.background);
@@ -260,7 +294,7 @@ fn shade_impl<P: Pixel, const MODE: u8, const FOG: bool>(
             }
             let t = ctx.tris.get(id);
             if id != cur.id {
-                cur = Current::load::<MODE>(ctx, id, t);
+                cur = Current::load::<MODE>(ctx, id, t, &mut planes);
             }
             let [q0, q1, q2] = cur.weights((rect.x0 + i) as f64 + 0.5, y);
             let inv_w = q0 + q1 + q2;
@@ -365,6 +399,7 @@ fn shade_phong<P: Pixel, const FOG: bool>(
 ) {
     let want_depth = depth.is_some() || FOG;
     let mut cur = Current::empty();
+    let mut planes = PlaneCache::new();
     let mut background = [P::default(); 3];
     P::store(&mut background, ctx.background);
     let mut batch = PhongBatch {
@@ -389,7 +424,7 @@ fn shade_phong<P: Pixel, const FOG: bool>(
             }
             let t = ctx.tris.get(id);
             if id != cur.id {
-                cur = Current::load::<PHONG>(ctx, id, t);
+                cur = Current::load::<PHONG>(ctx, id, t, &mut planes);
             }
             let [q0, q1, q2] = cur.weights((rect.x0 + i) as f64 + 0.5, y);
             let inv_w = q0 + q1 + q2;
