@@ -26,7 +26,9 @@ impl Pixel for u8 {
     /// `round(clamp(c, 0, 1) · 255)`.
     #[inline]
     fn store(dst: &mut [u8], c: Vec3) {
-        let q = |v: f32| (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+        // `as u8` saturates (and sends NaN to 0), which is the clamp: for v in [0, 1] this
+        // is the same expression, v > 1 gives at least 255.5 → 255, v < 0 less than 0.5 → 0.
+        let q = |v: f32| (v * 255.0 + 0.5) as u8;
         dst[0] = q(c.x);
         dst[1] = q(c.y);
         dst[2] = q(c.z);
@@ -462,5 +464,44 @@ fn face_normal(t: &SetupTri, world: &[Vec3]) -> Vec3 {
         -n
     } else {
         n
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn u8_store_is_round_of_clamp_times_255() {
+        let reference = |v: f32| (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+        let mut values = vec![
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            -1e30,
+            -1.0,
+            -0.5 / 255.0,
+            -1e-9,
+            0.0,
+            -0.0,
+            1.0,
+            1.0 + f32::EPSILON,
+            1.5,
+            1e30,
+        ];
+        // Every rounding boundary (k + 0.5)/255 and its neighbours.
+        for k in 0..256 {
+            let b = (k as f32 + 0.5) / 255.0;
+            values.extend([
+                b,
+                f32::from_bits(b.to_bits() - 1),
+                f32::from_bits(b.to_bits() + 1),
+            ]);
+        }
+        for v in values {
+            let mut out = [0u8; 3];
+            u8::store(&mut out, Vec3::splat(v));
+            assert_eq!(out, [reference(v); 3], "{v}");
+        }
     }
 }
