@@ -45,6 +45,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from sphere_mesh import uv_sphere  # the same mesh for every build compared
 
 # shadelab_rs is imported lazily (see _sl) so that ``--worker`` runs under another venv's
 # build, and the build step does not need the current one.
@@ -67,31 +68,6 @@ def _sl() -> Any:
 
 
 # --------------------------------------------------------------------------- the scene
-
-
-def uv_sphere(n_lat: int, n_lon: int) -> tuple[np.ndarray, np.ndarray]:
-    """Unit UV sphere (float32 vertices, int32 counter-clockwise faces), built here rather
-    than with ``sl.Mesh.uv_sphere`` so that older builds (``--against-commit``) get the very
-    same mesh."""
-    theta = np.pi * np.arange(1, n_lat) / n_lat
-    phi = 2.0 * np.pi * np.arange(n_lon) / n_lon
-    st, ct = np.sin(theta)[:, None], np.cos(theta)[:, None]
-    ring = np.stack(
-        [st * np.sin(phi), np.broadcast_to(ct, (n_lat - 1, n_lon)), st * np.cos(phi)], axis=-1
-    ).reshape(-1, 3)
-    verts = np.concatenate([[[0.0, 1.0, 0.0]], ring, [[0.0, -1.0, 0.0]]])
-    south = len(verts) - 1
-    j = np.arange(n_lon)
-    j1 = (j + 1) % n_lon
-    north = np.stack([np.zeros(n_lon, dtype=np.int64), 1 + j, 1 + j1], axis=-1)
-    i = np.arange(n_lat - 2)[:, None]
-    a, b = 1 + i * n_lon + j, 1 + i * n_lon + j1
-    c, d = a + n_lon, b + n_lon
-    bands = np.stack([np.stack([a, c, d], -1), np.stack([a, d, b], -1)], axis=2).reshape(-1, 3)
-    last = 1 + (n_lat - 2) * n_lon
-    south_cap = np.stack([last + j, np.full(n_lon, south), last + j1], axis=-1)
-    faces = np.concatenate([north, bands, south_cap])
-    return verts.astype(np.float32), faces.astype(np.int32)
 
 
 def camera() -> Any:
