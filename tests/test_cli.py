@@ -21,7 +21,7 @@ def run(*args, cwd=None):
         capture_output=True,
         text=True,
         cwd=cwd,
-        timeout=60,
+        timeout=120,
         check=False,
     )
 

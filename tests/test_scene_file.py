@@ -5,7 +5,6 @@ from __future__ import annotations
 import copy
 import math
 import shutil
-import subprocess
 import sys
 from pathlib import Path
 
@@ -15,6 +14,7 @@ import shadelab_rs as sl
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from PIL import Image
+from test_cli import run  # one way to call the command line
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -802,17 +802,6 @@ def test_missing_and_malformed_mesh_files(tmp_path):
 
 # ---------------------------------------------------------------------------------------
 # The command line
-
-
-def run(*args, cwd=None):
-    return subprocess.run(
-        [sys.executable, "-m", "shadelab_rs", *map(str, args)],
-        capture_output=True,
-        text=True,
-        cwd=cwd,
-        timeout=120,
-        check=False,
-    )
 
 
 def read_png(path) -> np.ndarray:

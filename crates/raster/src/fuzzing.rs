@@ -227,24 +227,15 @@ fn decode(b: &mut Bytes) -> Option<Case> {
     ][(flags as usize / 3) % 3];
     options.cull_backfaces = flags & 0x10 != 0;
     options.background = Vec3::new(0.125, 0.25, 0.375);
-    let camera = if b.flag() {
-        Camera::orthographic(
-            b.dvec3(),
-            b.dvec3(),
-            b.dvec3(),
-            b.f32() as f64,
-            b.f32() as f64,
-            b.f32() as f64,
-        )
+    // Both kinds read the same fields in the same order (tuple fields evaluate left to
+    // right), so the seeds decode as before.
+    let ortho = b.flag();
+    let (eye, target, up) = (b.dvec3(), b.dvec3(), b.dvec3());
+    let (size, near, far) = (b.f32() as f64, b.f32() as f64, b.f32() as f64);
+    let camera = if ortho {
+        Camera::orthographic(eye, target, up, size, near, far)
     } else {
-        Camera::look_at(
-            b.dvec3(),
-            b.dvec3(),
-            b.dvec3(),
-            b.f32() as f64,
-            b.f32() as f64,
-            b.f32() as f64,
-        )
+        Camera::look_at(eye, target, up, size, near, far)
     };
     let camera = ok_or_message(camera)?;
     let mut scene = ok_or_message(Scene::new(b.color()))?;
