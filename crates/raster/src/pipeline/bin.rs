@@ -40,6 +40,11 @@ impl Binned {
         })
     }
 
+    /// Whether no triangle touches tile `t`.
+    pub fn tile_is_empty(&self, t: usize) -> bool {
+        self.chunks.iter().all(|c| c.bins.tile(t).is_empty())
+    }
+
     /// Number of set-up triangles.
     pub fn len(&self) -> usize {
         self.chunks.iter().map(|c| c.tris.len()).sum()

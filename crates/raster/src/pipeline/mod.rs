@@ -413,6 +413,11 @@ pub(crate) fn run<P: Pixel>(
         .zip(depth_rows.par_iter_mut())
         .enumerate()
         .for_each_init(TileBuffers::new, |buf, (i, ((rect, crows), drows))| {
+            if prep.tris.tile_is_empty(i) {
+                // Nothing to clear, rasterize or look up: common around a centred model.
+                shade::fill_background(&shade_ctx, *rect, crows, drows.as_deref_mut());
+                return;
+            }
             raster::rasterize_tile(&prep.tris, i, *rect, buf);
             shade::shade_tile(
                 &shade_ctx,
@@ -438,9 +443,11 @@ pub(crate) fn coverage_counts(
     let (w, h) = (options.width as usize, options.height as usize);
     let mut counts = vec![0u32; w * h];
     for (i, rect) in tiles::tile_rects(w, h).into_iter().enumerate() {
-        raster::for_each_covered(prep.tris.tile(i), rect, |slot, _, _| {
-            let (x, y) = (rect.x0 + slot % tiles::TILE, rect.y0 + slot / tiles::TILE);
-            counts[y * w + x] += 1;
+        raster::for_each_span(prep.tris.tile(i), rect, |s| {
+            for slot in s.start..s.start + s.len {
+                let (x, y) = (rect.x0 + slot % tiles::TILE, rect.y0 + slot / tiles::TILE);
+                counts[y * w + x] += 1;
+            }
         });
     }
     Ok(counts)

@@ -84,11 +84,51 @@ impl ShadeContext<'_> {
     }
 }
 
+/// The background colour stored once for a whole tile row.
+fn background_row<P: Pixel>(ctx: &ShadeContext<'_>) -> [P; TILE * 3] {
+    let mut px = [P::default(); 3];
+    P::store(&mut px, ctx.background);
+    let mut row = [P::default(); TILE * 3];
+    for dst in row.chunks_exact_mut(3) {
+        dst.copy_from_slice(&px);
+    }
+    row
+}
+
+/// Fills a tile that no triangle touches with the background (and infinite depth).
+pub(crate) fn fill_background<P: Pixel>(
+    ctx: &ShadeContext<'_>,
+    rect: TileRect,
+    color: &mut [&mut [P]],
+    depth: Option<&mut [&mut [f32]]>,
+) {
+    let bg = background_row::<P>(ctx);
+    for row in color.iter_mut() {
+        row.copy_from_slice(&bg[..rect.w * 3]);
+    }
+    for row in depth.into_iter().flatten() {
+        row.fill(f32::INFINITY);
+    }
+}
+
+/// Length of the run of `id` at the start of `ids` (at least 1 when `ids[0] == id`).
+#[inline(always)]
+fn run_length(ids: &[u32], id: u32) -> usize {
+    let mut n = 0;
+    // Four ids per compare while the run lasts (one SIMD compare), then one at a time.
+    while let Some(chunk) = ids.get(n..n + 4) {
+        if chunk != [id; 4] {
+            break;
+        }
+        n += 4;
+    }
+    n + ids[n..].iter().take_while(|&&v| v == id).count()
+}
+
 const FLAT: u8 = 0;
 /// Entries of the per-tile flat colour cache.
 const FLAT_CACHE: usize = 64;
 const GOURAUD: u8 = 1;
-const PHONG: u8 = 2;
 
 /// Shades one tile into its output rows (and depth rows when requested).
 pub(crate) fn shade_tile<P: Pixel>(
@@ -114,15 +154,61 @@ pub(crate) fn shade_tile<P: Pixel>(
     }
 }
 
-/// Per-triangle data gathered once while consecutive pixels share a triangle.
+/// The perspective weight planes of `t` in pixel units: λ_k / w_k at the pixel-space point
+/// (x, y) is `plane[k][0]·x + plane[k][1]·y + plane[k][2]` (f64, so no cancellation matters).
+///
+/// Coverage uses the snapped vertices, but attributes are interpolated over the unsnapped
+/// screen triangle (from the f32 clip coordinates, to ~1e-4 px instead of the snap's 1/512
+/// px), as GPUs do: snapping then moves no colour or normal. Where snapping changed the
+/// triangle's area by more than 2× (slivers), the unsnapped planes would extrapolate far
+/// outside the triangle at covered pixels, so the exact planes of the snapped triangle are
+/// used instead.
+fn weight_planes(ctx: &ShadeContext<'_>, t: &SetupTri) -> [[f64; 3]; 3] {
+    let (w, h) = ctx.size;
+    let s = t.v.map(|k| {
+        let c = ctx.verts.clip[k as usize].as_dvec4();
+        let iw = 1.0 / c.w;
+        ((c.x * iw + 1.0) * 0.5 * w, (1.0 - c.y * iw) * 0.5 * h)
+    });
+    let area = (s[1].0 - s[0].0) * (s[2].1 - s[0].1) - (s[1].1 - s[0].1) * (s[2].0 - s[0].0);
+    let snapped_area = t.area2 as f64 / (ONE * ONE) as f64;
+    let mut plane = [[0.0; 3]; 3];
+    if area.is_finite() && area > 0.5 * snapped_area && area < 2.0 * snapped_area {
+        let inv_area = 1.0 / area;
+        for (k, pk) in plane.iter_mut().enumerate() {
+            let ((ax, ay), (bx, by)) = (s[(k + 1) % 3], s[(k + 2) % 3]);
+            let q = t.inv_w[k] as f64 * inv_area;
+            *pk = [
+                -(by - ay) * q,
+                (bx - ax) * q,
+                ((by - ay) * ax - (bx - ax) * ay) * q,
+            ];
+        }
+    } else {
+        // E_k(P) over fixed-point P = ONE·(x, y), divided by the snapped area.
+        let e = t.edges();
+        let one = ONE as f64;
+        for (k, pk) in plane.iter_mut().enumerate() {
+            let q = t.inv_w[k] as f64 / t.area2 as f64;
+            *pk = [
+                e.a[k] as f64 * one * q,
+                e.b[k] as f64 * one * q,
+                e.c[k] as f64 * q,
+            ];
+        }
+    }
+    plane
+}
+
+/// A plane `p[0]·x + p[1]·y + p[2]` over pixel coordinates.
+type Plane = [f64; 3];
+
+/// Phong: per-triangle data gathered once while consecutive pixels share a triangle.
 struct Current<'a> {
     id: u32,
-    /// Perspective weight planes: λ_k / w_k at pixel-space point (x, y) is
-    /// `plane[k][0]·x + plane[k][1]·y + plane[k][2]` (f64, so no cancellation matters).
-    plane: [[f64; 3]; 3],
-    /// Gouraud: vertex colours. Phong: vertex normals.
-    attr: [Vec3; 3],
-    /// Phong: world positions.
+    /// Perspective weight planes ([`weight_planes`]).
+    plane: [Plane; 3],
+    normal: [Vec3; 3],
     pos: [Vec3; 3],
     material: Option<&'a PreparedMaterial>,
 }
@@ -132,7 +218,7 @@ impl<'a> Current<'a> {
         Current {
             id: NO_TRIANGLE,
             plane: [[0.0; 3]; 3],
-            attr: [Vec3::ZERO; 3],
+            normal: [Vec3::ZERO; 3],
             pos: [Vec3::ZERO; 3],
             material: None,
         }
@@ -151,109 +237,94 @@ impl<'a> Current<'a> {
         ]
     }
 
-    /// The weight planes of `t`. Coverage uses the snapped vertices, but attributes are
-    /// interpolated over the unsnapped screen triangle (from the f32 clip coordinates, to
-    /// ~1e-4 px instead of the snap's 1/512 px), as GPUs do: snapping then moves no colour
-    /// or normal. Where snapping changed the triangle's area by more than 2× (slivers), the
-    /// unsnapped planes would extrapolate far outside the triangle at covered pixels, so the
-    /// exact planes of the snapped triangle are used instead.
-    fn planes(ctx: &ShadeContext<'_>, t: &SetupTri) -> [[f64; 3]; 3] {
-        let (w, h) = ctx.size;
-        let s = t.v.map(|k| {
-            let c = ctx.verts.clip[k as usize].as_dvec4();
-            let iw = 1.0 / c.w;
-            ((c.x * iw + 1.0) * 0.5 * w, (1.0 - c.y * iw) * 0.5 * h)
-        });
-        let area = (s[1].0 - s[0].0) * (s[2].1 - s[0].1) - (s[1].1 - s[0].1) * (s[2].0 - s[0].0);
-        let snapped_area = t.area2 as f64 / (ONE * ONE) as f64;
-        let mut plane = [[0.0; 3]; 3];
-        if area.is_finite() && area > 0.5 * snapped_area && area < 2.0 * snapped_area {
-            let inv_area = 1.0 / area;
-            for (k, pk) in plane.iter_mut().enumerate() {
-                let ((ax, ay), (bx, by)) = (s[(k + 1) % 3], s[(k + 2) % 3]);
-                let q = t.inv_w[k] as f64 * inv_area;
-                *pk = [
-                    -(by - ay) * q,
-                    (bx - ax) * q,
-                    ((by - ay) * ax - (bx - ax) * ay) * q,
-                ];
-            }
-        } else {
-            // E_k(P) over fixed-point P = ONE·(x, y), divided by the snapped area.
-            let e = t.edges();
-            let one = ONE as f64;
-            for (k, pk) in plane.iter_mut().enumerate() {
-                let q = t.inv_w[k] as f64 / t.area2 as f64;
-                *pk = [
-                    e.a[k] as f64 * one * q,
-                    e.b[k] as f64 * one * q,
-                    e.c[k] as f64 * q,
-                ];
-            }
-        }
-        plane
-    }
-
-    fn load<const MODE: u8>(
+    fn load(
         ctx: &ShadeContext<'a>,
         id: u32,
         t: &SetupTri,
-        planes: &mut PlaneCache,
+        planes: &mut PlaneCache<[Plane; 3]>,
     ) -> Self {
         let v = t.v.map(|k| k as usize);
-        let (attr, pos, material) = match MODE {
-            GOURAUD => {
-                let colors = if ctx.two_sided && !t.front {
-                    &ctx.verts.color_back
-                } else {
-                    &ctx.verts.color
-                };
-                (v.map(|k| colors[k]), [Vec3::ZERO; 3], None)
-            }
-            PHONG => {
-                let n = v.map(|k| ctx.verts.normal[k]);
-                let p = v.map(|k| ctx.verts.world[k]);
-                let back = ctx.two_sided && !t.front;
-                (n, p, Some(&ctx.materials[t.object as usize][back as usize]))
-            }
-            _ => ([Vec3::ZERO; 3], [Vec3::ZERO; 3], None),
-        };
+        let back = ctx.two_sided && !t.front;
         Current {
             id,
-            plane: planes.get(ctx, id, t),
-            attr,
-            pos,
-            material,
+            plane: planes.get(id, || weight_planes(ctx, t)),
+            normal: v.map(|k| ctx.verts.normal[k]),
+            pos: v.map(|k| ctx.verts.world[k]),
+            material: Some(&ctx.materials[t.object as usize][back as usize]),
         }
     }
 }
 
-/// Weight planes of recently seen triangles, direct-mapped by id: a triangle's rows alternate
-/// with its neighbours' within a tile, and each row segment reloads [`Current`], so without
-/// this the planes (a dozen f64 products and four divisions) were recomputed per segment.
-struct PlaneCache {
-    entries: [(u32, [[f64; 3]; 3]); PLANE_CACHE],
-}
-
+/// Entries of the per-tile plane caches.
 const PLANE_CACHE: usize = 64;
 
-impl PlaneCache {
+/// Planes of recently seen triangles, direct-mapped by id: a triangle's rows alternate with
+/// its neighbours' within a tile and each row segment needs them again, so without this they
+/// (a dozen f64 products and four divisions) were recomputed per segment.
+struct PlaneCache<T> {
+    entries: [(u32, T); PLANE_CACHE],
+}
+
+impl<T: Copy + Default> PlaneCache<T> {
     fn new() -> Self {
         PlaneCache {
-            entries: [(NO_TRIANGLE, [[0.0; 3]; 3]); PLANE_CACHE],
+            entries: [(NO_TRIANGLE, T::default()); PLANE_CACHE],
         }
     }
 
     #[inline]
-    fn get(&mut self, ctx: &ShadeContext<'_>, id: u32, t: &SetupTri) -> [[f64; 3]; 3] {
+    fn get(&mut self, id: u32, make: impl FnOnce() -> T) -> T {
         let e = &mut self.entries[id as usize % PLANE_CACHE];
         if e.0 != id {
-            *e = (id, Current::planes(ctx, t));
+            *e = (id, make());
         }
         e.1
     }
 }
 
+/// What flat and Gouraud interpolate, as planes over pixel coordinates: `inv_w` is the
+/// interpolated 1/w (Σ λ_k/w_k), and Gouraud's `color[c]` is Σ λ_k/w_k · colour_k[c], so a
+/// pixel's colour is `color / inv_w`: four planes instead of three weights and nine products.
+#[derive(Clone, Copy, Default)]
+struct RunPlanes {
+    inv_w: Plane,
+    color: [Plane; 3],
+}
+
+impl RunPlanes {
+    fn new<const MODE: u8>(ctx: &ShadeContext<'_>, t: &SetupTri) -> Self {
+        let w = weight_planes(ctx, t);
+        let sum = |f: &dyn Fn(usize) -> f64| -> Plane {
+            [0, 1, 2].map(|c| w[0][c] * f(0) + w[1][c] * f(1) + w[2][c] * f(2))
+        };
+        let mut out = RunPlanes {
+            inv_w: sum(&|_| 1.0),
+            color: [[0.0; 3]; 3],
+        };
+        if MODE == GOURAUD {
+            let colors = if ctx.two_sided && !t.front {
+                &ctx.verts.color_back
+            } else {
+                &ctx.verts.color
+            };
+            let a = t.v.map(|k| colors[k as usize].as_dvec3());
+            for (ch, plane) in out.color.iter_mut().enumerate() {
+                *plane = sum(&|k| a[k][ch]);
+            }
+        }
+        out
+    }
+}
+
+/// Value at (x, y) and step per pixel in x of a plane.
+#[inline(always)]
+fn start_step(p: &Plane, x: f64, y: f64) -> (f64, f64) {
+    (p[0] * x + p[1] * y + p[2], p[0])
+}
+
+/// Flat and Gouraud, a run of equal triangle ids at a time: the run's planes are evaluated
+/// once at its first pixel and stepped along it (f64 throughout, so stepping adds nothing
+/// measurable: 64 steps at most).
 fn shade_impl<P: Pixel, const MODE: u8, const FOG: bool>(
     ctx: &ShadeContext<'_>,
     rect: TileRect,
@@ -263,67 +334,78 @@ fn shade_impl<P: Pixel, const MODE: u8, const FOG: bool>(
 ) {
     // Fog needs every pixel's eye depth, like the depth output.
     let want_depth = depth.is_some() || FOG;
-    let mut cur = Current::empty();
-    let mut planes = PlaneCache::new();
-    // Stored samples of the background and of the last flat colour, converted once.
-    let mut background = [P::default(); 3];
-    P::store(&mut background, ctx.background);
+    let mut planes = PlaneCache::<RunPlanes>::new();
+    let background = background_row::<P>(ctx);
     // Stored samples of recently seen flat colours, direct-mapped by id: the rows of a
     // triangle alternate with its neighbours', so a last-id cache would miss on every row.
     let mut flat_cache = [(NO_TRIANGLE, [P::default(); 3]); FLAT_CACHE];
     for j in 0..rect.h {
-        let row = &mut *color[j];
+        let row = &mut color[j][..rect.w * 3];
+        let ids = &buf.id[j * TILE..j * TILE + rect.w];
+        let zs = &buf.depth[j * TILE..j * TILE + rect.w];
+        let mut depth_row = depth.as_deref_mut().map(|d| &mut d[j][..rect.w]);
         let y = (rect.y0 + j) as f64 + 0.5;
-        for i in 0..rect.w {
-            let slot = j * TILE + i;
-            let id = buf.id[slot];
-            let out = &mut row[i * 3..i * 3 + 3];
+        let mut i = 0;
+        while i < rect.w {
+            let id = ids[i];
+            let end = i + run_length(&ids[i..], id);
+            let out = &mut row[i * 3..end * 3];
             if id == NO_TRIANGLE {
-                out.copy_from_slice(&background);
-                if let Some(d) = depth.as_deref_mut() {
-                    d[j][i] = f32::INFINITY;
+                out.copy_from_slice(&background[..out.len()]);
+                if let Some(d) = depth_row.as_deref_mut() {
+                    d[i..end].fill(f32::INFINITY);
                 }
-                continue;
-            }
-            if MODE == FLAT && !want_depth {
+            } else if MODE == FLAT && !want_depth {
                 let entry = &mut flat_cache[id as usize % FLAT_CACHE];
                 if entry.0 != id {
                     entry.0 = id;
                     P::store(&mut entry.1, ctx.tris.get(id).flat);
                 }
-                out.copy_from_slice(&entry.1);
-                continue;
-            }
-            let t = ctx.tris.get(id);
-            if id != cur.id {
-                cur = Current::load::<MODE>(ctx, id, t, &mut planes);
-            }
-            let [q0, q1, q2] = cur.weights((rect.x0 + i) as f64 + 0.5, y);
-            let inv_w = q0 + q1 + q2;
-            let eye_depth = ctx.eye_depth(want_depth, buf.depth[slot], inv_w);
-            if let Some(d) = depth.as_deref_mut() {
-                d[j][i] = eye_depth;
-            }
-            let c = if MODE == FLAT {
-                if !FOG {
-                    let entry = &mut flat_cache[id as usize % FLAT_CACHE];
-                    if entry.0 != id {
-                        entry.0 = id;
-                        P::store(&mut entry.1, t.flat);
-                    }
-                    out.copy_from_slice(&entry.1);
-                    continue;
+                for px in out.chunks_exact_mut(3) {
+                    px.copy_from_slice(&entry.1);
                 }
-                t.flat
             } else {
-                let r = 1.0 / inv_w;
-                let a = &cur.attr;
-                a[0] * (q0 * r) + a[1] * (q1 * r) + a[2] * (q2 * r)
-            };
-            P::store(
-                out,
-                ctx.fogged::<FOG>(c, rect.x0 + i, rect.y0 + j, eye_depth),
-            );
+                let t = ctx.tris.get(id);
+                let pl = planes.get(id, || RunPlanes::new::<MODE>(ctx, t));
+                let x = (rect.x0 + i) as f64 + 0.5;
+                let (w0, dw) = start_step(&pl.inv_w, x, y);
+                let [(r0, dr), (g0, dg), (b0, db)] = pl.color.map(|p| start_step(&p, x, y));
+                if MODE == GOURAUD && !want_depth {
+                    // The common case, kept free of depth and fog.
+                    for (k, px) in out.chunks_exact_mut(3).enumerate() {
+                        let k = k as f64;
+                        let r = 1.0 / (w0 + dw * k);
+                        let c = Vec3::new(
+                            ((r0 + dr * k) * r) as f32,
+                            ((g0 + dg * k) * r) as f32,
+                            ((b0 + db * k) * r) as f32,
+                        );
+                        P::store(px, c);
+                    }
+                } else {
+                    for (k, px) in out.chunks_exact_mut(3).enumerate() {
+                        let kf = k as f64;
+                        let inv_w = w0 + dw * kf;
+                        let eye_depth = ctx.camera.eye_depth(zs[i + k], inv_w as f32);
+                        if let Some(d) = depth_row.as_deref_mut() {
+                            d[i + k] = eye_depth;
+                        }
+                        let c = if MODE == FLAT {
+                            t.flat
+                        } else {
+                            let r = 1.0 / inv_w;
+                            Vec3::new(
+                                ((r0 + dr * kf) * r) as f32,
+                                ((g0 + dg * kf) * r) as f32,
+                                ((b0 + db * kf) * r) as f32,
+                            )
+                        };
+                        let (px_x, px_y) = (rect.x0 + i + k, rect.y0 + j);
+                        P::store(px, ctx.fogged::<FOG>(c, px_x, px_y, eye_depth));
+                    }
+                }
+            }
+            i = end;
         }
     }
 }
@@ -426,7 +508,7 @@ fn shade_phong<P: Pixel, const FOG: bool>(
             }
             let t = ctx.tris.get(id);
             if id != cur.id {
-                cur = Current::load::<PHONG>(ctx, id, t, &mut planes);
+                cur = Current::load(ctx, id, t, &mut planes);
             }
             let [q0, q1, q2] = cur.weights((rect.x0 + i) as f64 + 0.5, y);
             let inv_w = q0 + q1 + q2;
@@ -436,7 +518,7 @@ fn shade_phong<P: Pixel, const FOG: bool>(
             }
             let r = 1.0 / inv_w;
             let (b0, b1, b2) = (q0 * r, q1 * r, q2 * r);
-            let a = &cur.attr;
+            let a = &cur.normal;
             // Normalised with the batch (in SIMD); a zero or unusable blend takes the face
             // normal instead.
             let n = a[0] * b0 + a[1] * b1 + a[2] * b2;
@@ -470,6 +552,22 @@ fn face_normal(t: &SetupTri, world: &[Vec3]) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn run_length_counts_the_leading_run() {
+        // Every run length 0..=20 after and before other ids, around the 4-wide chunks.
+        for n in 0..=20usize {
+            for tail in [vec![], vec![7], vec![7, 5, 5, 5, 5]] {
+                let mut ids = vec![5u32; n];
+                ids.extend(&tail);
+                if ids.is_empty() {
+                    continue;
+                }
+                let want = ids.iter().take_while(|&&v| v == ids[0]).count();
+                assert_eq!(run_length(&ids, ids[0]), want, "{ids:?}");
+            }
+        }
+    }
 
     #[test]
     fn u8_store_is_round_of_clamp_times_255() {
