@@ -33,6 +33,10 @@ pub struct RenderOptions {
     pub cull_backfaces: bool,
     /// Worker threads; `None` uses every core. Results are identical for any count.
     pub threads: Option<usize>,
+    /// Use only the target's baseline instructions (SSE2 on x86-64) even where the CPU has
+    /// AVX2. The image is bit-identical either way; this exists to check that, and to
+    /// measure what the wider instructions buy.
+    pub baseline_isa: bool,
 }
 
 impl RenderOptions {
@@ -46,6 +50,7 @@ impl RenderOptions {
             background: Vec3::ZERO,
             cull_backfaces: false,
             threads: None,
+            baseline_isa: false,
         }
     }
 

@@ -368,6 +368,7 @@ impl PreparedMaterial {
     /// [`PreparedMaterial::shade`] for [`LANES`] points at once, in structure-of-arrays form
     /// (`n[axis][lane]`, unit or zero normals), written as plain lane loops that the compiler
     /// turns into SIMD. Same equation, same guards.
+    #[inline(always)]
     pub(crate) fn shade_lanes(&self, n: &[Lanes; 3], p: &[Lanes; 3], eye: Vec3) -> [Lanes; 3] {
         if self.specular_on {
             match self.model {

@@ -9,6 +9,7 @@
 
 pub(crate) mod bin;
 pub(crate) mod clip;
+pub(crate) mod isa;
 pub(crate) mod raster;
 pub(crate) mod setup;
 pub mod shade;
@@ -394,6 +395,7 @@ pub(crate) fn run<P: Pixel>(
             .collect(),
         None => (0..rects.len()).map(|_| None).collect(),
     };
+    let isa = isa::Isa::detect(options.baseline_isa);
     let shade_ctx = ShadeContext {
         tris: &prep.tris,
         verts: &prep.verts,
@@ -413,20 +415,13 @@ pub(crate) fn run<P: Pixel>(
         .zip(depth_rows.par_iter_mut())
         .enumerate()
         .for_each_init(TileBuffers::new, |buf, (i, ((rect, crows), drows))| {
-            if prep.tris.tile_is_empty(i) {
-                // Nothing to clear, rasterize or look up: common around a centred model.
-                shade::fill_background(&shade_ctx, *rect, crows, drows.as_deref_mut());
-                return;
-            }
-            raster::rasterize_tile(&prep.tris, i, *rect, buf);
-            shade::shade_tile(
-                &shade_ctx,
-                options.shading,
-                *rect,
-                buf,
-                crows,
-                drows.as_deref_mut(),
-            );
+            let job = isa::TileJob {
+                index: i,
+                rect: *rect,
+                color: crows,
+                depth: drows.as_deref_mut(),
+            };
+            isa::run_tile(isa, &shade_ctx, options.shading, buf, job);
         });
     let mut stats = prep.stats;
     stats.timings.raster_shade = prep.t_start.elapsed();
@@ -441,14 +436,28 @@ pub(crate) fn coverage_counts(
 ) -> Result<Vec<u32>> {
     let prep = prepare(scene, camera, options)?;
     let (w, h) = (options.width as usize, options.height as usize);
+    struct Counter<'a> {
+        counts: &'a mut [u32],
+        rect: tiles::TileRect,
+        width: usize,
+    }
+    impl raster::SpanSink for Counter<'_> {
+        fn span(&mut self, s: raster::Span) {
+            for slot in s.start..s.start + s.len {
+                let x = self.rect.x0 + slot % tiles::TILE;
+                let y = self.rect.y0 + slot / tiles::TILE;
+                self.counts[y * self.width + x] += 1;
+            }
+        }
+    }
     let mut counts = vec![0u32; w * h];
     for (i, rect) in tiles::tile_rects(w, h).into_iter().enumerate() {
-        raster::for_each_span(prep.tris.tile(i), rect, |s| {
-            for slot in s.start..s.start + s.len {
-                let (x, y) = (rect.x0 + slot % tiles::TILE, rect.y0 + slot / tiles::TILE);
-                counts[y * w + x] += 1;
-            }
-        });
+        let mut counter = Counter {
+            counts: &mut counts,
+            rect,
+            width: w,
+        };
+        raster::for_each_span(prep.tris.tile(i), rect, &mut counter);
     }
     Ok(counts)
 }

@@ -57,48 +57,65 @@ fn row_span(e: [i64; 3], step: [i64; 3], width: i64) -> Option<(usize, usize)> {
 }
 
 /// Rasterizes the triangles binned to tile `index` (in submission order) into `buf`.
+#[inline(always)]
 pub(crate) fn rasterize_tile(tris: &Binned, index: usize, rect: TileRect, buf: &mut TileBuffers) {
     buf.clear();
-    let (depth, ids) = (&mut *buf.depth, &mut *buf.id);
-    for_each_span(tris.tile(index), rect, |s| {
-        let range = s.start..s.start + s.len;
-        depth_test_span(&s, &mut depth[range.clone()], &mut ids[range]);
-    });
+    for_each_span(tris.tile(index), rect, buf);
 }
 
-/// Depth test and write of one span, [`LANES`] pixels at a time through local arrays: a
-/// select on memory compiles to a branch and a conditional store, which does not vectorize;
-/// on locals it is a SIMD compare and blend.
+/// What [`for_each_span`] hands its spans to. A trait with an `#[inline(always)]` method
+/// rather than a closure, so the depth test is inlined into its caller's instruction set.
+pub(crate) trait SpanSink {
+    fn span(&mut self, s: Span);
+}
+
+impl SpanSink for TileBuffers {
+    #[inline(always)]
+    fn span(&mut self, s: Span) {
+        depth_test_span(&s, &mut self.depth[..], &mut self.id[..]);
+    }
+}
+
+/// Depth test and write of one span: `s.len` slots of the tile from `s.start`. Spans of at
+/// least [`LANES`] go a window of [`LANES`] slots at a time through local arrays (a select
+/// on memory compiles to a branch or a masked store, microcoded and slow on AMD; on locals
+/// it is a SIMD compare and blend); the last window ends at the span's end, overlapping the
+/// one before, which is harmless as testing a pixel against its own depth changes nothing.
 #[inline(always)]
 fn depth_test_span(s: &Span, depth: &mut [f32], ids: &mut [u32]) {
     const LANES: usize = 8;
-    let mut d_chunks = depth.chunks_exact_mut(LANES);
-    let mut i_chunks = ids.chunks_exact_mut(LANES);
+    let depth = &mut depth[s.start..s.start + s.len];
+    let ids = &mut ids[s.start..s.start + s.len];
+    if s.len < LANES {
+        for (k, (d, i)) in depth.iter_mut().zip(ids).enumerate() {
+            let z = s.z_at(k);
+            if z > *d {
+                *d = z;
+                *i = s.id;
+            }
+        }
+        return;
+    }
     let mut k0 = 0;
-    for (dc, ic) in (&mut d_chunks).zip(&mut i_chunks) {
+    loop {
+        let k0_window = k0.min(s.len - LANES);
+        let window = k0_window..k0_window + LANES;
+        let (dw, iw) = (&mut depth[window.clone()], &mut ids[window]);
         let mut d = [0.0f32; LANES];
         let mut i = [0u32; LANES];
-        d.copy_from_slice(dc);
-        i.copy_from_slice(ic);
+        d.copy_from_slice(dw);
+        i.copy_from_slice(iw);
         for k in 0..LANES {
-            let z = s.z_at(k0 + k);
+            let z = s.z_at(k0_window + k);
             let nearer = z > d[k];
             d[k] = if nearer { z } else { d[k] };
             i[k] = if nearer { s.id } else { i[k] };
         }
-        dc.copy_from_slice(&d);
-        ic.copy_from_slice(&i);
+        dw.copy_from_slice(&d);
+        iw.copy_from_slice(&i);
         k0 += LANES;
-    }
-    let rest = d_chunks
-        .into_remainder()
-        .iter_mut()
-        .zip(i_chunks.into_remainder());
-    for (k, (d, i)) in rest.enumerate() {
-        let z = s.z_at(k0 + k);
-        if z > *d {
-            *d = z;
-            *i = s.id;
+        if k0 >= s.len {
+            return;
         }
     }
 }
@@ -128,13 +145,13 @@ impl Span {
     }
 }
 
-/// Calls `f` with every covered span of the tile for each of `tris` (in the given order),
+/// Hands `sink` every covered span of the tile for each of `tris` (in the given order),
 /// row by row.
 #[inline(always)]
 pub(crate) fn for_each_span<'a>(
     tris: impl Iterator<Item = (u32, &'a SetupTri)>,
     rect: TileRect,
-    mut f: impl FnMut(Span),
+    sink: &mut impl SpanSink,
 ) {
     let (tx0, ty0) = (rect.x0 as i64, rect.y0 as i64);
     let (tx1, ty1) = (tx0 + rect.w as i64 - 1, ty0 + rect.h as i64 - 1);
@@ -185,7 +202,7 @@ pub(crate) fn for_each_span<'a>(
                 (lo <= hi).then_some((lo, hi))
             };
             if let Some((lo, hi)) = covered {
-                f(Span {
+                sink.span(Span {
                     start: base + lo,
                     len: hi - lo + 1,
                     id,
@@ -207,26 +224,30 @@ mod tests {
     use proptest::prelude::*;
 
     proptest! {
-        /// The chunked, branch-free depth test keeps exactly what a plain `z > depth` loop
-        /// keeps, ties (the earlier triangle wins) included.
+        /// The windowed, branch-free depth test keeps exactly what a plain `z > depth` loop
+        /// keeps, ties (the earlier triangle wins) included, and leaves every slot outside
+        /// the span alone.
         #[test]
         fn span_depth_test_matches_the_scalar_loop(
-            old in proptest::collection::vec((-2i32..3, 0u32..4), 0..40),
+            old in proptest::collection::vec((-2i32..3, 0u32..4), 64),
+            start in 0usize..64,
+            len in 1usize..40,
             z_row in -2i32..3,
             dz in -1i32..2,
             offset in 0usize..5,
         ) {
+            let start = start.min(64 - len);
             // Quarter steps keep every depth exact, so ties really occur.
-            let s = Span { start: 0, len: old.len(), id: 99, z_row: z_row as f32 * 0.25,
+            let s = Span { start, len, id: 99, z_row: z_row as f32 * 0.25,
                            dzdx: dz as f32 * 0.25, offset };
             let mut depth: Vec<f32> = old.iter().map(|&(d, _)| d as f32 * 0.25).collect();
             let mut ids: Vec<u32> = old.iter().map(|&(_, i)| i).collect();
             let (mut want_d, mut want_i) = (depth.clone(), ids.clone());
-            for k in 0..old.len() {
+            for k in 0..len {
                 let z = s.z_at(k);
-                if z > want_d[k] {
-                    want_d[k] = z;
-                    want_i[k] = s.id;
+                if z > want_d[start + k] {
+                    want_d[start + k] = z;
+                    want_i[start + k] = s.id;
                 }
             }
             depth_test_span(&s, &mut depth, &mut ids);

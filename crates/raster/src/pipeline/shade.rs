@@ -20,18 +20,63 @@ use crate::shading::{normalize_lanes, Lanes, PreparedMaterial, ShadingMode, LANE
 pub trait Pixel: Copy + Default + Send + Sync + 'static {
     /// Writes `c` into `dst[0..3]`.
     fn store(dst: &mut [Self], c: Vec3);
+
+    /// Writes the first `dst.len() / 3` colours of the row `c` (`c[channel][pixel]`) into
+    /// `dst`, as [`Pixel::store`] would one by one.
+    #[inline(always)]
+    fn store_row(dst: &mut [Self], c: &RowColors) {
+        for (k, px) in dst.chunks_exact_mut(3).enumerate() {
+            Self::store(px, Vec3::new(c[0][k], c[1][k], c[2][k]));
+        }
+    }
+}
+
+/// Linear colours of up to a tile row's pixels (plus a lane loop's overrun), channel-major.
+pub type RowColors = [[f32; ROW_LANES]; 3];
+
+/// Length of a [`RowColors`] channel: a tile row rounded up to whole [`LANES`].
+pub const ROW_LANES: usize = TILE + LANES;
+
+/// `round(clamp(v, 0, 1) · 255)`, NaN to 0.
+#[inline(always)]
+fn quantize(v: f32) -> u8 {
+    quantize_i32(v) as u8
+}
+
+/// [`quantize`] as an i32 (what a SIMD conversion makes; narrowed when stored).
+#[inline(always)]
+#[allow(clippy::manual_clamp)] // `clamp` keeps NaN; `max` sends it to 0, as wanted
+fn quantize_i32(v: f32) -> i32 {
+    // Clamped before the cast (`max` sends NaN to 0): v > 1 gives at least 255.5 → 255,
+    // v < 0 less than 0.5 → 0. The cast of a value known to be in [0, 255] then needs no
+    // saturation fix-ups, so lane loops of this vectorise.
+    let x = (v * 255.0 + 0.5).max(0.0).min(255.0);
+    // SAFETY: x is in [0, 255] and not NaN, so it is representable in i32.
+    unsafe { x.to_int_unchecked::<i32>() }
 }
 
 impl Pixel for u8 {
     /// `round(clamp(c, 0, 1) · 255)`.
     #[inline]
     fn store(dst: &mut [u8], c: Vec3) {
-        // `as u8` saturates (and sends NaN to 0), which is the clamp: for v in [0, 1] this
-        // is the same expression, v > 1 gives at least 255.5 → 255, v < 0 less than 0.5 → 0.
-        let q = |v: f32| (v * 255.0 + 0.5) as u8;
-        dst[0] = q(c.x);
-        dst[1] = q(c.y);
-        dst[2] = q(c.z);
+        dst[0] = quantize(c.x);
+        dst[1] = quantize(c.y);
+        dst[2] = quantize(c.z);
+    }
+
+    #[inline(always)]
+    fn store_row(dst: &mut [u8], c: &RowColors) {
+        // Quantised a channel at a time over whole lanes (SIMD), then interleaved.
+        let n = (dst.len() / 3).div_ceil(LANES) * LANES;
+        let mut q = [[0i32; ROW_LANES]; 3];
+        for (qc, cc) in q.iter_mut().zip(c) {
+            for (qv, &v) in qc[..n].iter_mut().zip(&cc[..n]) {
+                *qv = quantize_i32(v);
+            }
+        }
+        for (k, px) in dst.chunks_exact_mut(3).enumerate() {
+            px.copy_from_slice(&[q[0][k] as u8, q[1][k] as u8, q[2][k] as u8]);
+        }
     }
 }
 
@@ -96,6 +141,7 @@ fn background_row<P: Pixel>(ctx: &ShadeContext<'_>) -> [P; TILE * 3] {
 }
 
 /// Fills a tile that no triangle touches with the background (and infinite depth).
+#[inline(always)]
 pub(crate) fn fill_background<P: Pixel>(
     ctx: &ShadeContext<'_>,
     rect: TileRect,
@@ -125,12 +171,17 @@ fn run_length(ids: &[u32], id: u32) -> usize {
     n + ids[n..].iter().take_while(|&&v| v == id).count()
 }
 
+/// Gouraud runs up to this long are shaded a pixel at a time: a whole lane loop and row
+/// store would cost more than they save (small triangles).
+const SHORT_RUN: usize = 4;
+
 const FLAT: u8 = 0;
 /// Entries of the per-tile flat colour cache.
 const FLAT_CACHE: usize = 64;
 const GOURAUD: u8 = 1;
 
 /// Shades one tile into its output rows (and depth rows when requested).
+#[inline(always)]
 pub(crate) fn shade_tile<P: Pixel>(
     ctx: &ShadeContext<'_>,
     mode: ShadingMode,
@@ -165,11 +216,12 @@ pub(crate) fn shade_tile<P: Pixel>(
 /// used instead.
 fn weight_planes(ctx: &ShadeContext<'_>, t: &SetupTri) -> [[f64; 3]; 3] {
     let (w, h) = ctx.size;
-    let s = t.v.map(|k| {
+    let screen = |k: u32| {
         let c = ctx.verts.clip[k as usize].as_dvec4();
         let iw = 1.0 / c.w;
         ((c.x * iw + 1.0) * 0.5 * w, (1.0 - c.y * iw) * 0.5 * h)
-    });
+    };
+    let s = [screen(t.v[0]), screen(t.v[1]), screen(t.v[2])];
     let area = (s[1].0 - s[0].0) * (s[2].1 - s[0].1) - (s[1].1 - s[0].1) * (s[2].0 - s[0].0);
     let snapped_area = t.area2 as f64 / (ONE * ONE) as f64;
     let mut plane = [[0.0; 3]; 3];
@@ -292,24 +344,28 @@ struct RunPlanes {
 }
 
 impl RunPlanes {
+    #[allow(clippy::needless_range_loop)] // plane coefficient c of three arrays
     fn new<const MODE: u8>(ctx: &ShadeContext<'_>, t: &SetupTri) -> Self {
         let w = weight_planes(ctx, t);
-        let sum = |f: &dyn Fn(usize) -> f64| -> Plane {
-            [0, 1, 2].map(|c| w[0][c] * f(0) + w[1][c] * f(1) + w[2][c] * f(2))
-        };
-        let mut out = RunPlanes {
-            inv_w: sum(&|_| 1.0),
-            color: [[0.0; 3]; 3],
-        };
+        let mut out = RunPlanes::default();
+        for c in 0..3 {
+            out.inv_w[c] = w[0][c] + w[1][c] + w[2][c];
+        }
         if MODE == GOURAUD {
             let colors = if ctx.two_sided && !t.front {
                 &ctx.verts.color_back
             } else {
                 &ctx.verts.color
             };
-            let a = t.v.map(|k| colors[k as usize].as_dvec3());
-            for (ch, plane) in out.color.iter_mut().enumerate() {
-                *plane = sum(&|k| a[k][ch]);
+            let a0 = colors[t.v[0] as usize].as_dvec3().to_array();
+            let a1 = colors[t.v[1] as usize].as_dvec3().to_array();
+            let a2 = colors[t.v[2] as usize].as_dvec3().to_array();
+            // Written out: closures and array maps here were not inlined (per triangle and
+            // tile, it showed in profiles of small-triangle meshes).
+            for ch in 0..3 {
+                for c in 0..3 {
+                    out.color[ch][c] = w[0][c] * a0[ch] + w[1][c] * a1[ch] + w[2][c] * a2[ch];
+                }
             }
         }
         out
@@ -325,6 +381,7 @@ fn start_step(p: &Plane, x: f64, y: f64) -> (f64, f64) {
 /// Flat and Gouraud, a run of equal triangle ids at a time: the run's planes are evaluated
 /// once at its first pixel and stepped along it (f64 throughout, so stepping adds nothing
 /// measurable: 64 steps at most).
+#[inline(always)]
 fn shade_impl<P: Pixel, const MODE: u8, const FOG: bool>(
     ctx: &ShadeContext<'_>,
     rect: TileRect,
@@ -336,6 +393,7 @@ fn shade_impl<P: Pixel, const MODE: u8, const FOG: bool>(
     let want_depth = depth.is_some() || FOG;
     let mut planes = PlaneCache::<RunPlanes>::new();
     let background = background_row::<P>(ctx);
+    let mut lin: RowColors = [[0.0; ROW_LANES]; 3];
     // Stored samples of recently seen flat colours, direct-mapped by id: the rows of a
     // triangle alternate with its neighbours', so a last-id cache would miss on every row.
     let mut flat_cache = [(NO_TRIANGLE, [P::default(); 3]); FLAT_CACHE];
@@ -370,23 +428,26 @@ fn shade_impl<P: Pixel, const MODE: u8, const FOG: bool>(
                 let x = (rect.x0 + i) as f64 + 0.5;
                 let (w0, dw) = start_step(&pl.inv_w, x, y);
                 let [(r0, dr), (g0, dg), (b0, db)] = pl.color.map(|p| start_step(&p, x, y));
-                if MODE == GOURAUD && !want_depth {
-                    // The common case, kept free of depth and fog.
-                    for (k, px) in out.chunks_exact_mut(3).enumerate() {
-                        let k = k as f64;
-                        let r = 1.0 / (w0 + dw * k);
-                        let c = Vec3::new(
-                            ((r0 + dr * k) * r) as f32,
-                            ((g0 + dg * k) * r) as f32,
-                            ((b0 + db * k) * r) as f32,
-                        );
-                        P::store(px, c);
+                if MODE == GOURAUD && !want_depth && end - i > SHORT_RUN {
+                    // The common case, kept free of depth and fog: the run's colours into
+                    // a row buffer over whole [`LANES`] (SIMD), then stored.
+                    let n = (end - i).div_ceil(LANES) * LANES;
+                    let [lr, lg, lb] = &mut lin;
+                    let rows = lr[..n].iter_mut().zip(&mut lg[..n]).zip(&mut lb[..n]);
+                    for (k, ((cr, cg), cb)) in rows.enumerate() {
+                        // Via i32: one SIMD conversion (runs are at most 64 pixels).
+                        let kf = k as i32 as f64;
+                        let r = 1.0 / (w0 + dw * kf);
+                        *cr = ((r0 + dr * kf) * r) as f32;
+                        *cg = ((g0 + dg * kf) * r) as f32;
+                        *cb = ((b0 + db * kf) * r) as f32;
                     }
+                    P::store_row(out, &lin);
                 } else {
                     for (k, px) in out.chunks_exact_mut(3).enumerate() {
                         let kf = k as f64;
                         let inv_w = w0 + dw * kf;
-                        let eye_depth = ctx.camera.eye_depth(zs[i + k], inv_w as f32);
+                        let eye_depth = ctx.eye_depth(want_depth, zs[i + k], inv_w as f32);
                         if let Some(d) = depth_row.as_deref_mut() {
                             d[i + k] = eye_depth;
                         }
@@ -424,6 +485,7 @@ struct PhongBatch<'a> {
 }
 
 impl<'a> PhongBatch<'a> {
+    #[inline(always)]
     fn flush<P: Pixel, const FOG: bool>(
         &mut self,
         ctx: &ShadeContext<'_>,
@@ -446,6 +508,7 @@ impl<'a> PhongBatch<'a> {
     }
 
     #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
     fn push<P: Pixel, const FOG: bool>(
         &mut self,
         ctx: &ShadeContext<'_>,
@@ -474,6 +537,7 @@ impl<'a> PhongBatch<'a> {
 }
 
 /// Phong: interpolation per pixel, lighting [`LANES`] pixels at a time.
+#[inline(always)]
 fn shade_phong<P: Pixel, const FOG: bool>(
     ctx: &ShadeContext<'_>,
     rect: TileRect,

@@ -1,0 +1,103 @@
+//! Instruction-set dispatch for the per-tile work (visibility, then shading).
+//!
+//! The tile body is compiled twice: for the target's baseline (SSE2 on x86-64) and, on
+//! x86-64, for AVX2 + FMA, picked once per render from the CPU it runs on. The hot loops are
+//! written as plain lane loops that the compiler vectorises, so AVX2 doubles their width
+//! with no code of its own. Rust never contracts `a·b + c` into a fused multiply-add and
+//! every lane operation is IEEE-exact, so both variants give bit-identical images (tested).
+
+use super::raster::{self, TileBuffers};
+use super::shade::{self, Pixel, ShadeContext};
+use super::tiles::TileRect;
+use crate::shading::ShadingMode;
+
+/// The instruction set a render's tiles run on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Isa {
+    /// What every CPU of the target has.
+    Baseline,
+    /// x86-64 with AVX2 and FMA (detected at run time).
+    #[cfg(target_arch = "x86_64")]
+    Avx2,
+}
+
+impl Isa {
+    /// The best instruction set this CPU supports, or the baseline when `baseline_only`.
+    pub fn detect(baseline_only: bool) -> Isa {
+        #[cfg(target_arch = "x86_64")]
+        if !baseline_only
+            && std::arch::is_x86_feature_detected!("avx2")
+            && std::arch::is_x86_feature_detected!("fma")
+        {
+            return Isa::Avx2;
+        }
+        let _ = baseline_only;
+        Isa::Baseline
+    }
+}
+
+/// One tile's inputs and outputs.
+pub(crate) struct TileJob<'a, 'b, P> {
+    pub index: usize,
+    pub rect: TileRect,
+    pub color: &'a mut [&'b mut [P]],
+    pub depth: Option<&'a mut [&'b mut [f32]]>,
+}
+
+/// Rasterizes and shades one tile with the instruction set `isa`.
+#[inline]
+pub(crate) fn run_tile<P: Pixel>(
+    isa: Isa,
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    buf: &mut TileBuffers,
+    job: TileJob<'_, '_, P>,
+) {
+    match isa {
+        Isa::Baseline => tile_baseline(ctx, mode, buf, job),
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `Isa::Avx2` is only ever made by `detect` after the CPU reported AVX2 and
+        // FMA, the features `tile_avx2` is compiled for.
+        Isa::Avx2 => unsafe { tile_avx2(ctx, mode, buf, job) },
+    }
+}
+
+fn tile_baseline<P: Pixel>(
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    buf: &mut TileBuffers,
+    job: TileJob<'_, '_, P>,
+) {
+    tile(ctx, mode, buf, job);
+}
+
+/// # Safety
+/// The CPU must support AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn tile_avx2<P: Pixel>(
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    buf: &mut TileBuffers,
+    job: TileJob<'_, '_, P>,
+) {
+    tile(ctx, mode, buf, job);
+}
+
+/// The tile body; always inlined, so each variant above compiles all of it for its own
+/// instruction set (the passes it calls are `#[inline(always)]` down to the lane loops).
+#[inline(always)]
+fn tile<P: Pixel>(
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    buf: &mut TileBuffers,
+    job: TileJob<'_, '_, P>,
+) {
+    if ctx.tris.tile_is_empty(job.index) {
+        // Nothing to clear, rasterize or look up: common around a centred model.
+        shade::fill_background(ctx, job.rect, job.color, job.depth);
+        return;
+    }
+    raster::rasterize_tile(ctx.tris, job.index, job.rect, buf);
+    shade::shade_tile(ctx, mode, job.rect, buf, job.color, job.depth);
+}
