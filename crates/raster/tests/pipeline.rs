@@ -421,6 +421,61 @@ fn identical_bytes_for_any_instruction_set() {
 }
 
 #[test]
+fn every_output_sample_is_written() {
+    // `render` does not zero its buffers, relying on the pipeline writing every sample:
+    // render_into over buffers pre-filled with two different sentinels must give the same
+    // bytes as render, in every mode, with and without depth, fog and visible background.
+    let (mut scene, cam) = busy_scene();
+    for fog in [
+        None,
+        Some(
+            Fog::new(
+                FogMode::Linear {
+                    start: 1.0,
+                    end: 4.0,
+                },
+                Vec3::splat(0.5),
+            )
+            .unwrap(),
+        ),
+    ] {
+        scene.set_fog(fog);
+        for mode in [ShadingMode::Flat, ShadingMode::Gouraud, ShadingMode::Phong] {
+            // 333 x 207: partial tiles on the right and bottom edges.
+            let mut opts = RenderOptions::new(333, 207);
+            opts.shading = mode;
+            let n = 333 * 207;
+            for with_depth in [false, true] {
+                let f = render(&scene, &cam, &opts, ColorFormat::F32, with_depth).unwrap();
+                let ColorBuffer::F32(want) = &f.color else {
+                    unreachable!()
+                };
+                for sentinel in [f32::NAN, -7.0] {
+                    let mut c = vec![sentinel; n * 3];
+                    let mut d = vec![sentinel; n];
+                    let depth = with_depth.then_some(&mut d[..]);
+                    render_into(&scene, &cam, &opts, &mut c, depth).unwrap();
+                    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                    assert_eq!(bits(&c), bits(want), "{mode:?} fog {fog:?}");
+                    if with_depth {
+                        assert_eq!(bits(&d), bits(f.depth.as_ref().unwrap()), "{mode:?}");
+                    }
+                }
+                let f8 = render(&scene, &cam, &opts, ColorFormat::U8, with_depth).unwrap();
+                let ColorBuffer::U8(want8) = &f8.color else {
+                    unreachable!()
+                };
+                for sentinel in [0u8, 0xAB] {
+                    let mut c = vec![sentinel; n * 3];
+                    render_into(&scene, &cam, &opts, &mut c, None).unwrap();
+                    assert!(&c == want8, "{mode:?} fog {fog:?} uint8");
+                }
+            }
+        }
+    }
+}
+
+#[test]
 fn sizes_are_validated_before_allocation() {
     let scene = Scene::new(Vec3::ZERO).unwrap();
     let cam = origin_camera(0.1, 1.0);

@@ -7,7 +7,7 @@
 //! every lane operation is IEEE-exact, so both variants give bit-identical images (tested).
 
 use super::raster::{self, TileBuffers};
-use super::shade::{self, Pixel, ShadeContext};
+use super::shade::{self, Out, Pixel, ShadeContext};
 use super::tiles::TileRect;
 use crate::shading::ShadingMode;
 
@@ -40,8 +40,8 @@ impl Isa {
 pub(crate) struct TileJob<'a, 'b, P> {
     pub index: usize,
     pub rect: TileRect,
-    pub color: &'a mut [&'b mut [P]],
-    pub depth: Option<&'a mut [&'b mut [f32]]>,
+    pub color: &'a mut [&'b mut [Out<P>]],
+    pub depth: Option<&'a mut [&'b mut [Out<f32>]]>,
 }
 
 /// Rasterizes and shades one tile with the instruction set `isa`.

@@ -31,7 +31,7 @@ use bin::{Binned, Bins, Chunk};
 use clip::ClipPlanes;
 use raster::TileBuffers;
 use setup::{Setup, SetupTri, Snapped};
-use shade::{Pixel, ShadeContext};
+use shade::{Out, Pixel, ShadeContext};
 use vertex::{Vertices, INVALID};
 
 /// Marks a vertex index that refers to a chunk's clip-generated vertices (fixed up on merge).
@@ -376,19 +376,21 @@ fn check_dynamic_range(scene: &Scene, materials: &[Sides]) -> Result<()> {
     Ok(())
 }
 
-/// Runs the whole pipeline into caller-provided row-major buffers.
+/// Runs the whole pipeline into caller-provided row-major buffers. On success every sample
+/// of `color` and `depth` has been written (tiles cover the image, and each tile writes
+/// every pixel of its rows: background or shaded).
 pub(crate) fn run<P: Pixel>(
     scene: &Scene,
     camera: &Camera,
     options: &RenderOptions,
-    color: &mut [P],
-    depth: Option<&mut [f32]>,
+    color: &mut [Out<P>],
+    depth: Option<&mut [Out<f32>]>,
 ) -> Result<RenderStats> {
     let prep = prepare(scene, camera, options)?;
     let (w, h) = (options.width as usize, options.height as usize);
     let rects = tiles::tile_rects(w, h);
     let mut color_rows = tiles::split_rows(color, w, h, 3);
-    let mut depth_rows: Vec<Option<Vec<&mut [f32]>>> = match depth {
+    let mut depth_rows: Vec<Option<Vec<&mut [Out<f32>]>>> = match depth {
         Some(d) => tiles::split_rows(d, w, h, 1)
             .into_iter()
             .map(Some)

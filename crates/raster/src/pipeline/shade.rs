@@ -4,6 +4,8 @@
 //! The shading mode is a const generic, so each mode's loop carries only its own work: flat
 //! reads one colour per triangle, Gouraud interpolates colours, Phong normals and positions.
 
+use std::mem::MaybeUninit;
+
 use glam::Vec3;
 
 use super::bin::Binned;
@@ -22,13 +24,41 @@ pub trait Pixel: Copy + Default + Send + Sync + 'static {
     fn store(dst: &mut [Self], c: Vec3);
 
     /// Writes the first `dst.len() / 3` colours of the row `c` (`c[channel][pixel]`) into
-    /// `dst`, as [`Pixel::store`] would one by one.
+    /// the output `dst`, as [`Pixel::store`] would one by one.
     #[inline(always)]
-    fn store_row(dst: &mut [Self], c: &RowColors) {
+    fn store_row(dst: &mut [MaybeUninit<Self>], c: &RowColors) {
         for (k, px) in dst.chunks_exact_mut(3).enumerate() {
-            Self::store(px, Vec3::new(c[0][k], c[1][k], c[2][k]));
+            store_out(px, Vec3::new(c[0][k], c[1][k], c[2][k]));
         }
     }
+}
+
+/// Output rows are written, never read, so the image needs no zeroing first: the
+/// pipeline writes every sample of them (background or shaded) exactly once.
+pub(crate) type Out<T> = MaybeUninit<T>;
+
+/// Copies `src` into the output `dst` (same length).
+#[inline(always)]
+pub(crate) fn put<T: Copy>(dst: &mut [Out<T>], src: &[T]) {
+    for (d, &s) in dst.iter_mut().zip(src) {
+        d.write(s);
+    }
+}
+
+/// Fills the output `dst` with `v`.
+#[inline(always)]
+fn fill_out<T: Copy>(dst: &mut [Out<T>], v: T) {
+    for d in dst {
+        d.write(v);
+    }
+}
+
+/// [`Pixel::store`] into the output.
+#[inline(always)]
+fn store_out<P: Pixel>(dst: &mut [Out<P>], c: Vec3) {
+    let mut px = [P::default(); 3];
+    P::store(&mut px, c);
+    put(dst, &px);
 }
 
 /// Linear colours of up to a tile row's pixels (plus a lane loop's overrun), channel-major.
@@ -65,7 +95,7 @@ impl Pixel for u8 {
     }
 
     #[inline(always)]
-    fn store_row(dst: &mut [u8], c: &RowColors) {
+    fn store_row(dst: &mut [Out<u8>], c: &RowColors) {
         // Quantised a channel at a time over whole lanes (SIMD), then interleaved.
         let n = (dst.len() / 3).div_ceil(LANES) * LANES;
         let mut q = [[0i32; ROW_LANES]; 3];
@@ -75,7 +105,7 @@ impl Pixel for u8 {
             }
         }
         for (k, px) in dst.chunks_exact_mut(3).enumerate() {
-            px.copy_from_slice(&[q[0][k] as u8, q[1][k] as u8, q[2][k] as u8]);
+            put(px, &[q[0][k] as u8, q[1][k] as u8, q[2][k] as u8]);
         }
     }
 }
@@ -145,15 +175,15 @@ fn background_row<P: Pixel>(ctx: &ShadeContext<'_>) -> [P; TILE * 3] {
 pub(crate) fn fill_background<P: Pixel>(
     ctx: &ShadeContext<'_>,
     rect: TileRect,
-    color: &mut [&mut [P]],
-    depth: Option<&mut [&mut [f32]]>,
+    color: &mut [&mut [Out<P>]],
+    depth: Option<&mut [&mut [Out<f32>]]>,
 ) {
     let bg = background_row::<P>(ctx);
     for row in color.iter_mut() {
-        row.copy_from_slice(&bg[..rect.w * 3]);
+        put(row, &bg[..rect.w * 3]);
     }
     for row in depth.into_iter().flatten() {
-        row.fill(f32::INFINITY);
+        fill_out(row, f32::INFINITY);
     }
 }
 
@@ -187,8 +217,8 @@ pub(crate) fn shade_tile<P: Pixel>(
     mode: ShadingMode,
     rect: TileRect,
     buf: &TileBuffers,
-    color: &mut [&mut [P]],
-    depth: Option<&mut [&mut [f32]]>,
+    color: &mut [&mut [Out<P>]],
+    depth: Option<&mut [&mut [Out<f32>]]>,
 ) {
     // One monomorphised loop per (mode, fog): a scene without fog pays nothing for it.
     match (mode, ctx.fog.is_some()) {
@@ -386,8 +416,8 @@ fn shade_impl<P: Pixel, const MODE: u8, const FOG: bool>(
     ctx: &ShadeContext<'_>,
     rect: TileRect,
     buf: &TileBuffers,
-    color: &mut [&mut [P]],
-    mut depth: Option<&mut [&mut [f32]]>,
+    color: &mut [&mut [Out<P>]],
+    mut depth: Option<&mut [&mut [Out<f32>]]>,
 ) {
     // Fog needs every pixel's eye depth, like the depth output.
     let want_depth = depth.is_some() || FOG;
@@ -409,9 +439,9 @@ fn shade_impl<P: Pixel, const MODE: u8, const FOG: bool>(
             let end = i + run_length(&ids[i..], id);
             let out = &mut row[i * 3..end * 3];
             if id == NO_TRIANGLE {
-                out.copy_from_slice(&background[..out.len()]);
+                put(out, &background[..out.len()]);
                 if let Some(d) = depth_row.as_deref_mut() {
-                    d[i..end].fill(f32::INFINITY);
+                    fill_out(&mut d[i..end], f32::INFINITY);
                 }
             } else if MODE == FLAT && !want_depth {
                 let entry = &mut flat_cache[id as usize % FLAT_CACHE];
@@ -420,7 +450,7 @@ fn shade_impl<P: Pixel, const MODE: u8, const FOG: bool>(
                     P::store(&mut entry.1, ctx.tris.get(id).flat);
                 }
                 for px in out.chunks_exact_mut(3) {
-                    px.copy_from_slice(&entry.1);
+                    put(px, &entry.1);
                 }
             } else {
                 let t = ctx.tris.get(id);
@@ -449,7 +479,7 @@ fn shade_impl<P: Pixel, const MODE: u8, const FOG: bool>(
                         let inv_w = w0 + dw * kf;
                         let eye_depth = ctx.eye_depth(want_depth, zs[i + k], inv_w as f32);
                         if let Some(d) = depth_row.as_deref_mut() {
-                            d[i + k] = eye_depth;
+                            d[i + k].write(eye_depth);
                         }
                         let c = if MODE == FLAT {
                             t.flat
@@ -462,7 +492,7 @@ fn shade_impl<P: Pixel, const MODE: u8, const FOG: bool>(
                             )
                         };
                         let (px_x, px_y) = (rect.x0 + i + k, rect.y0 + j);
-                        P::store(px, ctx.fogged::<FOG>(c, px_x, px_y, eye_depth));
+                        store_out(px, ctx.fogged::<FOG>(c, px_x, px_y, eye_depth));
                     }
                 }
             }
@@ -490,7 +520,7 @@ impl<'a> PhongBatch<'a> {
         &mut self,
         ctx: &ShadeContext<'_>,
         rect: TileRect,
-        color: &mut [&mut [P]],
+        color: &mut [&mut [Out<P>]],
     ) {
         let eye = ctx.eye;
         if let Some(m) = self.material.filter(|_| self.len > 0) {
@@ -501,7 +531,7 @@ impl<'a> PhongBatch<'a> {
             for (k, &(j, i)) in self.at[..self.len].iter().enumerate() {
                 let lit = Vec3::new(c[0][k], c[1][k], c[2][k]);
                 let lit = ctx.fogged::<FOG>(lit, rect.x0 + i, rect.y0 + j, self.depth[k]);
-                P::store(&mut color[j][i * 3..i * 3 + 3], lit);
+                store_out(&mut color[j][i * 3..i * 3 + 3], lit);
             }
         }
         self.len = 0;
@@ -518,7 +548,7 @@ impl<'a> PhongBatch<'a> {
         p: Vec3,
         at: (usize, usize),
         depth: f32,
-        color: &mut [&mut [P]],
+        color: &mut [&mut [Out<P>]],
     ) {
         if self.len > 0 && !std::ptr::eq(m, self.material.unwrap_or(m)) {
             self.flush::<P, FOG>(ctx, rect, color);
@@ -542,8 +572,8 @@ fn shade_phong<P: Pixel, const FOG: bool>(
     ctx: &ShadeContext<'_>,
     rect: TileRect,
     buf: &TileBuffers,
-    color: &mut [&mut [P]],
-    mut depth: Option<&mut [&mut [f32]]>,
+    color: &mut [&mut [Out<P>]],
+    mut depth: Option<&mut [&mut [Out<f32>]]>,
 ) {
     let want_depth = depth.is_some() || FOG;
     let mut cur = Current::empty();
@@ -564,9 +594,9 @@ fn shade_phong<P: Pixel, const FOG: bool>(
             let slot = j * TILE + i;
             let id = buf.id[slot];
             if id == NO_TRIANGLE {
-                color[j][i * 3..i * 3 + 3].copy_from_slice(&background);
+                put(&mut color[j][i * 3..i * 3 + 3], &background);
                 if let Some(d) = depth.as_deref_mut() {
-                    d[j][i] = f32::INFINITY;
+                    d[j][i].write(f32::INFINITY);
                 }
                 continue;
             }
@@ -578,7 +608,7 @@ fn shade_phong<P: Pixel, const FOG: bool>(
             let inv_w = q0 + q1 + q2;
             let eye_depth = ctx.eye_depth(want_depth, buf.depth[slot], inv_w);
             if let Some(d) = depth.as_deref_mut() {
-                d[j][i] = eye_depth;
+                d[j][i].write(eye_depth);
             }
             let r = 1.0 / inv_w;
             let (b0, b1, b2) = (q0 * r, q1 * r, q2 * r);
