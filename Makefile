@@ -5,6 +5,9 @@ PYTHON ?= python3
 VENV := .venv
 PY := $(VENV)/bin/python
 DEPS := $(VENV)/.deps-stamp
+# NumPy's OpenBLAS threads busy-wait after each call; in benchmarks they took a core from
+# the renderers being timed (about a tenth of the samples in a profile).
+BENCH_ENV := OPENBLAS_NUM_THREADS=1
 ENVS := VIRTUAL_ENV=$(abspath $(VENV)) PATH="$(abspath $(VENV))/bin:$$PATH"
 
 .PHONY: help demo test lint build bench bench-peers docs-images wheel wheel-check clean fuzz
@@ -64,10 +67,10 @@ $(BENCH_DEPS): bench/peers/install.sh bench/requirements-bench.txt $(DEPS)
 bench-peers: $(BENCH_DEPS)  ## install the peers: Mesa llvmpipe (headless EGL, apt), moderngl, VTK, matplotlib
 
 bench: build $(BENCH_DEPS)  ## benchmarks, speed against error, llvmpipe, feature costs -> docs/BENCHMARKS.md, docs/FEATURE_COSTS.md (~25 min)
-	$(PY) bench/bench_render.py --write docs/BENCHMARKS.md
-	$(PY) bench/speed_error.py --write docs/BENCHMARKS.md
-	$(PY) bench/speed_error_vtk.py --write docs/BENCHMARKS.md
-	$(PY) bench/bench_features.py --write docs/FEATURE_COSTS.md $(if $(AGAINST),--against-commit $(AGAINST))
+	$(BENCH_ENV) $(PY) bench/bench_render.py --write docs/BENCHMARKS.md
+	$(BENCH_ENV) $(PY) bench/speed_error.py --write docs/BENCHMARKS.md
+	$(BENCH_ENV) $(PY) bench/speed_error_vtk.py --write docs/BENCHMARKS.md
+	$(BENCH_ENV) $(PY) bench/bench_features.py --write docs/FEATURE_COSTS.md $(if $(AGAINST),--against-commit $(AGAINST))
 
 docs-images: build  ## render the lighting guide's images -> docs/lighting/*.png
 	$(PY) docs/lighting/make_images.py
