@@ -446,10 +446,14 @@ pub(crate) fn coverage_counts(
     impl raster::SpanSink for Counter<'_> {
         fn span(&mut self, s: raster::Span) {
             for slot in s.start..s.start + s.len {
-                let x = self.rect.x0 + slot % tiles::TILE;
-                let y = self.rect.y0 + slot / tiles::TILE;
-                self.counts[y * self.width + x] += 1;
+                self.pixel(slot, 0.0, s.id);
             }
+        }
+
+        fn pixel(&mut self, slot: usize, _: f32, _: u32) {
+            let x = self.rect.x0 + slot % tiles::TILE;
+            let y = self.rect.y0 + slot / tiles::TILE;
+            self.counts[y * self.width + x] += 1;
         }
     }
     let mut counts = vec![0u32; w * h];

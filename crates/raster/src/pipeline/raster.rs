@@ -66,13 +66,25 @@ pub(crate) fn rasterize_tile(tris: &Binned, index: usize, rect: TileRect, buf: &
 /// What [`for_each_span`] hands its spans to. A trait with an `#[inline(always)]` method
 /// rather than a closure, so the depth test is inlined into its caller's instruction set.
 pub(crate) trait SpanSink {
+    /// A covered span of a wide row.
     fn span(&mut self, s: Span);
+    /// One covered pixel of a narrow row: tile slot, depth, triangle id (the depth is
+    /// [`Span::z_at`]'s value for the same pixel).
+    fn pixel(&mut self, slot: usize, z: f32, id: u32);
 }
 
 impl SpanSink for TileBuffers {
     #[inline(always)]
     fn span(&mut self, s: Span) {
         depth_test_span(&s, &mut self.depth[..], &mut self.id[..]);
+    }
+
+    #[inline(always)]
+    fn pixel(&mut self, slot: usize, z: f32, id: u32) {
+        if z > self.depth[slot] {
+            self.depth[slot] = z;
+            self.id[slot] = id;
+        }
     }
 }
 
@@ -145,8 +157,8 @@ impl Span {
     }
 }
 
-/// Hands `sink` every covered span of the tile for each of `tris` (in the given order),
-/// row by row.
+/// Hands `sink` every covered pixel of the tile for each of `tris` (in the given order),
+/// row by row: a span at a time on wide rows, a pixel at a time on narrow ones.
 #[inline(always)]
 pub(crate) fn for_each_span<'a>(
     tris: impl Iterator<Item = (u32, &'a SetupTri)>,
@@ -184,32 +196,31 @@ pub(crate) fn for_each_span<'a>(
         let width = x1 - x0 + 1;
         for (j, y) in (y0..=y1).enumerate() {
             let base = (y - ty0) as usize * TILE + (x0 - tx0) as usize;
-            let covered = if width >= SPAN_MIN_WIDTH {
+            let z_row = z0 + dzdy * j as f32;
+            if width >= SPAN_MIN_WIDTH {
                 // Wide rows: solve each edge for the covered span exactly.
-                row_span(row, step_x, width)
+                if let Some((lo, hi)) = row_span(row, step_x, width) {
+                    sink.span(Span {
+                        start: base + lo,
+                        len: hi - lo + 1,
+                        id,
+                        z_row,
+                        dzdx,
+                        offset: lo,
+                    });
+                }
             } else {
+                // Narrow rows (small triangles): test and hand over pixel by pixel, which
+                // measured faster than finding the span first.
                 let [mut e0, mut e1, mut e2] = row;
-                let (mut lo, mut hi) = (usize::MAX, 0);
                 for i in 0..width as usize {
                     if (e0 | e1 | e2) >= 0 {
-                        lo = lo.min(i);
-                        hi = i;
+                        sink.pixel(base + i, z_row + dzdx * i as i32 as f32, id);
                     }
                     e0 += step_x[0];
                     e1 += step_x[1];
                     e2 += step_x[2];
                 }
-                (lo <= hi).then_some((lo, hi))
-            };
-            if let Some((lo, hi)) = covered {
-                sink.span(Span {
-                    start: base + lo,
-                    len: hi - lo + 1,
-                    id,
-                    z_row: z0 + dzdy * j as f32,
-                    dzdx,
-                    offset: lo,
-                });
             }
             for k in 0..3 {
                 row[k] += step_y[k];
