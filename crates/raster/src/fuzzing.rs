@@ -381,8 +381,8 @@ pub fn describe_pipeline_input(data: &[u8]) -> Option<String> {
 /// pixel centre (by the coverage test hook), and there the colour is exactly the
 /// background (colours are finite: lighting that could overflow f32 is refused, see
 /// `MAX_RADIANCE`); finite depths are ≥ 0 for a perspective camera; uint8 output is exactly
-/// `round(clamp(c, 0, 1)·255)` of the float32 output; one thread and several give the same
-/// bits. Returns `false` when the render refused the scene (only lighting beyond
+/// `round(clamp(c, 0, 1)·255)` of the float32 output; one thread and several, and the
+/// baseline and AVX2 builds of the tile stage, give the same bits. Returns `false` when the render refused the scene (only lighting beyond
 /// `MAX_RADIANCE` may be refused at this point).
 pub fn check_render(scene: &Scene, camera: &Camera, options: &RenderOptions) -> bool {
     let frame = match render(scene, camera, options, ColorFormat::F32, true) {
@@ -442,6 +442,16 @@ pub fn check_render(scene: &Scene, camera: &Camera, options: &RenderOptions) -> 
     assert!(
         bits(&color) == bits(&color2) && bits(&depth) == bits(&again.depth.expect("depth")),
         "thread count changed the result"
+    );
+    let mut other_isa = options.clone();
+    other_isa.baseline_isa = !options.baseline_isa;
+    let again = render(scene, camera, &other_isa, ColorFormat::F32, true).expect("re-render");
+    let ColorBuffer::F32(color3) = again.color else {
+        unreachable!("asked for f32")
+    };
+    assert!(
+        bits(&color) == bits(&color3) && bits(&depth) == bits(&again.depth.expect("depth")),
+        "the instruction set (baseline or AVX2) changed the result"
     );
     true
 }
