@@ -18,13 +18,22 @@ use crate::camera::{Camera, EyeDistance};
 use crate::fog::Fog;
 use crate::shading::{normalize_lanes, Lanes, PreparedMaterial, ShadingMode, LANES};
 
-/// An output sample type: how a linear RGB colour is stored.
-pub trait Pixel: Copy + Default + Send + Sync + 'static {
+mod sealed {
+    /// Only the crate's own sample types are [`super::Pixel`]s.
+    pub trait Sealed {}
+    impl Sealed for u8 {}
+    impl Sealed for f32 {}
+}
+
+/// An output sample type: how a linear RGB colour is stored. Implemented for `u8`
+/// (`round(clamp(c, 0, 1) · 255)`) and `f32` (linear, unclamped) only (sealed).
+pub trait Pixel: sealed::Sealed + Copy + Default + Send + Sync + 'static {
     /// Writes `c` into `dst[0..3]`.
     fn store(dst: &mut [Self], c: Vec3);
 
     /// Writes the first `dst.len() / 3` colours of the row `c` (`c[channel][pixel]`) into
     /// the output `dst`, as [`Pixel::store`] would one by one.
+    #[doc(hidden)]
     #[inline(always)]
     fn store_row(dst: &mut [MaybeUninit<Self>], c: &RowColors) {
         for (k, px) in dst.chunks_exact_mut(3).enumerate() {
@@ -62,9 +71,11 @@ fn store_out<P: Pixel>(dst: &mut [Out<P>], c: Vec3) {
 }
 
 /// Linear colours of up to a tile row's pixels (plus a lane loop's overrun), channel-major.
+#[doc(hidden)]
 pub type RowColors = [[f32; ROW_LANES]; 3];
 
 /// Length of a [`RowColors`] channel: a tile row rounded up to whole [`LANES`].
+#[doc(hidden)]
 pub const ROW_LANES: usize = TILE + LANES;
 
 /// `round(clamp(v, 0, 1) · 255)`, NaN to 0.
