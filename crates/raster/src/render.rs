@@ -167,8 +167,8 @@ pub fn render(
     } else {
         None
     };
-    // The buffers are not zeroed: the pipeline writes every sample (a frame's worth of
-    // memset was a tenth of a 1080p frame on two cores).
+    // The buffers are not zeroed: the pipeline writes every sample (at 1080p on two cores
+    // the time outside the pipeline's stages fell from 0.43 to about 0.2 ms per frame).
     fn fill<P: Pixel>(
         scene: &Scene,
         camera: &Camera,
