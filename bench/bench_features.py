@@ -45,6 +45,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from shell import run
 from sphere_mesh import uv_sphere  # the same mesh for every build compared
 
 # shadelab_rs is imported lazily (see _sl) so that ``--worker`` runs under another venv's
@@ -566,14 +567,6 @@ def compare_builds(
 # --------------------------------------------------------------------------- reporting
 
 
-def _run(cmd: list[str]) -> str:
-    try:
-        out = subprocess.run(cmd, capture_output=True, text=True, timeout=30, cwd=ROOT)
-    except (OSError, subprocess.SubprocessError):
-        return "unknown"
-    return out.stdout.strip() if out.returncode == 0 and out.stdout.strip() else "unknown"
-
-
 def machine() -> dict[str, str]:
     model = "unknown"
     try:
@@ -583,15 +576,15 @@ def machine() -> dict[str, str]:
                 break
     except OSError:
         pass
-    commit = _run(["git", "rev-parse", "--short", "HEAD"])
-    dirty = _run(["git", "status", "--porcelain", "--", "crates", "python"])
+    commit = run(["git", "rev-parse", "--short", "HEAD"])
+    dirty = run(["git", "status", "--porcelain", "--", "crates", "python"])
     if dirty != "unknown":
         commit += " (uncommitted changes in crates/ or python/)"
     return {
         "CPU": model,
         "logical cores": str(os.cpu_count()),
         "OS": f"{platform.system()} {platform.release()} ({platform.machine()})",
-        "rustc": _run(["rustc", "-V"]),
+        "rustc": run(["rustc", "-V"]),
         "Python": platform.python_version(),
         "NumPy": np.__version__,
         "shadelab_rs": _sl().__version__,

@@ -30,7 +30,6 @@ import math
 import os
 import platform
 import statistics
-import subprocess
 import sys
 import time
 from collections.abc import Callable
@@ -39,6 +38,7 @@ from pathlib import Path
 
 import numpy as np
 import shadelab_rs as sl
+from shell import run
 from sphere_mesh import uv_sphere
 
 WIDTH, HEIGHT = 1920, 1080
@@ -232,14 +232,6 @@ def measure_pair(
 # --------------------------------------------------------------------------- machine
 
 
-def _run(cmd: list[str]) -> str:
-    try:
-        out = subprocess.run(cmd, capture_output=True, text=True, timeout=30, cwd=ROOT)
-    except (OSError, subprocess.SubprocessError):
-        return "unknown"
-    return out.stdout.strip() if out.returncode == 0 and out.stdout.strip() else "unknown"
-
-
 def _cpuinfo() -> tuple[str, str, bool]:
     """CPU model, its SIMD extensions (the build targets baseline x86-64 unless RUSTFLAGS say
     otherwise, so not all of them are used), and whether it runs under a hypervisor."""
@@ -282,8 +274,8 @@ def _os() -> str:
 def machine() -> dict[str, str]:
     model, simd, virtual = _cpuinfo()
     usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    commit = _run(["git", "rev-parse", "--short", "HEAD"])
-    changed = _run(["git", "diff", "--name-only", "HEAD"])
+    commit = run(["git", "rev-parse", "--short", "HEAD"])
+    changed = run(["git", "diff", "--name-only", "HEAD"])
     if commit != "unknown" and changed != "unknown":
         # Top-level entries with uncommitted changes, so a reader sees whether the renderer
         # itself (crates/, python/) differed from the commit.
@@ -295,7 +287,7 @@ def machine() -> dict[str, str]:
         "logical cores": f"{os.cpu_count()} ({usable} usable by this process)",
         "memory": _memory(),
         "OS": _os(),
-        "rustc": _run(["rustc", "-V"]),
+        "rustc": run(["rustc", "-V"]),
         "Python": platform.python_version(),
         "NumPy": np.__version__,
         "shadelab_rs": sl.__version__,

@@ -101,6 +101,24 @@ def ref_lights() -> list:
     ]
 
 
+def reference_image(mesh, camera: ref.Camera, w: int, h: int, mode: str):
+    """The float64 reference rasterizer's image of `mesh` (vertices, faces, normals) in
+    this benchmark's material and lights."""
+    v, f, n = mesh
+    return ref.render_reference(
+        v,
+        f,
+        camera=camera,
+        width=w,
+        height=h,
+        material=ref_material(),
+        lights=ref_lights(),
+        ambient=AMBIENT,
+        normals=n,
+        shading=mode,
+    )
+
+
 def sphere_camera() -> ref.Camera:
     dist = 1.0 / math.sin(math.radians(SPHERE_FILL * FOV_Y / 2.0))
     return ref.Camera(tuple(VIEW_DIR * dist), (0.0, 0.0, 0.0), (0, 1, 0), FOV_Y, 0.1, 100.0)
@@ -331,18 +349,7 @@ def implementation_errors(meshes: dict, size: int, threads: int, gl) -> list[Imp
                 v, n, f, material=gold(), lights=LIGHTS, ambient=AMBIENT, camera=camera, aspect=1.0
             )
         for mode in MODES:
-            r = ref.render_reference(
-                v,
-                f,
-                camera=camera,
-                width=size,
-                height=size,
-                material=ref_material(),
-                lights=ref_lights(),
-                ambient=AMBIENT,
-                normals=n,
-                shading=mode,
-            )
+            r = reference_image((v, f, n), camera, size, size, mode)
             r8, away = ref.to_uint8(r.color), r.edge_dist > EDGE_PX
             figs = []
             for rr in [scene] + ([Peer(gl)] if gl is not None else []):
@@ -895,18 +902,7 @@ def main(argv: list[str] | None = None) -> int:
     tv, tf, tn = spots[plan.spot_truth_level]
     spot_truths = {}
     for w, h in plan.sizes:
-        r = ref.render_reference(
-            tv,
-            tf,
-            camera=SPOT_CAMERA,
-            width=w,
-            height=h,
-            material=ref_material(),
-            lights=ref_lights(),
-            ambient=AMBIENT,
-            normals=tn,
-            shading="phong",
-        )
+        r = reference_image((tv, tf, tn), SPOT_CAMERA, w, h, "phong")
         spot_truths[(w, h)] = truth.Truth(color=r.color, mask=r.mask, depth=r.depth)
         log(f"spot truth {w}x{h} done")
     for level in plan.spot_levels:
