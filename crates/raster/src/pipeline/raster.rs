@@ -81,10 +81,17 @@ impl SpanSink for TileBuffers {
 
     #[inline(always)]
     fn pixel(&mut self, slot: usize, z: f32, id: u32) {
-        if z > self.depth[slot] {
-            self.depth[slot] = z;
-            self.id[slot] = id;
-        }
+        depth_test(&mut self.depth[slot], &mut self.id[slot], z, id);
+    }
+}
+
+/// The depth test of one pixel: strictly nearer (reversed Z) replaces depth and id, so among
+/// equal depths the first-submitted triangle stays.
+#[inline(always)]
+fn depth_test(depth: &mut f32, slot_id: &mut u32, z: f32, id: u32) {
+    if z > *depth {
+        *depth = z;
+        *slot_id = id;
     }
 }
 
@@ -100,11 +107,7 @@ fn depth_test_span(s: &Span, depth: &mut [f32], ids: &mut [u32]) {
     let ids = &mut ids[s.start..s.start + s.len];
     if s.len < LANES {
         for (k, (d, i)) in depth.iter_mut().zip(ids).enumerate() {
-            let z = s.z_at(k);
-            if z > *d {
-                *d = z;
-                *i = s.id;
-            }
+            depth_test(d, i, s.z_at(k), s.id);
         }
         return;
     }

@@ -419,6 +419,45 @@ fn start_step(p: &Plane, x: f64, y: f64) -> (f64, f64) {
     (p[0] * x + p[1] * y + p[2], p[0])
 }
 
+/// [`RunPlanes`] evaluated at a run's first pixel, with their steps along the run.
+#[derive(Clone, Copy)]
+struct RunStart {
+    inv_w: (f64, f64),
+    /// Gouraud only (zero otherwise).
+    color: [(f64, f64); 3],
+}
+
+impl RunStart {
+    #[inline(always)]
+    fn new<const MODE: u8>(pl: &RunPlanes, x: f64, y: f64) -> Self {
+        let mut color = [(0.0, 0.0); 3];
+        if MODE == GOURAUD {
+            color = pl.color.map(|p| start_step(&p, x, y));
+        }
+        RunStart {
+            inv_w: start_step(&pl.inv_w, x, y),
+            color,
+        }
+    }
+
+    /// Interpolated 1/w at the run's pixel `k`.
+    #[inline(always)]
+    fn inv_w(&self, k: f64) -> f64 {
+        self.inv_w.0 + self.inv_w.1 * k
+    }
+
+    /// Gouraud colour at the run's pixel `k`, given `r` = 1 / [`RunStart::inv_w`] there.
+    #[inline(always)]
+    fn color(&self, k: f64, r: f64) -> [f32; 3] {
+        let [(r0, dr), (g0, dg), (b0, db)] = self.color;
+        [
+            ((r0 + dr * k) * r) as f32,
+            ((g0 + dg * k) * r) as f32,
+            ((b0 + db * k) * r) as f32,
+        ]
+    }
+}
+
 /// Flat and Gouraud, a run of equal triangle ids at a time: the run's planes are evaluated
 /// once at its first pixel and stepped along it (f64 throughout, so stepping adds nothing
 /// measurable: 64 steps at most).
@@ -466,9 +505,7 @@ fn shade_impl<P: Pixel, const MODE: u8, const FOG: bool>(
             } else {
                 let t = ctx.tris.get(id);
                 let pl = planes.get(id, || RunPlanes::new::<MODE>(ctx, t));
-                let x = (rect.x0 + i) as f64 + 0.5;
-                let (w0, dw) = start_step(&pl.inv_w, x, y);
-                let [(r0, dr), (g0, dg), (b0, db)] = pl.color.map(|p| start_step(&p, x, y));
+                let run = RunStart::new::<MODE>(&pl, (rect.x0 + i) as f64 + 0.5, y);
                 if MODE == GOURAUD && !want_depth && end - i > SHORT_RUN {
                     // The common case, kept free of depth and fog: the run's colours into
                     // a row buffer over whole [`LANES`] (SIMD), then stored.
@@ -478,16 +515,13 @@ fn shade_impl<P: Pixel, const MODE: u8, const FOG: bool>(
                     for (k, ((cr, cg), cb)) in rows.enumerate() {
                         // Via i32: one SIMD conversion (runs are at most 64 pixels).
                         let kf = k as i32 as f64;
-                        let r = 1.0 / (w0 + dw * kf);
-                        *cr = ((r0 + dr * kf) * r) as f32;
-                        *cg = ((g0 + dg * kf) * r) as f32;
-                        *cb = ((b0 + db * kf) * r) as f32;
+                        [*cr, *cg, *cb] = run.color(kf, 1.0 / run.inv_w(kf));
                     }
                     P::store_row(out, &lin);
                 } else {
                     for (k, px) in out.chunks_exact_mut(3).enumerate() {
                         let kf = k as f64;
-                        let inv_w = w0 + dw * kf;
+                        let inv_w = run.inv_w(kf);
                         let eye_depth = ctx.eye_depth(want_depth, zs[i + k], inv_w as f32);
                         if let Some(d) = depth_row.as_deref_mut() {
                             d[i + k].write(eye_depth);
@@ -495,12 +529,7 @@ fn shade_impl<P: Pixel, const MODE: u8, const FOG: bool>(
                         let c = if MODE == FLAT {
                             t.flat
                         } else {
-                            let r = 1.0 / inv_w;
-                            Vec3::new(
-                                ((r0 + dr * kf) * r) as f32,
-                                ((g0 + dg * kf) * r) as f32,
-                                ((b0 + db * kf) * r) as f32,
-                            )
+                            Vec3::from_array(run.color(kf, 1.0 / inv_w))
                         };
                         let (px_x, px_y) = (rect.x0 + i + k, rect.y0 + j);
                         store_out(px, ctx.fogged::<FOG>(c, px_x, px_y, eye_depth));
@@ -589,8 +618,7 @@ fn shade_phong<P: Pixel, const FOG: bool>(
     let want_depth = depth.is_some() || FOG;
     let mut cur = Current::empty();
     let mut planes = PlaneCache::new();
-    let mut background = [P::default(); 3];
-    P::store(&mut background, ctx.background);
+    let background = background_row::<P>(ctx);
     let mut batch = PhongBatch {
         n: [[0.0; LANES]; 3],
         p: [[0.0; LANES]; 3],
@@ -605,7 +633,7 @@ fn shade_phong<P: Pixel, const FOG: bool>(
             let slot = j * TILE + i;
             let id = buf.id[slot];
             if id == NO_TRIANGLE {
-                put(&mut color[j][i * 3..i * 3 + 3], &background);
+                put(&mut color[j][i * 3..i * 3 + 3], &background[..3]);
                 if let Some(d) = depth.as_deref_mut() {
                     d[j][i].write(f32::INFINITY);
                 }
