@@ -1,0 +1,649 @@
+//! The safety net of restructurings: hashes of renders over every output-affecting switch
+//! (shading mode × fog × pixel type × depth output × thread count × instruction set × light
+//! kinds, with clipping, culling, two-sided lighting, back materials, the infinite viewer,
+//! the three specular lobes and both projections), committed as constants. A refactor that
+//! claims "same pixels" must keep every hash; a change that means to change pixels updates
+//! the table in the same commit and says why.
+//!
+//! `SHADELAB_PRINT_HASHES=1 cargo test --test output_hashes -- --nocapture` prints the table.
+
+mod common;
+
+use std::sync::Arc;
+
+use glam::{DVec3, Mat4, Quat, Vec3};
+use shadelab_raster::*;
+
+/// FNV-1a, 64-bit: small, stable, no dependency.
+fn fnv1a(hash: &mut u64, bytes: &[u8]) {
+    for &b in bytes {
+        *hash ^= b as u64;
+        *hash = hash.wrapping_mul(0x0100_0000_01b3);
+    }
+}
+
+const FNV_START: u64 = 0xcbf2_9ce4_8422_2325;
+
+/// The bytes of one frame: colour samples (u8 or f32 bits), then depth bits if any.
+fn frame_bytes(f: &Frame) -> Vec<u8> {
+    let mut out = match &f.color {
+        ColorBuffer::U8(c) => c.clone(),
+        ColorBuffer::F32(c) => c.iter().flat_map(|v| v.to_le_bytes()).collect(),
+    };
+    if let Some(d) = &f.depth {
+        out.extend(d.iter().flat_map(|v| v.to_le_bytes()));
+    }
+    out
+}
+
+struct Case {
+    name: &'static str,
+    scene: Scene,
+    camera: Camera,
+    specular: SpecularModel,
+    cull: bool,
+}
+
+fn base_scene(ambient: f32) -> Scene {
+    let mut scene = Scene::new(Vec3::splat(ambient)).unwrap();
+    let sphere = Arc::new(primitives::uv_sphere(24, 48));
+    scene
+        .add(
+            sphere.clone(),
+            Material::preset("gold").unwrap(),
+            Mat4::IDENTITY,
+        )
+        .unwrap();
+    let t = Mat4::from_scale_rotation_translation(
+        Vec3::new(0.6, 0.3, 0.9),
+        Quat::from_rotation_y(0.7),
+        Vec3::new(0.5, 0.2, 0.4),
+    );
+    let chrome = Material::preset("chrome")
+        .unwrap()
+        .with_emission(Vec3::new(0.05, 0.0, 0.02))
+        .unwrap();
+    scene.add(Arc::new(primitives::cube()), chrome, t).unwrap();
+    // An open surface seen from both sides, with a back material.
+    let plane = Object::new(
+        Arc::new(primitives::plane()),
+        Material::preset("copper").unwrap(),
+        Mat4::from_scale_rotation_translation(
+            Vec3::splat(1.6),
+            Quat::from_rotation_x(1.2),
+            Vec3::new(-0.3, -0.6, -0.2),
+        ),
+    )
+    .unwrap()
+    .with_back_material(Some(Material::preset("emerald").unwrap()));
+    scene.add_object(plane);
+    scene.add_object(
+        Object::new(
+            sphere,
+            Material::preset("ruby").unwrap(),
+            Mat4::from_translation(Vec3::new(-0.5, 0.1, 0.5)) * Mat4::from_scale(Vec3::splat(0.4)),
+        )
+        .unwrap(),
+    );
+    scene
+}
+
+fn perspective(eye: DVec3, near: f64) -> Camera {
+    Camera::look_at(eye, DVec3::new(0.0, -0.1, 0.0), DVec3::Y, 50.0, near, 10.0).unwrap()
+}
+
+fn cases() -> Vec<Case> {
+    let mut out = Vec::new();
+
+    // No light: ambient and emission only.
+    out.push(Case {
+        name: "ambient-only",
+        scene: base_scene(0.6),
+        camera: perspective(DVec3::new(0.5, 0.7, 2.5), 0.5),
+        specular: SpecularModel::BlinnPhong,
+        cull: false,
+    });
+
+    // Directional + plain point light, Blinn-Phong.
+    let mut s = base_scene(0.2);
+    s.add_light(DirectionalLight::new(Vec3::new(-1.0, -1.0, -1.0), Vec3::ONE, 1.0).unwrap());
+    s.add_light(PointLight::new(Vec3::new(2.0, 3.0, 4.0), Vec3::splat(0.5), 1.0).unwrap());
+    out.push(Case {
+        name: "sun-point",
+        scene: s,
+        camera: perspective(DVec3::new(0.5, 0.7, 2.5), 0.5),
+        specular: SpecularModel::BlinnPhong,
+        cull: false,
+    });
+
+    // Attenuated point with light ambient, a soft-edged spot, split colours; Phong lobe; the
+    // near plane cuts through the scene (clipped triangles and clip-made vertices).
+    let mut s = base_scene(0.1);
+    let p = PointLight::new(Vec3::new(-1.0, 1.5, 1.5), Vec3::new(0.9, 0.8, 0.7), 2.0)
+        .unwrap()
+        .with_attenuation(0.5, 0.2, 0.1)
+        .unwrap()
+        .with_ambient(Vec3::splat(0.15))
+        .unwrap();
+    s.add_light(p);
+    let sp = PointLight::new(Vec3::new(0.5, 2.0, 0.5), Vec3::ONE, 2.0)
+        .unwrap()
+        .with_ambient(Vec3::splat(0.05))
+        .unwrap();
+    s.add_light(
+        SpotLight::new(sp, Vec3::new(-0.2, -1.0, -0.1), 40.0, 3.0)
+            .unwrap()
+            .with_inner(25.0)
+            .unwrap(),
+    );
+    s.add_light(
+        DirectionalLight::new(Vec3::new(1.0, -0.3, -0.5), Vec3::ONE, 0.5)
+            .unwrap()
+            .with_split_colors(
+                Some(Vec3::new(0.2, 0.4, 0.6)),
+                Some(Vec3::new(1.0, 0.5, 0.0)),
+            )
+            .unwrap(),
+    );
+    out.push(Case {
+        name: "attenuated-spot-clipped",
+        scene: s,
+        camera: perspective(DVec3::new(0.3, 0.4, 1.2), 0.9),
+        specular: SpecularModel::Phong,
+        cull: false,
+    });
+
+    // Area lights: one-sided rectangle and a two-sided disc; normalised Blinn; culling.
+    let mut s = base_scene(0.1);
+    s.add_light(
+        AreaLight::new(
+            Vec3::new(0.0, 2.0, 1.0),
+            Vec3::new(0.8, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, -0.8),
+            AreaShape::Rectangle,
+            3,
+        )
+        .unwrap()
+        .with_color(Vec3::new(1.0, 0.9, 0.8), 3.0)
+        .unwrap()
+        .with_one_sided(true),
+    );
+    s.add_light(
+        AreaLight::new(
+            Vec3::new(-2.0, 0.5, 1.0),
+            Vec3::new(0.0, 0.5, 0.0),
+            Vec3::new(0.0, 0.0, 0.5),
+            AreaShape::Disk,
+            2,
+        )
+        .unwrap()
+        .with_attenuation(1.0, 0.1, 0.05)
+        .unwrap(),
+    );
+    out.push(Case {
+        name: "area-lights",
+        scene: s,
+        camera: perspective(DVec3::new(-0.4, 0.9, 2.4), 0.5),
+        specular: SpecularModel::NormalizedBlinnPhong,
+        cull: true,
+    });
+
+    // Infinite viewer, orthographic camera.
+    let mut s = base_scene(0.2);
+    s.set_local_viewer(false);
+    s.add_light(DirectionalLight::new(Vec3::new(-0.5, -1.0, -0.8), Vec3::ONE, 1.0).unwrap());
+    s.add_light(
+        PointLight::new(Vec3::new(1.0, 1.0, 2.0), Vec3::splat(0.6), 1.0)
+            .unwrap()
+            .with_attenuation(1.0, 0.0, 0.2)
+            .unwrap(),
+    );
+    out.push(Case {
+        name: "infinite-viewer-ortho",
+        scene: s,
+        camera: Camera::orthographic(
+            DVec3::new(1.0, 1.5, 3.0),
+            DVec3::ZERO,
+            DVec3::Y,
+            2.5,
+            0.5,
+            10.0,
+        )
+        .unwrap(),
+        specular: SpecularModel::BlinnPhong,
+        cull: false,
+    });
+    out
+}
+
+/// Hash of one (case, mode, fog) over pixel types × depth output; also checks that 1 and 2
+/// threads and both instruction sets give the same bytes.
+fn hash_of(case: &Case, mode: ShadingMode) -> u64 {
+    let mut h = FNV_START;
+    for format in [ColorFormat::U8, ColorFormat::F32] {
+        for depth in [false, true] {
+            let mut reference: Option<Vec<u8>> = None;
+            for (threads, baseline_isa) in [(1, false), (2, false), (2, true)] {
+                let mut opts = RenderOptions::new(97, 61);
+                opts.shading = mode;
+                opts.specular = case.specular;
+                opts.cull_backfaces = case.cull;
+                opts.background = Vec3::new(0.1, 0.2, 0.3);
+                opts.threads = Some(threads);
+                opts.baseline_isa = baseline_isa;
+                let bytes =
+                    frame_bytes(&render(&case.scene, &case.camera, &opts, format, depth).unwrap());
+                match &reference {
+                    None => reference = Some(bytes),
+                    Some(r) => assert!(
+                        r == &bytes,
+                        "{} {mode:?} {format:?} depth {depth}: {threads} threads, baseline {baseline_isa} differs",
+                        case.name
+                    ),
+                }
+            }
+            fnv1a(&mut h, &reference.unwrap());
+        }
+    }
+    h
+}
+
+/// (case, mode, fog, two-sided) → hash, as rendered by the commit this table was made on.
+const EXPECTED: &[(&str, &str, &str, bool, u64)] = &[
+    ("ambient-only", "flat", "none", false, 0x14cf5a88518a7835),
+    ("ambient-only", "gouraud", "none", false, 0x14cf5a88518a7835),
+    ("ambient-only", "phong", "none", false, 0xdc196a3e4e1c1359),
+    ("ambient-only", "flat", "none", true, 0x14cf5a88518a7835),
+    ("ambient-only", "gouraud", "none", true, 0x14cf5a88518a7835),
+    ("ambient-only", "phong", "none", true, 0xdc196a3e4e1c1359),
+    ("ambient-only", "flat", "linear", false, 0x6a4dd6433203423d),
+    (
+        "ambient-only",
+        "gouraud",
+        "linear",
+        false,
+        0x6a4dd6433203423d,
+    ),
+    ("ambient-only", "phong", "linear", false, 0x8a58caf5191a39c9),
+    ("ambient-only", "flat", "linear", true, 0x6a4dd6433203423d),
+    (
+        "ambient-only",
+        "gouraud",
+        "linear",
+        true,
+        0x6a4dd6433203423d,
+    ),
+    ("ambient-only", "phong", "linear", true, 0x8a58caf5191a39c9),
+    ("ambient-only", "flat", "exp2", false, 0x2cff8e1650c4b203),
+    ("ambient-only", "gouraud", "exp2", false, 0x2cff8e1650c4b203),
+    ("ambient-only", "phong", "exp2", false, 0x27369e7dbfbc55a3),
+    ("ambient-only", "flat", "exp2", true, 0x2cff8e1650c4b203),
+    ("ambient-only", "gouraud", "exp2", true, 0x2cff8e1650c4b203),
+    ("ambient-only", "phong", "exp2", true, 0x27369e7dbfbc55a3),
+    ("sun-point", "flat", "none", false, 0x69c9afe988d25cc3),
+    ("sun-point", "gouraud", "none", false, 0xd465d4e9e370ddcb),
+    ("sun-point", "phong", "none", false, 0xec75a366d16829cf),
+    ("sun-point", "flat", "none", true, 0x69c9afe988d25cc3),
+    ("sun-point", "gouraud", "none", true, 0xd465d4e9e370ddcb),
+    ("sun-point", "phong", "none", true, 0xec75a366d16829cf),
+    ("sun-point", "flat", "linear", false, 0x4433a2274a6d4c15),
+    ("sun-point", "gouraud", "linear", false, 0xf2472845805467e5),
+    ("sun-point", "phong", "linear", false, 0x457d1d07c21c1bc1),
+    ("sun-point", "flat", "linear", true, 0x4433a2274a6d4c15),
+    ("sun-point", "gouraud", "linear", true, 0xf2472845805467e5),
+    ("sun-point", "phong", "linear", true, 0x457d1d07c21c1bc1),
+    ("sun-point", "flat", "exp2", false, 0x9b0adf26a0929afd),
+    ("sun-point", "gouraud", "exp2", false, 0xab5108a68a1d78e3),
+    ("sun-point", "phong", "exp2", false, 0x126b942df8dc3041),
+    ("sun-point", "flat", "exp2", true, 0x9b0adf26a0929afd),
+    ("sun-point", "gouraud", "exp2", true, 0xab5108a68a1d78e3),
+    ("sun-point", "phong", "exp2", true, 0x126b942df8dc3041),
+    (
+        "attenuated-spot-clipped",
+        "flat",
+        "none",
+        false,
+        0x49864bb49a79a76d,
+    ),
+    (
+        "attenuated-spot-clipped",
+        "gouraud",
+        "none",
+        false,
+        0x013bbae04493be41,
+    ),
+    (
+        "attenuated-spot-clipped",
+        "phong",
+        "none",
+        false,
+        0xe631a4adabd701af,
+    ),
+    (
+        "attenuated-spot-clipped",
+        "flat",
+        "none",
+        true,
+        0x5d6bdc087aaaca2d,
+    ),
+    (
+        "attenuated-spot-clipped",
+        "gouraud",
+        "none",
+        true,
+        0xa4eeaaf44080dd4f,
+    ),
+    (
+        "attenuated-spot-clipped",
+        "phong",
+        "none",
+        true,
+        0xa254fbaeb1ce916f,
+    ),
+    (
+        "attenuated-spot-clipped",
+        "flat",
+        "linear",
+        false,
+        0xe9ae73e02ed32959,
+    ),
+    (
+        "attenuated-spot-clipped",
+        "gouraud",
+        "linear",
+        false,
+        0xaa540456111677c7,
+    ),
+    (
+        "attenuated-spot-clipped",
+        "phong",
+        "linear",
+        false,
+        0xc38d870b74d02129,
+    ),
+    (
+        "attenuated-spot-clipped",
+        "flat",
+        "linear",
+        true,
+        0xac1500c702621959,
+    ),
+    (
+        "attenuated-spot-clipped",
+        "gouraud",
+        "linear",
+        true,
+        0xb21a6a5f28ddf547,
+    ),
+    (
+        "attenuated-spot-clipped",
+        "phong",
+        "linear",
+        true,
+        0x983968d0613ac657,
+    ),
+    (
+        "attenuated-spot-clipped",
+        "flat",
+        "exp2",
+        false,
+        0xc2a7cdbdd9aa6b8f,
+    ),
+    (
+        "attenuated-spot-clipped",
+        "gouraud",
+        "exp2",
+        false,
+        0x3525ab2357acf58d,
+    ),
+    (
+        "attenuated-spot-clipped",
+        "phong",
+        "exp2",
+        false,
+        0x026e4756ea0b7185,
+    ),
+    (
+        "attenuated-spot-clipped",
+        "flat",
+        "exp2",
+        true,
+        0x08d1796fc884f2b5,
+    ),
+    (
+        "attenuated-spot-clipped",
+        "gouraud",
+        "exp2",
+        true,
+        0x7a89f08091ba43e5,
+    ),
+    (
+        "attenuated-spot-clipped",
+        "phong",
+        "exp2",
+        true,
+        0x69c8d9d5417054cd,
+    ),
+    ("area-lights", "flat", "none", false, 0x1612fcd5d1e5c9a9),
+    ("area-lights", "gouraud", "none", false, 0xd44a7c1652217c07),
+    ("area-lights", "phong", "none", false, 0x5e268f4b88c4759d),
+    ("area-lights", "flat", "none", true, 0x1612fcd5d1e5c9a9),
+    ("area-lights", "gouraud", "none", true, 0xd44a7c1652217c07),
+    ("area-lights", "phong", "none", true, 0x5e268f4b88c4759d),
+    ("area-lights", "flat", "linear", false, 0x7b96cf48d1540e63),
+    (
+        "area-lights",
+        "gouraud",
+        "linear",
+        false,
+        0x71d1285595b99d13,
+    ),
+    ("area-lights", "phong", "linear", false, 0x87fd98bf057a76b1),
+    ("area-lights", "flat", "linear", true, 0x7b96cf48d1540e63),
+    ("area-lights", "gouraud", "linear", true, 0x71d1285595b99d13),
+    ("area-lights", "phong", "linear", true, 0x87fd98bf057a76b1),
+    ("area-lights", "flat", "exp2", false, 0xe16e8fbbd6bdb82b),
+    ("area-lights", "gouraud", "exp2", false, 0x20d9d9cbd07aea2f),
+    ("area-lights", "phong", "exp2", false, 0xbbcbd1c59473e945),
+    ("area-lights", "flat", "exp2", true, 0xe16e8fbbd6bdb82b),
+    ("area-lights", "gouraud", "exp2", true, 0x20d9d9cbd07aea2f),
+    ("area-lights", "phong", "exp2", true, 0xbbcbd1c59473e945),
+    (
+        "infinite-viewer-ortho",
+        "flat",
+        "none",
+        false,
+        0xb1a0d26c0999fe6d,
+    ),
+    (
+        "infinite-viewer-ortho",
+        "gouraud",
+        "none",
+        false,
+        0x401fd5686cb74075,
+    ),
+    (
+        "infinite-viewer-ortho",
+        "phong",
+        "none",
+        false,
+        0x888c54876787966d,
+    ),
+    (
+        "infinite-viewer-ortho",
+        "flat",
+        "none",
+        true,
+        0xb1a0d26c0999fe6d,
+    ),
+    (
+        "infinite-viewer-ortho",
+        "gouraud",
+        "none",
+        true,
+        0x401fd5686cb74075,
+    ),
+    (
+        "infinite-viewer-ortho",
+        "phong",
+        "none",
+        true,
+        0x888c54876787966d,
+    ),
+    (
+        "infinite-viewer-ortho",
+        "flat",
+        "linear",
+        false,
+        0xd90297da45401c7d,
+    ),
+    (
+        "infinite-viewer-ortho",
+        "gouraud",
+        "linear",
+        false,
+        0x91cb57e893242bf7,
+    ),
+    (
+        "infinite-viewer-ortho",
+        "phong",
+        "linear",
+        false,
+        0xa4dfd2cadf72eb1d,
+    ),
+    (
+        "infinite-viewer-ortho",
+        "flat",
+        "linear",
+        true,
+        0xd90297da45401c7d,
+    ),
+    (
+        "infinite-viewer-ortho",
+        "gouraud",
+        "linear",
+        true,
+        0x91cb57e893242bf7,
+    ),
+    (
+        "infinite-viewer-ortho",
+        "phong",
+        "linear",
+        true,
+        0xa4dfd2cadf72eb1d,
+    ),
+    (
+        "infinite-viewer-ortho",
+        "flat",
+        "exp2",
+        false,
+        0x104974d304bc6cd5,
+    ),
+    (
+        "infinite-viewer-ortho",
+        "gouraud",
+        "exp2",
+        false,
+        0x363c1041ef429dc1,
+    ),
+    (
+        "infinite-viewer-ortho",
+        "phong",
+        "exp2",
+        false,
+        0xc709ead6609f2451,
+    ),
+    (
+        "infinite-viewer-ortho",
+        "flat",
+        "exp2",
+        true,
+        0x104974d304bc6cd5,
+    ),
+    (
+        "infinite-viewer-ortho",
+        "gouraud",
+        "exp2",
+        true,
+        0x363c1041ef429dc1,
+    ),
+    (
+        "infinite-viewer-ortho",
+        "phong",
+        "exp2",
+        true,
+        0xc709ead6609f2451,
+    ),
+];
+
+#[test]
+fn renders_hash_to_the_committed_table() {
+    let fogs = [
+        ("none", None),
+        (
+            "linear",
+            Some(
+                Fog::new(
+                    FogMode::Linear {
+                        start: 1.5,
+                        end: 4.0,
+                    },
+                    Vec3::new(0.5, 0.6, 0.7),
+                )
+                .unwrap(),
+            ),
+        ),
+        (
+            "exp2",
+            Some(Fog::new(FogMode::Exp2 { density: 0.4 }, Vec3::new(0.7, 0.6, 0.5)).unwrap()),
+        ),
+    ];
+    let print = std::env::var_os("SHADELAB_PRINT_HASHES").is_some();
+    let mut got = Vec::new();
+    for mut case in cases() {
+        for (fog_name, fog) in &fogs {
+            for two_sided in [false, true] {
+                case.scene.set_fog(*fog);
+                case.scene.set_two_sided(two_sided);
+                for (mode_name, mode) in [
+                    ("flat", ShadingMode::Flat),
+                    ("gouraud", ShadingMode::Gouraud),
+                    ("phong", ShadingMode::Phong),
+                ] {
+                    got.push((
+                        case.name,
+                        mode_name,
+                        *fog_name,
+                        two_sided,
+                        hash_of(&case, mode),
+                    ));
+                }
+            }
+        }
+    }
+    if print {
+        for (c, m, f, t, h) in &got {
+            println!("    (\"{c}\", \"{m}\", \"{f}\", {t}, 0x{h:016x}),");
+        }
+    }
+    let mismatches: Vec<String> = got
+        .iter()
+        .zip(EXPECTED)
+        .filter(|(g, e)| g != e)
+        .map(|(g, e)| format!("got {g:?}, expected {e:?}"))
+        .collect();
+    assert_eq!(
+        got.len(),
+        EXPECTED.len(),
+        "the table has {} rows, the matrix {}",
+        EXPECTED.len(),
+        got.len()
+    );
+    assert!(
+        mismatches.is_empty(),
+        "{} of {} renders changed:\n{}",
+        mismatches.len(),
+        got.len(),
+        mismatches.join("\n")
+    );
+}
