@@ -29,14 +29,14 @@ demo: build  ## render the built-in demo scene to demo.png
 
 lint: $(DEPS)  ## rustfmt, clippy (warnings are errors), ruff
 	cargo fmt --all -- --check
-	PYO3_PYTHON=$(abspath $(PY)) cargo clippy --workspace --all-targets -- -D warnings
+	PYO3_PYTHON=$(abspath $(PY)) cargo clippy --workspace --all-targets --features shadelab-raster/fuzzing -- -D warnings
 	$(VENV)/bin/ruff check python tests bench docs/lighting
 	$(VENV)/bin/ruff format --check python tests bench docs/lighting
 
 test: lint build  ## lint, stub check, cargo test, pytest
 	$(PY) -m mypy.stubtest shadelab_rs._core
 	$(PY) -m mypy python/shadelab_rs
-	cargo test
+	cargo test --features fuzzing
 	$(PY) -m pytest -q
 
 FUZZ_SECONDS ?= 60

@@ -10,17 +10,18 @@ use std::sync::Arc;
 
 use glam::{DVec3, Mat4, Vec3, Vec4};
 
-use crate::area_light::{AreaLight, AreaShape};
 use crate::camera::{Camera, Projection};
 use crate::error::RasterError;
 use crate::fog::{Fog, FogMode};
-use crate::light::{DirectionalLight, Light, PointLight, SplitColors, SpotLight};
+use crate::frame::{ColorBuffer, ColorFormat};
+use crate::lights::{AreaLight, AreaShape};
+use crate::lights::{DirectionalLight, Light, PointLight, SplitColors, SpotLight};
 use crate::material::Material;
 use crate::mesh::Mesh;
 use crate::obj::{merge_parts, parse_obj_parts};
-use crate::render::{coverage_counts, render, ColorBuffer, ColorFormat, RenderOptions};
+use crate::options::{RenderOptions, ShadingMode, SpecularModel};
+use crate::render::{coverage_counts, render};
 use crate::scene::{Object, Scene};
-use crate::shading::{ShadingMode, SpecularModel};
 
 /// Separates the OBJ text from the MTL text in an `obj_loader` input.
 pub const MTL_SEPARATOR: &[u8] = b"\n#mtl\n";
@@ -272,7 +273,7 @@ fn decode(b: &mut Bytes) -> Option<Case> {
         ))?);
     }
     for _ in 0..b.u8() % 4 {
-        let light: crate::Result<crate::light::Light> = match b.u8() % 4 {
+        let light: crate::Result<crate::lights::Light> = match b.u8() % 4 {
             0 => DirectionalLight::new(b.vec3(), b.color(), b.level()).map(Into::into),
             1 => PointLight::new(b.vec3(), b.color(), b.level())
                 .and_then(|p| p.with_attenuation(b.level(), b.level(), b.level()))

@@ -22,39 +22,39 @@
 //! ```
 #![warn(missing_docs)]
 
-mod area_light;
 mod camera;
 mod error;
 mod fog;
+mod frame;
+#[cfg(feature = "fuzzing")]
 #[doc(hidden)]
 pub mod fuzzing;
-mod light;
+mod lighting;
+mod lights;
 mod material;
 mod mesh;
 mod obj;
+mod options;
 mod pipeline;
 mod pool;
 pub mod primitives;
 mod render;
 mod scene;
-mod shading;
 
-pub use area_light::{AreaLight, AreaShape, MAX_AREA_SAMPLES};
 pub use camera::{Camera, Projection};
 pub use error::{RasterError, Result};
 pub use fog::{Fog, FogMode};
-pub use light::{
-    DirectionalLight, Light, PointLight, SplitColors, SpotLight, MIN_ATTENUATION_DENOMINATOR,
+pub use frame::{ColorBuffer, ColorFormat, Frame, RenderStats, StageTimings};
+pub use lights::{
+    AreaLight, AreaShape, DirectionalLight, Light, PointLight, SplitColors, SpotLight,
+    MAX_AREA_SAMPLES, MIN_ATTENUATION_DENOMINATOR,
 };
 pub use material::{preset_names, Material, Preset, PRESETS};
 pub use mesh::{face_normal, generate_vertex_normals, Mesh};
 pub use obj::{load_obj, load_obj_parts, parse_obj_parts, ObjPart};
+pub use options::{RenderOptions, ShadingMode, SpecularModel, MAX_IMAGE_SIZE};
 pub use pipeline::shade::Pixel;
 pub use pipeline::MAX_RADIANCE;
 pub use pool::{default_threads, MAX_THREADS};
-pub use render::{
-    coverage_counts, render, render_into, ColorBuffer, ColorFormat, Frame, RenderOptions,
-    RenderStats, StageTimings, MAX_IMAGE_SIZE,
-};
+pub use render::{coverage_counts, render, render_into};
 pub use scene::{Object, Scene};
-pub use shading::{PreparedMaterial, ShadingMode, SpecularModel};

@@ -6,7 +6,7 @@ use glam::{DMat3, Mat3, Mat4, Vec3};
 
 use crate::error::{RasterError, Result};
 use crate::fog::Fog;
-use crate::light::Light;
+use crate::lights::Light;
 use crate::material::Material;
 use crate::mesh::Mesh;
 

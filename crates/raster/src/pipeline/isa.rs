@@ -9,7 +9,7 @@
 use super::raster::{self, TileBuffers};
 use super::shade::{self, Out, Pixel, ShadeContext};
 use super::tiles::TileRect;
-use crate::shading::ShadingMode;
+use crate::options::ShadingMode;
 
 /// The instruction set a render's tiles run on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

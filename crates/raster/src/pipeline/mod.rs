@@ -23,10 +23,11 @@ use rayon::prelude::*;
 
 use crate::camera::Camera;
 use crate::error::{RasterError, Result};
+use crate::frame::RenderStats;
+use crate::lighting::{normalize_lanes, LightSet, Surface, LANES};
 use crate::material::Material;
-use crate::render::{RenderOptions, RenderStats};
+use crate::options::{RenderOptions, ShadingMode};
 use crate::scene::Scene;
-use crate::shading::{normalize_lanes, PreparedMaterial, ShadingMode, LANES};
 use bin::{Binned, Bins, Chunk};
 use clip::ClipPlanes;
 use raster::TileBuffers;
@@ -205,7 +206,7 @@ impl PrimitiveContext<'_> {
 
 /// An object's prepared materials for its front faces (`[0]`) and the faces lit as back
 /// faces under two-sided lighting (`[1]`, the front one again without a back material).
-pub(crate) type Sides = [PreparedMaterial; 2];
+pub(crate) type Sides = [Surface; 2];
 
 /// Geometry ready for the tile stage: transformed vertices and binned, set-up triangles.
 pub(crate) struct Prepared {
@@ -250,8 +251,9 @@ pub(crate) fn prepare(scene: &Scene, camera: &Camera, options: &RenderOptions) -
     }
     let eye = camera.eye().as_vec3();
     let view_proj = camera.projection_matrix(w as f64 / h as f64) * camera.view_matrix();
+    let light_set = LightSet::new(scene.lights());
     let prepare_material = |m: &Material| {
-        let pm = PreparedMaterial::new(m, scene.ambient(), scene.lights(), options.specular);
+        let pm = Surface::folded(m, scene.ambient(), &light_set, options.specular);
         if scene.local_viewer() {
             pm
         } else {

@@ -16,7 +16,8 @@ use super::vertex::Vertices;
 use super::Sides;
 use crate::camera::{Camera, EyeDistance};
 use crate::fog::Fog;
-use crate::shading::{normalize_lanes, Lanes, PreparedMaterial, ShadingMode, LANES};
+use crate::lighting::{normalize_lanes, Lanes, Surface, LANES};
+use crate::options::ShadingMode;
 
 mod sealed {
     /// Only the crate's own sample types are [`super::Pixel`]s.
@@ -303,7 +304,7 @@ struct Current<'a> {
     plane: [Plane; 3],
     normal: [Vec3; 3],
     pos: [Vec3; 3],
-    material: Option<&'a PreparedMaterial>,
+    material: Option<&'a Surface>,
 }
 
 impl<'a> Current<'a> {
@@ -551,7 +552,7 @@ struct PhongBatch<'a> {
     /// Eye depth of each lane (for fog).
     depth: Lanes,
     len: usize,
-    material: Option<&'a PreparedMaterial>,
+    material: Option<&'a Surface>,
 }
 
 impl<'a> PhongBatch<'a> {
@@ -583,7 +584,7 @@ impl<'a> PhongBatch<'a> {
         &mut self,
         ctx: &ShadeContext<'_>,
         rect: TileRect,
-        m: &'a PreparedMaterial,
+        m: &'a Surface,
         n: Vec3,
         p: Vec3,
         at: (usize, usize),

@@ -9,8 +9,9 @@ use rayon::prelude::*;
 use super::clip::ClipPlanes;
 use super::setup::{snap, Snapped};
 use super::Sides;
+use crate::lighting::LANES;
+use crate::options::ShadingMode;
 use crate::scene::Scene;
-use crate::shading::{ShadingMode, LANES};
 
 /// Outcode bit of a vertex whose snapped coordinates are unusable (non-finite).
 pub(crate) const INVALID: u8 = 0x80;

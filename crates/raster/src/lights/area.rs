@@ -3,8 +3,9 @@
 
 use glam::Vec3;
 
+use super::colors::SplitColors;
+use super::point::PointLight;
 use crate::error::{RasterError, Result};
-use crate::light::{Light, PointLight, SplitColors, SpotLight};
 
 /// Largest `samples` per side: 64² = 4096 point sources, already far past any useful
 /// accuracy for a local model, and a bound on per-pixel work.
@@ -227,58 +228,11 @@ impl AreaLight {
             }
         }
     }
-
-    /// The point (or, one-sided, spot) lights this light stands for.
-    pub fn point_lights(&self) -> Vec<Light> {
-        let share = 1.0 / self.n_points() as f32;
-        let normal = self.normal();
-        self.points()
-            .into_iter()
-            .map(|position| {
-                let point = PointLight {
-                    position,
-                    color: self.color,
-                    intensity: self.intensity * share,
-                    ambient: self.ambient * share,
-                    attenuation: self.attenuation,
-                    split: self.split,
-                };
-                if self.one_sided {
-                    // cutoff 90°, exponent 1: max(−l·(−n), 0) = cos of the emission angle.
-                    SpotLight::new(point, normal, 90.0, 1.0)
-                        .expect("unit normal, cutoff 90 and exponent 1 are valid")
-                        .into()
-                } else {
-                    point.into()
-                }
-            })
-            .collect()
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Fuzzing found a one-sided light with huge edges whose f32 normal overflowed to zero
-    /// (`fuzz/seeds/pipeline/crash-area-light-normal-overflow`): `point_lights` then
-    /// panicked building its spot lights. Normals and the edge check are now in f64.
-    #[test]
-    fn huge_and_tiny_edges_have_a_unit_normal() {
-        for scale in [1e-30f32, 1e-20, 1e20, 1e30, 3e38] {
-            let light = AreaLight::new(
-                Vec3::ZERO,
-                Vec3::X * scale,
-                Vec3::Y * scale,
-                AreaShape::Rectangle,
-                2,
-            )
-            .unwrap()
-            .with_one_sided(true);
-            assert_eq!(light.normal(), Vec3::Z, "scale {scale}");
-            assert_eq!(light.point_lights().len(), 4);
-        }
-    }
 
     fn rect(samples: u32) -> AreaLight {
         AreaLight::new(
@@ -349,38 +303,5 @@ mod tests {
         assert_eq!(inner, 128);
         let mean = pts.iter().copied().sum::<Vec3>() / 256.0;
         assert!(mean.length() < 0.01, "{mean}");
-    }
-
-    #[test]
-    fn points_share_the_light() {
-        let l = rect(3)
-            .with_color(Vec3::new(1.0, 0.5, 0.25), 9.0)
-            .unwrap()
-            .with_ambient(Vec3::splat(0.9))
-            .unwrap()
-            .with_attenuation(1.0, 0.5, 0.0)
-            .unwrap();
-        let lights = l.point_lights();
-        assert_eq!(lights.len(), 9);
-        for light in lights {
-            let Light::Point(p) = light else {
-                panic!("two-sided points are point lights")
-            };
-            assert_eq!(p.intensity, 1.0);
-            assert_eq!(p.color, Vec3::new(1.0, 0.5, 0.25));
-            assert!((p.ambient - Vec3::splat(0.1)).abs().max_element() < 1e-7);
-            assert_eq!(p.attenuation, [1.0, 0.5, 0.0]);
-        }
-        let one = rect(2).with_one_sided(true);
-        assert_eq!(one.normal(), -Vec3::Y); // u × v = x × z = −y: emits downward
-        for light in one.point_lights() {
-            let Light::Spot(s) = light else {
-                panic!("one-sided points are spots")
-            };
-            assert_eq!(
-                (s.cutoff(), s.exponent(), s.direction()),
-                (90.0, 1.0, -Vec3::Y)
-            );
-        }
     }
 }

@@ -1,0 +1,105 @@
+//! Renders one scene a few times on one thread, for instruction counts under callgrind
+//! (stable on a noisy machine, unlike timings):
+//!
+//! ```text
+//! cargo build --release --example frame_cost
+//! valgrind --tool=callgrind --callgrind-out-file=/dev/null \
+//!     target/release/examples/frame_cost phong 99 1080 lights=sun,point fog frames=2
+//! ```
+//!
+//! Arguments: shading mode, sphere rings (segments = 2·rings), image height (16:9), then any
+//! of `lights=none|sun|point|spot|area` (comma-separated), `fog`, `two-sided`, `depth`,
+//! `f32`, `frames=N`. Prints a checksum of the last frame so the work cannot be optimised away.
+
+use std::sync::Arc;
+
+use glam::{DVec3, Mat4, Vec3};
+use shadelab_raster::*;
+
+fn main() -> std::result::Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mode: ShadingMode = args.first().map_or("phong", |s| s.as_str()).parse()?;
+    let rings: u32 = args.get(1).map_or(Ok(99), |s| s.parse())?;
+    let height: u32 = args.get(2).map_or(Ok(1080), |s| s.parse())?;
+    let flag = |name: &str| args.iter().any(|a| a == name);
+    let value = |key: &str| {
+        args.iter()
+            .find_map(|a| a.strip_prefix(key).map(str::to_owned))
+    };
+    let frames: usize = value("frames=").map_or(Ok(2), |s| s.parse())?;
+    let lights = value("lights=").unwrap_or_else(|| "sun".to_owned());
+
+    let mut scene = Scene::new(Vec3::splat(0.2))?;
+    scene.add(
+        Arc::new(primitives::uv_sphere(rings, 2 * rings)),
+        Material::preset("gold")?,
+        Mat4::IDENTITY,
+    )?;
+    for kind in lights.split(',') {
+        match kind {
+            "none" => {}
+            "sun" => scene.add_light(DirectionalLight::new(
+                Vec3::new(-1.0, -1.0, -1.0),
+                Vec3::ONE,
+                1.0,
+            )?),
+            "point" => scene.add_light(
+                PointLight::new(Vec3::new(2.0, 3.0, 4.0), Vec3::splat(0.5), 1.0)?
+                    .with_attenuation(1.0, 0.05, 0.01)?,
+            ),
+            "spot" => scene.add_light(
+                SpotLight::new(
+                    PointLight::new(Vec3::new(0.0, 3.0, 1.0), Vec3::ONE, 1.0)?,
+                    Vec3::new(0.0, -3.0, -1.0),
+                    30.0,
+                    2.0,
+                )?
+                .with_inner(20.0)?,
+            ),
+            "area" => scene.add_light(
+                AreaLight::new(
+                    Vec3::new(0.0, 2.0, 2.0),
+                    Vec3::X,
+                    Vec3::new(0.0, 0.5, -0.5),
+                    AreaShape::Rectangle,
+                    4,
+                )?
+                .with_one_sided(true),
+            ),
+            other => return Err(format!("unknown light kind {other}").into()),
+        }
+    }
+    if flag("fog") {
+        scene.set_fog(Some(Fog::new(
+            FogMode::Exp2 { density: 0.3 },
+            Vec3::new(0.5, 0.6, 0.7),
+        )?));
+    }
+    scene.set_two_sided(flag("two-sided"));
+    let camera = Camera::look_at(
+        DVec3::new(0.0, 0.0, 2.6),
+        DVec3::ZERO,
+        DVec3::Y,
+        45.0,
+        0.1,
+        100.0,
+    )?;
+    let mut options = RenderOptions::new(height * 16 / 9, height);
+    options.shading = mode;
+    options.threads = Some(1);
+    let format = if flag("f32") {
+        ColorFormat::F32
+    } else {
+        ColorFormat::U8
+    };
+    let mut sum = 0.0f64;
+    for _ in 0..frames {
+        let frame = render(&scene, &camera, &options, format, flag("depth"))?;
+        sum = match &frame.color {
+            ColorBuffer::U8(c) => c.iter().map(|&v| v as f64).sum(),
+            ColorBuffer::F32(c) => c.iter().map(|&v| v as f64).sum(),
+        };
+    }
+    println!("checksum {sum}");
+    Ok(())
+}

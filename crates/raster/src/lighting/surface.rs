@@ -1,0 +1,136 @@
+//! A surface under a render's lights: a material folded with the [`LightSet`] once per render
+//! (`kd·Id`, `ks·Is`, the constant ambient terms), or the light set alone with a unit
+//! material, whose terms stay apart for effects that change the material or a light per
+//! point (textures, shadows, reflections).
+
+use glam::Vec3;
+
+use super::light_set::{Geometry, LightSet};
+use crate::lights::MIN_ATTENUATION_DENOMINATOR;
+use crate::material::Material;
+use crate::options::SpecularModel;
+
+/// One source as a surface sees it: its colours already multiplied by the material's.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct SurfaceLight {
+    pub geometry: Geometry,
+    pub diffuse: Vec3,
+    pub specular: Vec3,
+    /// `ka·Ia_i` of an attenuated or spot light, scaled per point (the others' is folded into
+    /// [`Surface::base`], and this is zero).
+    pub ambient: Vec3,
+    pub attenuation: Option<[f32; 3]>,
+}
+
+/// A material (or the unit material) combined with a render's lights.
+#[derive(Debug, Clone)]
+pub(crate) struct Surface {
+    /// `ke + ka·Ia + Σ ka·Ia_i` of the sources not scaled per point.
+    pub base: Vec3,
+    pub lights: Vec<SurfaceLight>,
+    pub shininess: f32,
+    pub specular_on: bool,
+    pub model: SpecularModel,
+    /// Infinite viewer: the constant unit view vector; `None` for the local viewer.
+    pub infinite_view: Option<Vec3>,
+}
+
+impl Surface {
+    /// Folds `material` with the scene ambient `ambient` and the sources of `set`.
+    pub fn folded(
+        material: &Material,
+        ambient: Vec3,
+        set: &LightSet,
+        model: SpecularModel,
+    ) -> Self {
+        // c = ke + ka·Ia + Σ att·[ka·Ia_i + ...]: constant terms are summed once here.
+        // The normalised lobe's (f + 8)/8π is a constant too: folded into ks·Is.
+        let spec_scale = match model {
+            SpecularModel::NormalizedBlinnPhong => {
+                ((material.shininess as f64 + 8.0) / (8.0 * std::f64::consts::PI)) as f32
+            }
+            _ => 1.0,
+        };
+        let mut base = material.emission + material.ambient * ambient;
+        let lights = set
+            .sources
+            .iter()
+            .map(|s| {
+                let scaled = s.scaled();
+                let light_ambient = material.ambient * s.ambient;
+                if !scaled {
+                    base += light_ambient;
+                }
+                SurfaceLight {
+                    geometry: s.geometry,
+                    diffuse: material.diffuse * s.diffuse,
+                    specular: material.specular * s.specular * spec_scale,
+                    ambient: if scaled { light_ambient } else { Vec3::ZERO },
+                    attenuation: s.attenuation,
+                }
+            })
+            .collect();
+        Surface {
+            base,
+            lights,
+            shininess: material.shininess,
+            specular_on: material.has_specular(),
+            model,
+            infinite_view: None,
+        }
+    }
+
+    /// The unit material (`ka = kd = ks = 1`, no emission; `material`'s shininess and whether
+    /// it has a specular term) folded with `set`: [`super::Split`] terms of this surface are
+    /// `Ia + Σ att·Ia_i`, `Σ att·Id·max(n·l, 0)` and `Σ att·Is·S`, for a per-point material
+    /// (a texture) to weigh: `c = ke + ka·A + kd·D + ks·S`.
+    #[allow(dead_code)] // with `Split`: the texture stage's surface
+    pub fn unit(material: &Material, ambient: Vec3, set: &LightSet, model: SpecularModel) -> Self {
+        let unit = Material {
+            ambient: Vec3::ONE,
+            diffuse: Vec3::ONE,
+            specular: if material.has_specular() {
+                Vec3::ONE
+            } else {
+                Vec3::ZERO
+            },
+            emission: Vec3::ZERO,
+            ..*material
+        };
+        Surface::folded(&unit, ambient, set, model)
+    }
+
+    /// Uses an infinite viewer (OpenGL's `GL_LIGHT_MODEL_LOCAL_VIEWER` off): `v` is the
+    /// constant unit vector `toward_eye` instead of the direction from each point to the eye.
+    pub fn with_infinite_viewer(mut self, toward_eye: Vec3) -> Self {
+        self.infinite_view = Some(toward_eye.normalize_or_zero());
+        self
+    }
+
+    /// An upper bound (in f64) on every channel the surface can reach: the constant terms
+    /// plus, per light, its largest attenuation (`1 / max(kc, MIN_ATTENUATION_DENOMINATOR)`)
+    /// times its ambient, diffuse and specular colours (spot factors, `n·l` and the specular
+    /// power are at most 1). Infinite when folding already overflowed (or met `0·inf`).
+    pub fn max_value(&self) -> f64 {
+        // A folded term that overflowed is inf, or NaN where it met a zero (0·inf): both
+        // make the bound infinite (`max_element` would skip a NaN).
+        let max = |v: Vec3| {
+            if v.is_finite() {
+                v.max_element() as f64
+            } else {
+                f64::INFINITY
+            }
+        };
+        let lights: f64 = self
+            .lights
+            .iter()
+            .map(|l| {
+                let att = l.attenuation.map_or(1.0, |k| {
+                    1.0 / (k[0] as f64).max(MIN_ATTENUATION_DENOMINATOR as f64)
+                });
+                att * (max(l.ambient) + max(l.diffuse) + max(l.specular))
+            })
+            .sum();
+        max(self.base) + lights
+    }
+}

@@ -1,0 +1,67 @@
+//! Directional lights (a sun).
+
+use glam::Vec3;
+
+use crate::error::{RasterError, Result};
+
+use super::colors::{check_ambient, check_color, SplitColors};
+
+/// A light at infinity shining along `direction` (a sun overhead is `(0, -1, 0)`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DirectionalLight {
+    direction: Vec3,
+    /// RGB colour (diffuse and specular intensity before `intensity`).
+    pub color: Vec3,
+    /// Scalar multiplier of `color`.
+    pub intensity: f32,
+    /// The light's own ambient colour `Ia_i` (OpenGL `GL_AMBIENT` of a light), black by
+    /// default; not scaled by `intensity`.
+    pub ambient: Vec3,
+    /// Diffuse and specular colours when they differ; see [`SplitColors`].
+    pub split: SplitColors,
+}
+
+impl DirectionalLight {
+    /// A directional light; `direction` is normalised and must be finite and non-zero.
+    pub fn new(direction: Vec3, color: Vec3, intensity: f32) -> Result<Self> {
+        check_color(color, intensity)?;
+        let unit = direction
+            .try_normalize()
+            .filter(|_| direction.is_finite())
+            .ok_or_else(|| {
+                RasterError::invalid(format!(
+                    "light direction must be finite and non-zero, got {:?}",
+                    direction.to_array()
+                ))
+            })?;
+        Ok(DirectionalLight {
+            direction: unit,
+            color,
+            intensity,
+            ambient: Vec3::ZERO,
+            split: SplitColors::default(),
+        })
+    }
+
+    /// The same light with its own ambient colour (finite, ≥ 0).
+    pub fn with_ambient(mut self, ambient: Vec3) -> Result<Self> {
+        check_ambient(ambient)?;
+        self.ambient = ambient;
+        Ok(self)
+    }
+
+    /// The same light with its own diffuse and/or specular colour (see [`SplitColors`]).
+    pub fn with_split_colors(
+        mut self,
+        diffuse: Option<Vec3>,
+        specular: Option<Vec3>,
+    ) -> Result<Self> {
+        self.split = SplitColors::new(diffuse, specular)?;
+        Ok(self)
+    }
+
+    /// The unit direction the light travels.
+    pub fn direction(&self) -> Vec3 {
+        self.direction
+    }
+}
