@@ -11,6 +11,15 @@ use std::path::PathBuf;
 pub enum RasterError {
     /// A value is out of its documented domain (non-finite number, bad index, bad size...).
     InvalidInput(String),
+    /// One named argument of a constructor is out of its domain (`field` is the argument's
+    /// name: `"intensity"`, `"cutoff"`), so a caller can point at its own spelling of it
+    /// (a scene file's `lights[2].cutoff`) without checking the value again.
+    InvalidField {
+        /// The argument's name, as the constructor's documentation spells it.
+        field: &'static str,
+        /// What is wrong, naming the value.
+        message: String,
+    },
     /// A file does not exist.
     NotFound(PathBuf),
     /// A file exists but could not be read.
@@ -40,12 +49,29 @@ impl RasterError {
     pub(crate) fn invalid(msg: impl Into<String>) -> Self {
         RasterError::InvalidInput(msg.into())
     }
+
+    pub(crate) fn invalid_field(field: &'static str, msg: impl Into<String>) -> Self {
+        RasterError::InvalidField {
+            field,
+            message: msg.into(),
+        }
+    }
+
+    /// The name of the offending argument, when the error is about one.
+    pub fn field(&self) -> Option<&'static str> {
+        match self {
+            RasterError::InvalidField { field, .. } => Some(field),
+            _ => None,
+        }
+    }
 }
 
 impl fmt::Display for RasterError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            RasterError::InvalidInput(m) => f.write_str(m),
+            RasterError::InvalidInput(m) | RasterError::InvalidField { message: m, .. } => {
+                f.write_str(m)
+            }
             RasterError::NotFound(p) => write!(f, "no such file: '{}'", p.display()),
             RasterError::Io { path, message } => {
                 write!(f, "cannot read '{}': {message}", path.display())

@@ -36,10 +36,13 @@ impl SplitColors {
         for (name, c) in [("diffuse", diffuse), ("specular", specular)] {
             if let Some(c) = c {
                 if !c.is_finite() || c.min_element() < 0.0 {
-                    return Err(RasterError::invalid(format!(
-                        "light {name} colour must be finite and >= 0, got {:?}",
-                        c.to_array()
-                    )));
+                    return Err(RasterError::invalid_field(
+                        name,
+                        format!(
+                            "light {name} colour must be finite and >= 0, got {:?}",
+                            c.to_array()
+                        ),
+                    ));
                 }
             }
         }
@@ -79,10 +82,13 @@ pub const MIN_ATTENUATION_DENOMINATOR: f32 = 1e-6;
 
 fn check_ambient(ambient: Vec3) -> Result<()> {
     if !ambient.is_finite() || ambient.min_element() < 0.0 {
-        return Err(RasterError::invalid(format!(
-            "light ambient must be finite and >= 0, got {:?}",
-            ambient.to_array()
-        )));
+        return Err(RasterError::invalid_field(
+            "ambient",
+            format!(
+                "light ambient must be finite and >= 0, got {:?}",
+                ambient.to_array()
+            ),
+        ));
     }
     Ok(())
 }
@@ -125,20 +131,27 @@ impl SpotLight {
             .try_normalize()
             .filter(|_| direction.is_finite())
             .ok_or_else(|| {
-                RasterError::invalid(format!(
-                    "spot direction must be finite and non-zero, got {:?}",
-                    direction.to_array()
-                ))
+                RasterError::invalid_field(
+                    "direction",
+                    format!(
+                        "spot direction must be finite and non-zero, got {:?}",
+                        direction.to_array()
+                    ),
+                )
             })?;
         if !(cutoff.is_finite() && ((cutoff > 0.0 && cutoff <= 90.0) || cutoff == 180.0)) {
-            return Err(RasterError::invalid(format!(
-                "spot cutoff must be in (0, 90] degrees or exactly 180 (no cone), got {cutoff}"
-            )));
+            return Err(RasterError::invalid_field(
+                "cutoff",
+                format!(
+                    "spot cutoff must be in (0, 90] degrees or exactly 180 (no cone), got {cutoff}"
+                ),
+            ));
         }
         if !(exponent.is_finite() && exponent >= 0.0) {
-            return Err(RasterError::invalid(format!(
-                "spot exponent must be finite and >= 0, got {exponent}"
-            )));
+            return Err(RasterError::invalid_field(
+                "exponent",
+                format!("spot exponent must be finite and >= 0, got {exponent}"),
+            ));
         }
         Ok(SpotLight {
             point,
@@ -153,7 +166,7 @@ impl SpotLight {
     /// out to the cutoff.
     pub fn with_inner(mut self, inner: f32) -> Result<Self> {
         if !(inner.is_finite() && inner >= 0.0 && inner < self.cutoff && self.cutoff <= 90.0) {
-            return Err(RasterError::invalid(format!(
+            return Err(RasterError::invalid_field("inner", format!(
                 "spot inner angle must be in [0, cutoff) with cutoff <= 90, got inner={inner}, cutoff={}",
                 self.cutoff
             )));
@@ -208,15 +221,19 @@ impl SpotLight {
 
 fn check_color(color: Vec3, intensity: f32) -> Result<()> {
     if !color.is_finite() || color.min_element() < 0.0 {
-        return Err(RasterError::invalid(format!(
-            "light color must be finite and >= 0, got {:?}",
-            color.to_array()
-        )));
+        return Err(RasterError::invalid_field(
+            "color",
+            format!(
+                "light color must be finite and >= 0, got {:?}",
+                color.to_array()
+            ),
+        ));
     }
     if !(intensity.is_finite() && intensity >= 0.0) {
-        return Err(RasterError::invalid(format!(
-            "light intensity must be finite and >= 0, got {intensity}"
-        )));
+        return Err(RasterError::invalid_field(
+            "intensity",
+            format!("light intensity must be finite and >= 0, got {intensity}"),
+        ));
     }
     Ok(())
 }
@@ -229,10 +246,13 @@ impl DirectionalLight {
             .try_normalize()
             .filter(|_| direction.is_finite())
             .ok_or_else(|| {
-                RasterError::invalid(format!(
-                    "light direction must be finite and non-zero, got {:?}",
-                    direction.to_array()
-                ))
+                RasterError::invalid_field(
+                    "direction",
+                    format!(
+                        "light direction must be finite and non-zero, got {:?}",
+                        direction.to_array()
+                    ),
+                )
             })?;
         Ok(DirectionalLight {
             direction: unit,
@@ -271,10 +291,13 @@ impl PointLight {
     pub fn new(position: Vec3, color: Vec3, intensity: f32) -> Result<Self> {
         check_color(color, intensity)?;
         if !position.is_finite() {
-            return Err(RasterError::invalid(format!(
-                "light position must be finite, got {:?}",
-                position.to_array()
-            )));
+            return Err(RasterError::invalid_field(
+                "position",
+                format!(
+                    "light position must be finite, got {:?}",
+                    position.to_array()
+                ),
+            ));
         }
         Ok(PointLight {
             position,
@@ -298,9 +321,12 @@ impl PointLight {
     pub fn with_attenuation(mut self, kc: f32, kl: f32, kq: f32) -> Result<Self> {
         let k = [kc, kl, kq];
         if k.iter().any(|v| !v.is_finite() || *v < 0.0) || k.iter().all(|&v| v == 0.0) {
-            return Err(RasterError::invalid(format!(
-                "attenuation (kc, kl, kq) must be finite, >= 0 and not all zero, got {k:?}"
-            )));
+            return Err(RasterError::invalid_field(
+                "attenuation",
+                format!(
+                    "attenuation (kc, kl, kq) must be finite, >= 0 and not all zero, got {k:?}"
+                ),
+            ));
         }
         self.attenuation = k;
         Ok(self)
