@@ -603,12 +603,12 @@ def test_scene_getters(sphere_arrays):
 
 def test_directional_light_getters():
     light = sl.DirectionalLight(direction=(0, -2, 0), color=(0.5, 0.25, 1.0), intensity=2.0)
-    assert light.direction == (0.0, -1.0, 0.0)  # normalised
+    assert light.direction == (0.0, -2.0, 0.0)  # as given; the light uses its unit vector
     assert light.color == (0.5, 0.25, 1.0)
     assert light.intensity == 2.0
     d = sl.DirectionalLight((1, 1, 1))
     assert d.color == (1.0, 1.0, 1.0) and d.intensity == 1.0
-    np.testing.assert_allclose(d.direction, [3**-0.5] * 3, rtol=1e-6)
+    assert d.direction == (1.0, 1.0, 1.0)
     assert "DirectionalLight(" in repr(d)
 
 
@@ -921,7 +921,7 @@ def test_emission_alone_lights_an_unlit_scene():
 
 def test_spot_light_round_trip_and_cone():
     s = sl.SpotLight((0, 0, 2), (0, 0, -3), cutoff=30.0, exponent=2.0, inner=20.0)
-    assert s.direction == (0.0, 0.0, -1.0)
+    assert s.direction == (0.0, 0.0, -3.0)
     assert (s.cutoff, s.exponent, s.inner) == (30.0, 2.0, 20.0)
     assert sl.SpotLight((0, 0, 2), (0, 0, -1)).inner is None
     # A lit disc on a floor: radius 2·tan(30°) = 1.155 around the spot's foot.

@@ -191,7 +191,8 @@ class DirectionalLight:
         """The light's own ambient colour."""
     @property
     def direction(self) -> _Vec3:
-        """Unit direction of travel."""
+        """The direction of travel as given (not normalised: the light uses its unit
+        vector), so a light written to a scene file reads back exactly."""
     @property
     def color(self) -> _Vec3:
         """RGB colour."""
@@ -274,7 +275,8 @@ class SpotLight:
         """World position."""
     @property
     def direction(self) -> _Vec3:
-        """Unit direction the cone points."""
+        """The direction the cone points, as given (not normalised: the light uses its
+        unit vector)."""
     @property
     def cutoff(self) -> float:
         """Cone half-angle in degrees (180: no cone)."""

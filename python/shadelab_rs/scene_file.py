@@ -12,7 +12,6 @@ it as TOML without any dependency.
 
 from __future__ import annotations
 
-import itertools
 import json
 import math
 import os
@@ -303,61 +302,6 @@ _LIGHT_KEYS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
 }
 
 
-# The 27 ways of moving each of 3 float32 components by at most one ulp, smallest first.
-_ULP_STEPS = np.array(
-    sorted(itertools.product((-1, 0, 1), repeat=3), key=lambda s: sum(map(abs, s))),
-    dtype=np.int32,
-)
-
-
-def _normalize_f32(e: np.ndarray) -> np.ndarray:
-    """Rows of ``e`` (float32) normalised exactly as the core does (glam's
-    ``try_normalize``: ``e * (1 / sqrt((x*x + y*y) + z*z))``, each step rounded to
-    float32)."""
-    dot = (e[:, 0] * e[:, 0] + e[:, 1] * e[:, 1]) + e[:, 2] * e[:, 2]
-    return e * (np.float32(1.0) / np.sqrt(dot))[:, None]
-
-
-def _unit_preimage(d: list[float]) -> np.ndarray | None:
-    """A float32 vector whose float32 normalisation is exactly ``d``, or None.
-
-    Candidates are ``d`` scaled by 1 + k/4096 and rounded to float32, each moved by up to
-    an ulp per component: the rounding of the scaled vector varies with k, and over a few
-    thousand candidates one nearly always lands on ``d`` (every one of 5000 random unit
-    vectors in a test)."""
-    d32 = np.array(d, dtype=np.float32)
-    with np.errstate(all="ignore"):
-        for start in range(0, 4096, 128):
-            m = 1.0 + np.arange(start, start + 128) / 4096.0
-            base = (d32.astype(np.float64)[None, :] * m[:, None]).astype(np.float32)
-            bits = base.view(np.int32)[:, None, :] + _ULP_STEPS[None, :, :]
-            cand = bits.view(np.float32).reshape(-1, 3)
-            ok = np.all(_normalize_f32(cand) == d32, axis=1)
-            if ok.any():
-                return cand[int(np.argmax(ok))]
-    return None
-
-
-def _exact_direction(make: Callable[[list[float]], Any], d: list[float]) -> Any:
-    """``make(d)``, or ``make(e)`` for an ``e`` whose normalisation gives exactly ``d``
-    when ``d`` itself does not.
-
-    Lights store their direction normalised in float32, and normalising an already
-    normalised float32 vector moves it by an ulp about a third of the time; ``to_dict``
-    writes the stored unit direction, so this keeps ``from_dict(to_dict(s))``
-    bit-identical. A direction that is not unit (a hand-written one) is used as given."""
-    light = make(d)
-    target = tuple(float(np.float32(x)) for x in d)
-    if tuple(light.direction) == target or abs(math.hypot(*d) - 1.0) > 1e-6:
-        return light
-    e = _unit_preimage(d)
-    if e is not None:
-        cand = make([float(x) for x in e])
-        if tuple(cand.direction) == target:  # checked on the real constructor
-            return cand
-    return light  # within an ulp of d; see the user guide ("Round trips")
-
-
 def _light(v: Any, where: str) -> _Light:
     if not isinstance(v, Mapping):
         raise _fail(where, "a table", v)
@@ -389,9 +333,6 @@ def _light(v: Any, where: str) -> _Light:
         "spot": SpotLight,
         "area": AreaLight,
     }[kind]
-    if "direction" in kw:
-        d = kw.pop("direction")
-        return _call(where, lambda: _exact_direction(lambda e: make(direction=e, **kw), d))
     return _call(where, lambda: make(**kw))
 
 
