@@ -7,15 +7,13 @@ here to a key path. Every bad key or value raises :class:`SceneFileError` naming
 (``lights[2].cutoff``) and what was wrong. ``scene_to_dict`` writes the same schema as plain
 Python data (meshes as primitives when they are one, else inline arrays), so
 ``scene_from_dict(scene_to_dict(s))`` renders bit-identically to ``s``; ``to_toml`` writes
-it as TOML without any dependency.
+it as TOML (with tomli-w).
 """
 
 from __future__ import annotations
 
-import json
 import math
 import os
-import re
 import sys
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -24,6 +22,7 @@ from pathlib import Path
 from typing import Any, Callable, Union
 
 import numpy as np
+import tomli_w
 
 from ._core import (
     MAX_IMAGE_SIZE,
@@ -835,65 +834,10 @@ def scene_to_dict(
     return d
 
 
-_BARE_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
-
-
-def _toml_key(k: str) -> str:
-    return k if _BARE_KEY.match(k) else _toml_str(k)
-
-
-def _toml_str(s: str) -> str:
-    out = json.dumps(s, ensure_ascii=False)
-    # JSON leaves DEL unescaped; TOML does not allow it raw in a basic string.
-    return out.replace("\x7f", "\\u007f")
-
-
-def _toml_value(v: Any, indent: str = "") -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, int):
-        return str(v)
-    if isinstance(v, float):
-        if not math.isfinite(v):
-            return "nan" if math.isnan(v) else ("inf" if v > 0 else "-inf")
-        return repr(v)
-    if isinstance(v, str):
-        return _toml_str(v)
-    if isinstance(v, (list, tuple)):
-        if v and all(isinstance(x, (list, tuple)) for x in v):
-            inner = indent + "  "
-            rows = ",\n".join(inner + _toml_value(x, inner) for x in v)
-            return "[\n" + rows + ",\n" + indent + "]"
-        return "[" + ", ".join(_toml_value(x, indent) for x in v) + "]"
-    if isinstance(v, Mapping):
-        return "{ " + ", ".join(f"{_toml_key(k)} = {_toml_value(x)}" for k, x in v.items()) + " }"
-    raise TypeError(f"cannot write {type(v).__name__} to TOML")
-
-
-def _is_table_array(v: Any) -> bool:
-    return isinstance(v, list) and bool(v) and all(isinstance(x, Mapping) for x in v)
-
-
-def _emit(d: Mapping[str, Any], prefix: str, out: list[str]) -> None:
-    for k, v in d.items():
-        if not isinstance(v, Mapping) and not _is_table_array(v):
-            out.append(f"{_toml_key(k)} = {_toml_value(v)}")
-    for k, v in d.items():
-        name = f"{prefix}.{_toml_key(k)}" if prefix else _toml_key(k)
-        if isinstance(v, Mapping):
-            out.append(f"\n[{name}]")
-            _emit(v, name, out)
-        elif _is_table_array(v):
-            for item in v:
-                out.append(f"\n[[{name}]]")
-                _emit(item, name, out)
-
-
 def to_toml(d: Mapping[str, Any]) -> str:
-    """``d`` (plain data: tables, arrays, strings, numbers, booleans) as a TOML document."""
-    out: list[str] = []
-    _emit(d, "", out)
-    return "\n".join(out).lstrip("\n") + "\n"
+    """``d`` (plain data: tables, arrays, strings, numbers, booleans) as a TOML document,
+    written by tomli-w."""
+    return tomli_w.dumps(d)
 
 
 def save_scene(
