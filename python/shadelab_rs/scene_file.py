@@ -25,8 +25,6 @@ import numpy as np
 import tomli_w
 
 from ._core import (
-    MAX_IMAGE_SIZE,
-    MAX_THREADS,
     AreaLight,
     Camera,
     DirectionalLight,
@@ -34,6 +32,7 @@ from ._core import (
     Material,
     Mesh,
     PointLight,
+    RenderOptions,
     Scene,
     SpotLight,
     load_obj_parts,
@@ -463,46 +462,25 @@ def camera_to_dict(camera: Camera) -> dict[str, Any]:
     return d
 
 
-_RENDER_KEYS = (
-    "width",
-    "height",
-    "shading",
-    "specular",
-    "background",
-    "cull_backfaces",
-    "threads",
-)
-
-
 def _render_options(v: Any, where: str) -> dict[str, Any]:
+    """The options a ``[render]`` table gives (checked by :class:`RenderOptions`)."""
     if isinstance(v, Mapping) and "dtype" in v:
         raise SceneFileError(
             "dtype is not a file option (pass dtype= to render instead)", _at(where, "dtype")
         )
-    t = _table(v, where, optional=_RENDER_KEYS)
-    out: dict[str, Any] = {}
-    for k in ("width", "height", "threads"):
-        if k in t:
-            out[k] = _integer(t[k], _at(where, k))
-            hi = MAX_THREADS if k == "threads" else MAX_IMAGE_SIZE
-            if not 1 <= out[k] <= hi:
-                raise _fail(_at(where, k), f"an integer in [1, {hi}]", t[k])
-    if "shading" in t:
-        out["shading"] = _choice(t["shading"], _at(where, "shading"), ("flat", "gouraud", "phong"))
-    if "specular" in t:
-        out["specular"] = _choice(
-            t["specular"], _at(where, "specular"), ("blinn", "phong", "blinn-normalized")
-        )
-    if "background" in t:
-        out["background"] = _numbers(t["background"], _at(where, "background"))
-        if len(out["background"]) != 3:
-            raise _fail(_at(where, "background"), "an array of 3 numbers", t["background"])
-        for i, x in enumerate(out["background"]):
-            if not math.isfinite(x):
-                raise _fail(_at(_at(where, "background"), i), "a finite number", x)
-    if "cull_backfaces" in t:
-        out["cull_backfaces"] = _boolean(t["cull_backfaces"], _at(where, "cull_backfaces"))
-    return out
+    keys = tuple(RenderOptions().to_dict())
+    t = _table(v, where, optional=keys)
+    types: dict[str, Callable[[Any, str], Any]] = {
+        "shading": _string,
+        "specular": _string,
+        "background": _numbers,
+        "cull_backfaces": _boolean,
+    }
+    for k, value in t.items():
+        if value is not None or k != "threads":
+            types.get(k, _integer)(value, _at(where, k))
+    _call(where, lambda: RenderOptions(**t))
+    return t
 
 
 # ---------------------------------------------------------------------------------------
@@ -800,7 +778,9 @@ def mesh_to_dict(mesh: Mesh) -> dict[str, Any]:
 
 
 def scene_to_dict(
-    scene: Scene, camera: Camera | None = None, render: Mapping[str, Any] | None = None
+    scene: Scene,
+    camera: Camera | None = None,
+    render: Mapping[str, Any] | RenderOptions | None = None,
 ) -> dict[str, Any]:
     """``scene`` (and optionally a camera and render options) as plain Python data in the
     schema, which TOML can hold: ``scene_from_dict`` of it renders bit-identically."""
@@ -815,9 +795,13 @@ def scene_to_dict(
     if camera is not None:
         d["camera"] = camera_to_dict(camera)
     if render:
-        plain = {k: list(v) if isinstance(v, (tuple, np.ndarray)) else v for k, v in render.items()}
-        opts = _render_options(plain, "render")
-        d["render"] = {k: (v if k != "background" else list(v)) for k, v in opts.items()}
+        given = render.to_dict() if isinstance(render, RenderOptions) else dict(render)
+        # TOML has no None: threads = None (all cores) is the default, so it is left out.
+        d["render"] = _render_options(
+            {k: list(v) if isinstance(v, (tuple, np.ndarray)) else v for k, v in given.items()},
+            "render",
+        )
+        d["render"] = {k: v for k, v in d["render"].items() if v is not None}
     d["lights"] = [light_to_dict(light) for light in scene.lights]
     objects = []
     for o in scene.objects:
@@ -844,7 +828,7 @@ def save_scene(
     path: _PathLike,
     scene: Scene,
     camera: Camera | None = None,
-    render: Mapping[str, Any] | None = None,
+    render: Mapping[str, Any] | RenderOptions | None = None,
 ) -> None:
     """Writes ``scene`` (with an optional camera and render options) as a scene file."""
     Path(path).write_text(to_toml(scene_to_dict(scene, camera, render)), encoding="utf-8")
