@@ -97,3 +97,73 @@ impl std::error::Error for RasterError {}
 
 /// Result alias used throughout the crate.
 pub type Result<T> = std::result::Result<T, RasterError>;
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use crate::{Camera, DirectionalLight, Fog, FogMode, Material, PointLight, SpotLight};
+
+    #[test]
+    fn value_errors_name_their_argument() {
+        let point = PointLight::new(Vec3::ZERO, Vec3::ONE, 1.0).unwrap();
+        let cases = [
+            (
+                SpotLight::new(point, Vec3::Z, 100.0, 0.0).unwrap_err(),
+                "cutoff",
+            ),
+            (
+                SpotLight::new(point, Vec3::Z, 30.0, -1.0).unwrap_err(),
+                "exponent",
+            ),
+            (
+                SpotLight::new(point, Vec3::Z, 30.0, 0.0)
+                    .and_then(|s| s.with_inner(40.0))
+                    .unwrap_err(),
+                "inner",
+            ),
+            (
+                DirectionalLight::new(Vec3::ZERO, Vec3::ONE, 1.0).unwrap_err(),
+                "direction",
+            ),
+            (
+                PointLight::new(Vec3::ZERO, Vec3::ONE, -1.0).unwrap_err(),
+                "intensity",
+            ),
+            (
+                point.with_attenuation(0.0, 0.0, 0.0).unwrap_err(),
+                "attenuation",
+            ),
+            (
+                Material::new(Vec3::ONE, Vec3::ONE, Vec3::ONE, -1.0).unwrap_err(),
+                "shininess",
+            ),
+            (
+                Fog::new(
+                    FogMode::Linear {
+                        start: 2.0,
+                        end: 1.0,
+                    },
+                    Vec3::ONE,
+                )
+                .unwrap_err(),
+                "end",
+            ),
+            (
+                Camera::look_at(
+                    glam::DVec3::Z,
+                    glam::DVec3::ZERO,
+                    glam::DVec3::Y,
+                    45.0,
+                    0.0,
+                    10.0,
+                )
+                .unwrap_err(),
+                "near",
+            ),
+        ];
+        for (e, field) in cases {
+            assert_eq!(e.field(), Some(field), "{e}");
+        }
+    }
+}
