@@ -128,3 +128,17 @@ def test_every_specular_and_shading_name_is_accepted_and_documented():
             key = "shading" if alias == "_Shading" else "specular"
             assert getattr(sl.RenderOptions(**{key: name}), key) == name
             assert f'"{name}"' in stub_doc, name
+
+
+def test_scene_files_read_and_write_the_same_options(tmp_path, scene_and_camera):
+    s, cam = scene_and_camera
+    o = sl.RenderOptions(40, 30, specular="blinn-normalized", cull_backfaces=True)
+    path = tmp_path / "s.toml"
+    sl.save_scene(path, s, cam, render=o)
+    sf = sl.load_scene(path)
+    # threads=None (every core) is the default and TOML has no None: it is left out.
+    assert "threads" not in sf.render_options
+    assert sl.RenderOptions(**sf.render_options) == o
+    np.testing.assert_array_equal(sf.render(), sl.render(s, cam, options=o))
+    with pytest.raises(sl.SceneFileError, match=r"^render\.specular: unknown specular model"):
+        sl.load_scene_dict({"version": 1, "render": {"specular": "cook"}})
