@@ -123,9 +123,9 @@ def test_every_specular_and_shading_name_is_accepted_and_documented():
             if isinstance(n, ast.AnnAssign) and getattr(n.target, "id", "") == alias
         )
         names = [c.value for c in ast.walk(node.value) if isinstance(c, ast.Constant)]
-        assert names
+        key = "shading" if alias == "_Shading" else "specular"
+        assert tuple(names) == getattr(sl.RenderOptions, key + "_names")
         for name in names:
-            key = "shading" if alias == "_Shading" else "specular"
             assert getattr(sl.RenderOptions(**{key: name}), key) == name
             assert f'"{name}"' in stub_doc, name
 

@@ -10,7 +10,7 @@ Errors: ``ValueError`` (bad values, with the offending element named, e.g.
 
 import os
 from collections.abc import Mapping, Sequence
-from typing import Any, Final, Literal, TypedDict, final, overload
+from typing import Any, ClassVar, Final, Literal, TypedDict, final, overload
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -614,6 +614,10 @@ class RenderOptions:
         cull_backfaces: bool = False,
         threads: int | None = None,
     ) -> RenderOptions: ...
+    shading_names: ClassVar[tuple[str, str, str]]
+    """The names ``shading`` takes (in any case)."""
+    specular_names: ClassVar[tuple[str, str, str]]
+    """The names ``specular`` takes (in any case)."""
     def replace(self, **changes: Unpack[_RenderOptionsArgs]) -> RenderOptions:
         """The same options with the given ones changed."""
     def to_dict(self) -> dict[str, Any]:

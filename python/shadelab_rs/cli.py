@@ -40,8 +40,8 @@ def _triple(text: str) -> tuple[float, float, float]:
 def _render_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("-o", "--output", default="out.png", help="image file to write (PNG, JPEG)")
     p.add_argument("--size", type=_size, default=None, help="WIDTHxHEIGHT (800x600)")
-    p.add_argument("--shading", choices=["flat", "gouraud", "phong"], default=None)
-    p.add_argument("--specular", choices=["blinn", "phong", "blinn-normalized"], default=None)
+    p.add_argument("--shading", choices=core.RenderOptions.shading_names, default=None)
+    p.add_argument("--specular", choices=core.RenderOptions.specular_names, default=None)
     p.add_argument("--background", type=_triple, default=None, help="r,g,b in [0,1] (0,0,0)")
     p.add_argument("--threads", type=int, default=None, help="worker threads (default: all)")
     p.add_argument("--cull-backfaces", action="store_true", default=None)

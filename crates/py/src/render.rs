@@ -119,6 +119,28 @@ impl PyRenderOptions {
         Ok(Self { inner })
     }
 
+    /// The names `shading` takes (it also accepts them in any case).
+    #[classattr]
+    fn shading_names() -> (&'static str, &'static str, &'static str) {
+        use core::ShadingMode::*;
+        (
+            shading_name(Flat),
+            shading_name(Gouraud),
+            shading_name(Phong),
+        )
+    }
+
+    /// The names `specular` takes (it also accepts them in any case).
+    #[classattr]
+    fn specular_names() -> (&'static str, &'static str, &'static str) {
+        use core::SpecularModel::*;
+        (
+            specular_name(BlinnPhong),
+            specular_name(Phong),
+            specular_name(NormalizedBlinnPhong),
+        )
+    }
+
     /// The same options with the given ones changed (checked like the constructor's).
     #[pyo3(signature = (**changes))]
     fn replace<'py>(
