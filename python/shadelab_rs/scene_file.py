@@ -334,67 +334,27 @@ def _light(v: Any, where: str) -> _Light:
     return _call(where, lambda: make(**kw))
 
 
+_LIGHT_TYPES = {
+    DirectionalLight: "directional",
+    PointLight: "point",
+    SpotLight: "spot",
+    AreaLight: "area",
+}
+
+
 def light_to_dict(light: _Light) -> dict[str, Any]:
-    """A light as a table of the schema, every value explicit (``diffuse`` / ``specular``
-    only when the light has its own)."""
-    d = _light_values(light)
-    for k in _SPLIT:
+    """A light as a table of the schema: every key the light's getters hold (``diffuse``,
+    ``specular`` and a spot's ``inner`` only when the light has them)."""
+    kind = _LIGHT_TYPES.get(type(light))
+    if kind is None:
+        raise TypeError(f"not a light: {type(light).__name__}")
+    required, optional = _LIGHT_KEYS[kind]
+    d: dict[str, Any] = {"type": kind}
+    for k in required[1:] + optional:
         v = getattr(light, k)
         if v is not None:
-            d[k] = list(v)
+            d[k] = list(v) if isinstance(v, tuple) else v
     return d
-
-
-def _light_values(light: _Light) -> dict[str, Any]:
-    if isinstance(light, DirectionalLight):
-        return {
-            "type": "directional",
-            "direction": list(light.direction),
-            "color": list(light.color),
-            "intensity": float(light.intensity),
-            "ambient": list(light.ambient),
-        }
-    if isinstance(light, PointLight):
-        return {
-            "type": "point",
-            "position": list(light.position),
-            "color": list(light.color),
-            "intensity": float(light.intensity),
-            "attenuation": list(light.attenuation),
-            "ambient": list(light.ambient),
-        }
-    if isinstance(light, SpotLight):
-        d: dict[str, Any] = {
-            "type": "spot",
-            "position": list(light.position),
-            "direction": list(light.direction),
-            "cutoff": float(light.cutoff),
-            "exponent": float(light.exponent),
-        }
-        if light.inner is not None:
-            d["inner"] = float(light.inner)
-        d.update(
-            color=list(light.color),
-            intensity=float(light.intensity),
-            attenuation=list(light.attenuation),
-            ambient=list(light.ambient),
-        )
-        return d
-    if isinstance(light, AreaLight):
-        return {
-            "type": "area",
-            "position": list(light.position),
-            "u": list(light.u),
-            "v": list(light.v),
-            "shape": light.shape,
-            "samples": int(light.samples),
-            "color": list(light.color),
-            "intensity": float(light.intensity),
-            "attenuation": list(light.attenuation),
-            "ambient": list(light.ambient),
-            "one_sided": bool(light.one_sided),
-        }
-    raise TypeError(f"not a light: {type(light).__name__}")
 
 
 def _fog(v: Any, where: str) -> Fog:
