@@ -7,7 +7,7 @@ PY := $(VENV)/bin/python
 DEPS := $(VENV)/.deps-stamp
 # NumPy's OpenBLAS threads busy-wait after each call; in benchmarks they took a core from
 # the renderers being timed (about a tenth of the samples in a profile).
-BENCH_ENV := OPENBLAS_NUM_THREADS=1
+BENCH_ENV := OPENBLAS_NUM_THREADS=1 PYTHONPATH=$(CURDIR)
 ENVS := VIRTUAL_ENV=$(abspath $(VENV)) PATH="$(abspath $(VENV))/bin:$$PATH"
 
 .PHONY: help demo test lint build bench bench-peers docs-images wheel wheel-check clean fuzz
@@ -30,8 +30,8 @@ demo: build  ## render the built-in demo scene to demo.png
 lint: $(DEPS)  ## rustfmt, clippy (warnings are errors), ruff
 	cargo fmt --all -- --check
 	PYO3_PYTHON=$(abspath $(PY)) cargo clippy --workspace --all-targets --features shadelab-raster/fuzzing -- -D warnings
-	$(VENV)/bin/ruff check python tests bench docs/lighting
-	$(VENV)/bin/ruff format --check python tests bench docs/lighting
+	$(VENV)/bin/ruff check python tests bench shadelab_ref docs/lighting
+	$(VENV)/bin/ruff format --check python tests bench shadelab_ref docs/lighting
 
 test: lint build  ## lint, stub check, cargo test, pytest
 	$(PY) -m mypy.stubtest shadelab_rs._core

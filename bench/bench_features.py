@@ -26,13 +26,11 @@ Only NumPy and the standard library besides shadelab_rs; nothing is imported fro
 from __future__ import annotations
 
 import argparse
-import csv
 import datetime as _dt
 import gc
 import json
 import math
 import os
-import platform
 import random
 import shutil
 import statistics
@@ -45,7 +43,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from shell import run
+from harness import machine, write_csv
 from sphere_mesh import uv_sphere  # the same mesh for every build compared
 
 # shadelab_rs is imported lazily (see _sl) so that ``--worker`` runs under another venv's
@@ -567,31 +565,6 @@ def compare_builds(
 # --------------------------------------------------------------------------- reporting
 
 
-def machine() -> dict[str, str]:
-    model = "unknown"
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                model = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    commit = run(["git", "rev-parse", "--short", "HEAD"])
-    dirty = run(["git", "status", "--porcelain", "--", "crates", "python"])
-    if dirty != "unknown":
-        commit += " (uncommitted changes in crates/ or python/)"
-    return {
-        "CPU": model,
-        "logical cores": str(os.cpu_count()),
-        "OS": f"{platform.system()} {platform.release()} ({platform.machine()})",
-        "rustc": run(["rustc", "-V"]),
-        "Python": platform.python_version(),
-        "NumPy": np.__version__,
-        "shadelab_rs": _sl().__version__,
-        "source tree (git)": commit,
-    }
-
-
 def _f(x: float, digits: int = 2) -> str:
     return f"{x:+.{digits}f}" if x else f"{0:.{digits}f}"
 
@@ -806,14 +779,6 @@ def reading(rs: list[dict[str, Any]], cmp: list[dict[str, Any]] | None) -> list[
     return lines
 
 
-def write_csv(path: Path, rs: list[dict[str, Any]]) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with path.open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rs[0]))
-        w.writeheader()
-        w.writerows(rs)
-
-
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--quick", action="store_true", help="smoke run: a few rounds")
@@ -856,7 +821,7 @@ def main(argv: list[str] | None = None) -> int:
         meta = {
             "date": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
             "csv": os.path.relpath(csv_path, ROOT),
-            "machine": machine(),
+            "machine": machine(_sl().__version__),
             "load": (load0, load1),
             "wall_s": wall,
             "threads": a.threads,

@@ -22,13 +22,11 @@ Only NumPy and the standard library besides shadelab_rs; nothing is imported fro
 from __future__ import annotations
 
 import argparse
-import csv
 import datetime as _dt
 import functools
 import gc
 import math
 import os
-import platform
 import statistics
 import sys
 import time
@@ -38,7 +36,7 @@ from pathlib import Path
 
 import numpy as np
 import shadelab_rs as sl
-from shell import run
+from harness import machine, write_csv, write_section
 from sphere_mesh import uv_sphere
 
 WIDTH, HEIGHT = 1920, 1080
@@ -229,72 +227,6 @@ def measure_pair(
     return results
 
 
-# --------------------------------------------------------------------------- machine
-
-
-def _cpuinfo() -> tuple[str, str, bool]:
-    """CPU model, its SIMD extensions (the build targets baseline x86-64 unless RUSTFLAGS say
-    otherwise, so not all of them are used), and whether it runs under a hypervisor."""
-    model, flags = platform.processor() or "unknown", set()
-    try:
-        text = Path("/proc/cpuinfo").read_text()
-    except OSError:
-        return model, "unknown", False
-    for line in text.splitlines():
-        key, _, value = line.partition(":")
-        if key.strip() == "model name":
-            model = value.strip()
-        elif key.strip() == "flags":
-            flags = set(value.split())
-    simd = [f for f in ("sse4_2", "avx", "avx2", "fma", "avx512f") if f in flags]
-    return model, " ".join(simd) or "unknown", "hypervisor" in flags
-
-
-def _memory() -> str:
-    try:
-        for line in Path("/proc/meminfo").read_text().splitlines():
-            if line.startswith("MemTotal:"):
-                return f"{int(line.split()[1]) / 1024**2:.1f} GiB"
-    except (OSError, ValueError):
-        pass
-    return "unknown"
-
-
-def _os() -> str:
-    name = platform.system()
-    try:
-        for line in Path("/etc/os-release").read_text().splitlines():
-            if line.startswith("PRETTY_NAME="):
-                name = line.split("=", 1)[1].strip('"')
-    except OSError:
-        pass
-    return f"{name}, kernel {platform.release()} ({platform.machine()})"
-
-
-def machine() -> dict[str, str]:
-    model, simd, virtual = _cpuinfo()
-    usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    commit = run(["git", "rev-parse", "--short", "HEAD"])
-    changed = run(["git", "diff", "--name-only", "HEAD"])
-    if commit != "unknown" and changed != "unknown":
-        # Top-level entries with uncommitted changes, so a reader sees whether the renderer
-        # itself (crates/, python/) differed from the commit.
-        dirty = sorted({name.split("/")[0] for name in changed.splitlines()})
-        commit += f" (uncommitted changes in: {', '.join(dirty)})"
-    return {
-        "CPU": model + (" (virtual machine)" if virtual else ""),
-        "CPU SIMD flags": simd,
-        "logical cores": f"{os.cpu_count()} ({usable} usable by this process)",
-        "memory": _memory(),
-        "OS": _os(),
-        "rustc": run(["rustc", "-V"]),
-        "Python": platform.python_version(),
-        "NumPy": np.__version__,
-        "shadelab_rs": sl.__version__,
-        "source tree (git)": commit,
-    }
-
-
 # --------------------------------------------------------------------------- reporting
 
 
@@ -326,15 +258,6 @@ def _display(path: Path) -> str:
         return str(path.resolve().relative_to(ROOT))
     except ValueError:
         return str(path)
-
-
-def write_csv(path: Path, results: list[Result]) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    rows = [r.row() for r in results]
-    with path.open("w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
 
 
 def _fmt(v: float) -> str:
@@ -563,7 +486,7 @@ def main(argv: list[str] | None = None) -> int:
     budget = QUICK if args.quick else FULL
     csv_path = Path(args.csv) if args.csv else (DEFAULT_CSV if args.write else None)
 
-    info = machine()
+    info = machine(sl.__version__)
     load0 = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     t_start = time.perf_counter()
     date = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
@@ -598,7 +521,7 @@ def main(argv: list[str] | None = None) -> int:
     load1 = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     print(f"\nwall time {wall:.0f} s, load average {load0:.2f} -> {load1:.2f}")
     if csv_path:
-        write_csv(csv_path, results)
+        write_csv(csv_path, [r.row() for r in results])
         print(f"wrote {csv_path}")
     if args.write:
         meta = {
@@ -612,10 +535,8 @@ def main(argv: list[str] | None = None) -> int:
             "max_frames": str(budget.max_frames),
             "seconds": f"{budget.seconds:g}",
         }
-        path = Path(args.write)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(markdown(results, info, meta, scene_rows, notes))
-        print(f"wrote {path}")
+        write_section(Path(args.write), markdown(results, info, meta, scene_rows, notes))
+        print(f"wrote {args.write}")
     return 0
 
 

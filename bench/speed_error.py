@@ -36,12 +36,10 @@ from pathlib import Path
 
 import numpy as np
 import shadelab_rs as sl
+from harness import machine, write_section
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import bench_render
-import errors
-import truth
-from truth import ref
+from shadelab_ref import errors, truth
+from shadelab_ref import reference as ref
 
 ROOT = Path(__file__).resolve().parent.parent
 MODES = ("flat", "gouraud", "phong")
@@ -723,20 +721,20 @@ def markdown(ctx: dict, rows: list[Row], impl: list[ImplRow], plots: dict[str, s
         " each triangle once in a geometry shader with the world face normal at the centroid;"
         " Gouraud lights vertices in the vertex shader; Phong interpolates world position and"
         " normal and renormalises per pixel. Depth: a 24-bit depth buffer (ours: reversed-Z f32).",
-        "- Truth for the spheres: the analytic sphere (`bench/truth.py`): the ray through each"
-        " pixel centre hits the exact sphere, whose exact normal goes through the same lighting"
-        " equation in float64 (`tests/reference.py`'s `lighting`).",
+        "- Truth for the spheres: the analytic sphere (`shadelab_ref/truth.py`): the ray through"
+        " each pixel centre hits the exact sphere, whose exact normal goes through the same"
+        " lighting equation in float64 (`shadelab_ref/reference.py`'s `lighting`).",
         f"- Truth for Spot: there is no analytic Spot, so its truth is the float64 reference"
-        f" rasterizer's (`tests/reference.py`) Phong image of Spot Loop-subdivided"
+        f" rasterizer's (`shadelab_ref/reference.py`) Phong image of Spot Loop-subdivided"
         f" {ctx['plan'].spot_truth_level} times ({ctx['spot_truth_tris']:,} triangles). Loop"
         " subdivision also moves the coarse mesh's vertices towards the smooth limit surface, so"
         " Spot's error includes that change of shape (mostly at the silhouette).",
-        "- Error figures (`bench/errors.py`, the one function used everywhere, tests included):"
-        " over pixels covered in both images, RMSE over all channels and max in 8-bit levels"
-        ' (uint8 images) and in linear float (float32 outputs: `dtype="float32"`, llvmpipe an'
-        " RGBA32F colour buffer), and the share of pixels whose largest channel is off by > 1 and"
-        " > 8 levels; silhouette mismatch (pixels covered by one image only, over pixels covered"
-        " by either) separately.",
+        "- Error figures (`shadelab_ref/errors.py`, the one function used everywhere, tests "
+        "included): over pixels covered in both images, RMSE over all channels and max in 8-bit "
+        'levels (uint8 images) and in linear float (float32 outputs: `dtype="float32"`, llvmpipe '
+        "an RGBA32F colour buffer), and the share of pixels whose largest channel is off by > 1 "
+        "and > 8 levels; silhouette mismatch (pixels covered by one image only, over pixels "
+        "covered by either) separately.",
         "",
     ]
     for scene, title in (
@@ -786,8 +784,8 @@ def markdown(ctx: dict, rows: list[Row], impl: list[ImplRow], plots: dict[str, s
         L += [
             "## Implementation error: against the float64 reference of the same mesh",
             "",
-            f"Both renderers against `tests/reference.py`'s float64 image of the *same* mesh at"
-            f" {ctx['plan'].impl_size}², so this is the error of the implementation, not of the"
+            "Both renderers against `shadelab_ref/reference.py`'s float64 image of the *same* mesh"
+            f" at {ctx['plan'].impl_size}², so this is the error of the implementation, not of the"
             f" shading model. Colour is compared at pixels whose centre is more than {EDGE_PX} px"
             " from the edges of the reference's visible triangle (vertex snapping to 1/256 px can"
             " legitimately change which triangle covers pixels nearer than that); coverage"
@@ -942,7 +940,7 @@ def main(argv: list[str] | None = None) -> int:
         ctx = {
             "date": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
             "csv": os.path.relpath(csv_path, ROOT),
-            "machine": bench_render.machine(),
+            "machine": machine(sl.__version__),
             "gl_info": gl.info if gl else None,
             "gl_setup": gl.setup_seconds if gl else None,
             "threads": args.threads,
@@ -951,11 +949,8 @@ def main(argv: list[str] | None = None) -> int:
             "plan": plan,
             "spot_truth_tris": len(tf),
         }
-        path = Path(args.write)
-        old = path.read_text() if path.exists() else ""
-        old = old.split(MARKER)[0].rstrip() + "\n\n" if old else ""
-        path.write_text(old + markdown(ctx, rows, impl, plots))
-        log(f"report appended to {path}")
+        write_section(Path(args.write), markdown(ctx, rows, impl, plots), MARKER)
+        log(f"report appended to {args.write}")
     return 0
 
 

@@ -1,7 +1,7 @@
 """Shared fixtures of the pytest suite.
 
-``reference`` (tests/reference.py) is importable as a top-level module because pytest puts
-this directory on ``sys.path`` (rootdir-relative "prepend" import mode, no ``__init__.py``).
+The float64 reference is the top-level package ``shadelab_ref`` (shared with bench/),
+importable because pyproject.toml puts the repository root on pytest's ``pythonpath``.
 """
 
 from __future__ import annotations
@@ -10,10 +10,7 @@ import numpy as np
 import pytest
 import shadelab_rs as sl
 
-try:
-    import reference as ref
-except ImportError:  # pragma: no cover - tests/ imported as a package
-    from tests import reference as ref
+from shadelab_ref import reference as ref
 
 #: A small UV sphere: 86 vertices (so every integer dtype can index it), 168 triangles.
 SPHERE_LAT, SPHERE_LON = 8, 12

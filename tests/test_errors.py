@@ -771,3 +771,31 @@ def test_a_forced_internal_panic_arrives_as_runtime_error():
         r"internal error in _panic_for_tests \(please report it\): forced by the test suite",
         _core._panic_for_tests,
     )
+
+
+@pytest.mark.parametrize(
+    ("make", "field"),
+    [
+        (lambda: sl.SpotLight((0, 0, 0), (0, 0, 1), cutoff=100), "cutoff"),
+        (lambda: sl.SpotLight((0, 0, 0), (0, 0, 1), cutoff=30, inner=40), "inner"),
+        (lambda: sl.PointLight((0, 0, 0), intensity=-1), "intensity"),
+        (lambda: sl.PointLight((0, 0, 0), attenuation=(0, 0, 0)), "attenuation"),
+        (lambda: sl.DirectionalLight((0, 0, 0)), "direction"),
+        (lambda: sl.DirectionalLight((0, 1), color=(1, 1, 1)), "direction"),
+        (lambda: sl.Material(shininess=-1), "shininess"),
+        (lambda: sl.Material(emission=(0, -1, 0)), "emission"),
+        (lambda: sl.Fog("exp", density=-1), "density"),
+        (lambda: sl.Fog("linear", start=2, end=1), "end"),
+        (lambda: sl.Camera.look_at((0, 0, 1), (0, 0, 1)), "target"),
+        (lambda: sl.Camera.look_at((0, 0, 1), (0, 0, 0), near=0), "near"),
+        (lambda: sl.AreaLight((0, 0, 0), (1, 0, 0), (2, 0, 0)), "v"),
+        (lambda: sl.AreaLight((0, 0, 0), (1, 0, 0), (0, 1, 0), samples=0), "samples"),
+        (lambda: sl.Scene(ambient=(0, -1, 0)), "ambient"),
+        (lambda: sl.Mesh([[0, 0, 0]], [[0, 0, 1]]), "faces"),
+    ],
+)
+def test_value_errors_name_their_argument(make, field):
+    # The scene-file reader maps `field` to a key path instead of checking values again.
+    with pytest.raises(ValueError) as e:
+        make()
+    assert e.value.field == field

@@ -7,8 +7,9 @@ import math
 
 import numpy as np
 import pytest
-import reference as ref
 import shadelab_rs as sl
+
+from shadelab_ref import reference as ref
 
 SPHERE_V, SPHERE_F = ref.uv_sphere(24, 48)
 MODES = ["flat", "gouraud", "phong"]

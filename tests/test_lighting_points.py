@@ -1,5 +1,5 @@
 """The full lighting equation at points, on random parameters (hypothesis), against the
-float64 reference (tests/reference.py).
+float64 reference (shadelab_ref.reference).
 
 An orthographic camera looks straight down -z at the quad z = 0 spanning [-1, 1]^2 with one
 constant normal, so Phong-shaded pixel (i, j) of the 8 x 8 image is the equation evaluated at
@@ -12,11 +12,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import reference as ref
 import shadelab_rs as sl
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
-from ref_to_sl import sl_light
+
+from shadelab_ref import reference as ref
+from shadelab_ref.to_sl import sl_light
 
 SIZE = 8
 EYE = (0.0, 0.0, 5.0)

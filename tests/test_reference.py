@@ -12,10 +12,7 @@ import time
 import numpy as np
 import pytest
 
-try:
-    import reference as ref
-except ImportError:  # pragma: no cover - tests/ imported as a package
-    from tests import reference as ref
+from shadelab_ref import reference as ref
 
 # A triangle in the z = 0 plane, CCW seen from +z, centroid at the origin.
 TRI_CENTRED = np.array([[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [0.0, 2.0, 0.0]])

@@ -1,6 +1,6 @@
 """Pixel-by-pixel comparison of the Rust renderer with the float64 NumPy reference.
 
-``tests/reference.py`` renders the same model exactly (a float64 ray cast through every pixel
+``shadelab_ref.reference`` renders the same model exactly (a float64 ray cast through every pixel
 centre), so every difference is the Rust renderer's approximation error:
 
 * **Vertex snapping.** Screen positions are snapped to 1/256 px (16.8 fixed point), so every
@@ -41,12 +41,8 @@ import numpy as np
 import pytest
 import shadelab_rs as sl
 
-try:
-    import reference as ref
-    from ref_to_sl import sl_light
-except ImportError:  # pragma: no cover - tests/ imported as a package
-    from tests import reference as ref
-    from tests.ref_to_sl import sl_light
+from shadelab_ref import reference as ref
+from shadelab_ref.to_sl import sl_light
 
 #: Pixels whose centre is nearer than this (in pixels) to an edge are "near an edge".
 EDGE_PX = 0.05

@@ -216,36 +216,28 @@ def test_to_toml_quotes_keys_and_escapes_strings():
 
 @settings(max_examples=100, deadline=None)
 @given(
-    st.lists(st.floats(-10, 10, allow_nan=False, width=32), min_size=3, max_size=3).filter(
+    st.lists(st.floats(-10, 10, allow_nan=False), min_size=3, max_size=3).filter(
         lambda v: math.hypot(*v) > 1e-3
     )
 )
 def test_light_directions_round_trip_exactly(d):
-    # Lights store unit float32 directions and renormalise on construction, which moves a
-    # unit vector by an ulp about a third of the time; from_dict compensates.
+    # Lights keep their direction as given (float64), so it is written and read back as is.
     s = sl.Scene()
     s.add_light(sl.DirectionalLight(d))
     s.add_light(sl.SpotLight((0, 1, 0), d, cutoff=40))
-    back = sl.Scene.from_dict(s.to_dict())
-    assert [x.direction for x in back.lights] == [x.direction for x in s.lights]
-
-
-def test_many_random_light_directions_round_trip_exactly():
-    rng = np.random.default_rng(7)
-    renormalised_moves = 0
-    for _ in range(500):
-        light = sl.DirectionalLight(rng.normal(size=3))
-        renormalised_moves += sl.DirectionalLight(light.direction).direction != light.direction
-        s = sl.Scene()
-        s.add_light(light)
-        assert sl.Scene.from_dict(s.to_dict()).lights[0].direction == light.direction
-    # The problem being solved is real: plain renormalisation moves many of them.
-    assert renormalised_moves > 100
+    assert [x.direction for x in s.lights] == [tuple(d)] * 2
+    back = sl.Scene.from_dict(tomllib.loads(sl.to_toml(s.to_dict())))
+    assert [x.direction for x in back.lights] == [tuple(d)] * 2
 
 
 def test_hand_written_directions_need_not_be_unit():
     doc = {"version": 1, "lights": [{"type": "directional", "direction": [0, -3, 0]}]}
-    assert sl.Scene.from_dict(doc).lights[0].direction == (0.0, -1.0, 0.0)
+    doc["objects"] = [{"mesh": {"primitive": "sphere", "rings": 6, "segments": 8}}]
+    scene = sl.Scene.from_dict(doc)
+    assert scene.lights[0].direction == (0.0, -3.0, 0.0)
+    doc["lights"][0]["direction"] = [0, -1, 0]
+    cam = sl.Camera.look_at(eye=(0, 1, 4), target=(0, 0, 0))
+    assert_same_render(scene, sl.Scene.from_dict(doc), cam)
 
 
 _f32 = st.floats(0, 2, width=32)
@@ -556,27 +548,42 @@ ERRORS = [
     (("version",), "1", "version", "got '1'"),
     (("version",), DELETE, "version", "missing required key"),
     (("colour",), 1, "colour", "unknown key 'colour'; expected one of: version, ambient, "),
-    (("ambient",), [1, 2], "ambient", "expected an array of 3 numbers >= 0, got [1, 2]"),
-    (("ambient",), [1, -2, 0], "ambient[1]", "expected a finite number >= 0, got -2"),
+    (("ambient",), [1, 2], "ambient", "ambient must be 3 numbers, got shape (2)"),
+    (("ambient",), [1, -2, 0], "ambient", "scene ambient must be finite and >= 0, got"),
     (("ambient",), [1, "a", 0], "ambient[1]", "got 'a'"),
-    (("ambient",), [1, float("nan"), 0], "ambient[1]", "got nan"),
+    (
+        ("ambient",),
+        [1, float("nan"), 0],
+        "ambient",
+        "ambient[1] = NaN is not a finite float32 value",
+    ),
     (("ambient",), [1, True, 0], "ambient[1]", "got True"),
-    (("ambient",), "grey", "ambient", "expected an array of 3 numbers"),
+    (("ambient",), "grey", "ambient", "expected an array of numbers, got 'grey'"),
     (("two_sided",), 1, "two_sided", "expected true or false, got 1"),
     (("local_viewer",), "yes", "local_viewer", "expected true or false"),
     (("camera",), 5, "camera", "expected a table, got 5"),
     (("camera", "fov"), 40, "camera.fov", "unknown key 'fov'; expected one of: eye, target"),
     (("camera", "type"), "fisheye", "camera.type", "expected one of 'perspective', "),
     (("camera", "eye"), DELETE, "camera.eye", "missing required key"),
-    (("camera", "eye"), [0, 0], "camera.eye", "expected an array of 3 numbers"),
-    (("camera", "fov_y"), 180, "camera.fov_y", "expected a number in (0, 180), got 180"),
-    (("camera", "fov_y"), 0, "camera.fov_y", "expected a number in (0, 180), got 0"),
-    (("camera", "near"), 0, "camera.near", "expected a number > 0, got 0"),
-    (("camera", "far"), 0.05, "camera.far", "expected a number > near (0.1), got 0.05"),
+    (("camera", "eye"), [0, 0], "camera.eye", "eye must be 3 numbers, got shape (2)"),
+    (("camera", "fov_y"), 180, "camera.fov_y", "fov_y must be in (0, 180) degrees, got 180"),
+    (("camera", "fov_y"), 0, "camera.fov_y", "fov_y must be in (0, 180) degrees, got 0"),
+    (("camera", "near"), 0, "camera.near", "a perspective camera needs 0 < near < far"),
+    (("camera", "far"), 0.05, "camera.far", "a perspective camera needs 0 < near < far"),
     (("camera", "height"), 2, "camera.height", "unknown key 'height'"),
-    (("camera", "target"), [0.5, 0.4, 3.0], "camera", "eye and target must be distinct"),
-    (("camera", "up"), [0, 0, 0], "camera.up", "not all zero"),
-    (("camera", "up"), [0.5, 0.4, 3.0], "camera", "up"),
+    (
+        ("camera", "target"),
+        [0.5, 0.4, 3.0],
+        "camera.target",
+        "camera eye and target must be distinct points",
+    ),
+    (("camera", "up"), [0, 0, 0], "camera.up", "camera up [0.0, 0.0, 0.0] must not be zero or"),
+    (
+        ("camera", "up"),
+        [0.5, 0.4, 3.0],
+        "camera.up",
+        "camera up [0.5, 0.4, 3.0] must not be zero or",
+    ),
     (
         ("camera",),
         {"type": "orthographic", "eye": [0, 0, 1], "target": [0, 0, 0], "fov_y": 30},
@@ -587,73 +594,173 @@ ERRORS = [
         ("camera",),
         {"type": "orthographic", "eye": [0, 0, 1], "target": [0, 0, 0], "height": 0},
         "camera.height",
-        "expected a number > 0, got 0",
+        "orthographic height must be > 0, got 0",
     ),
     (("render",), [], "render", "expected a table"),
     (("render", "dtype"), "float32", "render.dtype", "dtype is not a file option"),
-    (("render", "width"), 0, "render.width", "expected an integer in [1, 16384], got 0"),
+    (("render", "width"), 0, "render.width", "width must be between 1 and 16384, got 0"),
     (("render", "width"), 10.0, "render.width", "got 10.0"),
-    (("render", "height"), 20000, "render.height", "expected an integer in [1, 16384]"),
-    (("render", "shading"), "toon", "render.shading", "expected one of 'flat', 'gouraud'"),
-    (("render", "specular"), "cook", "render.specular", "'blinn-normalized', got 'cook'"),
-    (("render", "background"), [0, 0], "render.background", "an array of 3 numbers"),
-    (("render", "background"), [0, 0, float("inf")], "render.background[2]", "got inf"),
+    (("render", "height"), 20000, "render.height", "height must be between 1 and 16384, got 20000"),
+    (
+        ("render", "shading"),
+        "toon",
+        "render.shading",
+        "unknown shading mode 'toon'; expected 'flat',",
+    ),
+    (("render", "specular"), "cook", "render.specular", "unknown specular model 'cook'; expected"),
+    (
+        ("render", "background"),
+        [0, 0],
+        "render.background",
+        "background must be 3 numbers, got shape (2)",
+    ),
+    (
+        ("render", "background"),
+        [0, 0, float("inf")],
+        "render.background",
+        "background[2] = inf is not a finite float32",
+    ),
     (("render", "cull_backfaces"), "no", "render.cull_backfaces", "expected true or false"),
-    (("render", "threads"), 0, "render.threads", "expected an integer in [1, 256], got 0"),
-    (("render", "threads"), 257, "render.threads", "expected an integer in [1, 256], got 257"),
+    (("render", "threads"), 0, "render.threads", "threads must be between 1 and 256 (or None for"),
+    (
+        ("render", "threads"),
+        257,
+        "render.threads",
+        "threads must be between 1 and 256 (or None for",
+    ),
     (("render", "samples"), 4, "render.samples", "unknown key 'samples'"),
     (("fog",), "thick", "fog", "expected a table"),
-    (("fog", "mode"), "fast", "fog.mode", "expected one of 'linear', 'exp', 'exp2'"),
+    (("fog", "mode"), "fast", "fog.mode", "unknown fog mode 'fast'; expected 'linear',"),
     (("fog", "density"), 0.5, "fog.density", "unknown key 'density'"),
-    (("fog", "end"), 1.0, "fog.end", "expected a number > start (1), got 1.0"),
-    (("fog", "start"), "near", "fog.start", "expected a finite number, got 'near'"),
-    (("fog",), {"mode": "exp", "density": -1}, "fog.density", "expected a number >= 0, got -1"),
+    (("fog", "end"), 1.0, "fog.end", "linear fog needs finite start < end, got"),
+    (("fog", "start"), "near", "fog.start", "expected a number, got 'near'"),
+    (
+        ("fog",),
+        {"mode": "exp", "density": -1},
+        "fog.density",
+        "fog density must be finite and >= 0, got -1",
+    ),
     (("fog",), {"mode": "exp2", "start": 1}, "fog.start", "unknown key 'start'"),
-    (("fog", "color"), [0, 0, -1], "fog.color[2]", "expected a finite number >= 0"),
+    (("fog", "color"), [0, 0, -1], "fog.color", "fog color must be finite and >= 0, got [0.0,"),
     (("materials",), [], "materials", "expected a table"),
     (("materials", "gold"), {"shininess": 1}, "materials.gold", "taken by a preset"),
     (("materials", "mine"), "gold", "materials.mine", "expected a table, got 'gold'"),
     (("materials", "mine", "shine"), 3, "materials.mine.shine", "unknown key 'shine'"),
-    (("materials", "mine", "shininess"), -1, "materials.mine.shininess", "a number >= 0"),
+    (
+        ("materials", "mine", "shininess"),
+        -1,
+        "materials.mine.shininess",
+        "material shininess must be finite and >= 0, got",
+    ),
     (("materials", "mine", "preset"), "unobtainium", "materials.mine.preset", "unknown material"),
-    (("materials", "mine", "preset"), 3, "materials.mine.preset", "a preset name"),
-    (("materials", "mine", "diffuse"), [1, 1], "materials.mine.diffuse", "3 numbers >= 0"),
-    (("materials", "mine", "emission"), [1, 1, -1], "materials.mine.emission[2]", ">= 0"),
+    (("materials", "mine", "preset"), 3, "materials.mine.preset", "expected a string, got 3"),
+    (
+        ("materials", "mine", "diffuse"),
+        [1, 1],
+        "materials.mine.diffuse",
+        "diffuse must be 3 numbers, got shape (2)",
+    ),
+    (
+        ("materials", "mine", "emission"),
+        [1, 1, -1],
+        "materials.mine.emission",
+        "material emission must be finite and >= 0, got",
+    ),
     (("lights",), {}, "lights", "expected an array of tables, got a table"),
     (("lights", 0), 3, "lights[0]", "expected a table, got 3"),
     (("lights", 0, "type"), "laser", "lights[0].type", "expected one of 'directional', "),
     (("lights", 0, "type"), DELETE, "lights[0].type", "missing required key; expected one"),
-    (("lights", 0, "direction"), [0, 0, 0], "lights[0].direction", "not all zero"),
+    (
+        ("lights", 0, "direction"),
+        [0, 0, 0],
+        "lights[0].direction",
+        "light direction must be finite and non-zero,",
+    ),
     (("lights", 0, "direction"), DELETE, "lights[0].direction", "missing required key"),
     (("lights", 0, "position"), [0, 0, 0], "lights[0].position", "unknown key 'position'"),
-    (("lights", 0, "intensity"), -1, "lights[0].intensity", "expected a number >= 0, got -1"),
-    (("lights", 0, "color"), "white", "lights[0].color", "an array of 3 numbers >= 0"),
-    (("lights", 0, "ambient"), [0, -0.1, 0], "lights[0].ambient[1]", ">= 0"),
-    (("lights", 0, "diffuse"), [0, -0.1, 0], "lights[0].diffuse[1]", ">= 0"),
-    (("lights", 1, "specular"), "red", "lights[1].specular", "an array of 3 numbers >= 0"),
-    (("lights", 2, "diffuse"), [1, 1], "lights[2].diffuse", "an array of 3 numbers >= 0"),
+    (
+        ("lights", 0, "intensity"),
+        -1,
+        "lights[0].intensity",
+        "light intensity must be finite and >= 0, got -1",
+    ),
+    (
+        ("lights", 0, "color"),
+        "white",
+        "lights[0].color",
+        "expected an array of numbers, got 'white'",
+    ),
+    (
+        ("lights", 0, "ambient"),
+        [0, -0.1, 0],
+        "lights[0].ambient",
+        "light ambient must be finite and >= 0, got",
+    ),
+    (
+        ("lights", 0, "diffuse"),
+        [0, -0.1, 0],
+        "lights[0].diffuse",
+        "light diffuse colour must be finite and >= 0,",
+    ),
+    (
+        ("lights", 1, "specular"),
+        "red",
+        "lights[1].specular",
+        "expected an array of numbers, got 'red'",
+    ),
+    (
+        ("lights", 2, "diffuse"),
+        [1, 1],
+        "lights[2].diffuse",
+        "diffuse must be 3 numbers, got shape (2)",
+    ),
     (("lights", 3, "specular"), [1, 1, True], "lights[3].specular[2]", "got True"),
     (("lights", 1, "attenuation"), [0, 0, 0], "lights[1].attenuation", "not all zero"),
-    (("lights", 1, "attenuation"), [1, -1, 0], "lights[1].attenuation[1]", ">= 0"),
+    (
+        ("lights", 1, "attenuation"),
+        [1, -1, 0],
+        "lights[1].attenuation",
+        "attenuation (kc, kl, kq) must be finite, >= 0",
+    ),
     (("lights", 1, "cutoff"), 30, "lights[1].cutoff", "unknown key 'cutoff'"),
     (("lights", 1, "position"), DELETE, "lights[1].position", "missing required key"),
     (
         ("lights", 2, "cutoff"),
         200,
         "lights[2].cutoff",
-        "lights[2].cutoff: expected a number in (0, 90] or 180, got 200",
+        "spot cutoff must be in (0, 90] degrees or",
     ),
-    (("lights", 2, "cutoff"), 0, "lights[2].cutoff", "(0, 90] or 180, got 0"),
+    (("lights", 2, "cutoff"), 0, "lights[2].cutoff", "spot cutoff must be in (0, 90] degrees or"),
     (("lights", 2, "cutoff"), "wide", "lights[2].cutoff", "got 'wide'"),
-    (("lights", 2, "exponent"), -1, "lights[2].exponent", "expected a number >= 0"),
-    (("lights", 2, "inner"), 30, "lights[2].inner", "expected a number in [0, 30), got 30"),
+    (
+        ("lights", 2, "exponent"),
+        -1,
+        "lights[2].exponent",
+        "spot exponent must be finite and >= 0, got -1",
+    ),
+    (("lights", 2, "inner"), 30, "lights[2].inner", "spot inner angle must be in [0, cutoff) with"),
     (("lights", 2, "one_sided"), True, "lights[2].one_sided", "unknown key 'one_sided'"),
-    (("lights", 3, "samples"), 0, "lights[3].samples", "expected an integer in [1, 64], got 0"),
+    (
+        ("lights", 3, "samples"),
+        0,
+        "lights[3].samples",
+        "area light samples must be between 1 and 64 per",
+    ),
     (("lights", 3, "samples"), 65, "lights[3].samples", "got 65"),
     (("lights", 3, "samples"), 2.0, "lights[3].samples", "got 2.0"),
-    (("lights", 3, "shape"), "triangle", "lights[3].shape", "'rectangle', 'disk'"),
+    (
+        ("lights", 3, "shape"),
+        "triangle",
+        "lights[3].shape",
+        "unknown area light shape 'triangle'; expected",
+    ),
     (("lights", 3, "one_sided"), 1, "lights[3].one_sided", "expected true or false"),
-    (("lights", 3, "v"), [2, 0, 0], "lights[3]", "must be non-zero and not parallel"),
+    (
+        ("lights", 3, "v"),
+        [2, 0, 0],
+        "lights[3].v",
+        "area light edges u=[1.0, 0.0, 0.0] and v=[2.0,",
+    ),
     (("lights", 3, "u"), DELETE, "lights[3].u", "missing required key"),
     (("objects",), {"mesh": "x"}, "objects", "expected an array of tables"),
     (("objects", 0), 3, "objects[0]", "expected a table, got 3"),
@@ -664,7 +771,7 @@ ERRORS = [
         ("objects", 0, "mesh"),
         {"primitive": "ico_sphere", "subdivisions": 11},
         "objects[0].mesh.subdivisions",
-        "expected an integer in [0, 10], got 11",
+        "ico_sphere needs 0 <= subdivisions <= 10, got 11",
     ),
     (
         ("objects", 0, "mesh"),
@@ -672,7 +779,12 @@ ERRORS = [
         "objects[0].mesh.rings",
         "unknown key 'rings'; expected one of: primitive, subdivisions",
     ),
-    (("objects", 0, "mesh", "rings"), 1, "objects[0].mesh.rings", "an integer in [2, 100000]"),
+    (
+        ("objects", 0, "mesh", "rings"),
+        1,
+        "objects[0].mesh.rings",
+        "uv_sphere needs rings >= 2 and segments >= 3,",
+    ),
     (("objects", 0, "mesh", "segments"), 2.5, "objects[0].mesh.segments", "got 2.5"),
     (("objects", 0, "mesh", "radius"), 1, "objects[0].mesh.radius", "unknown key 'radius'"),
     (("objects", 0, "mesh"), {"primitive": "cube", "rings": 3}, "objects[0].mesh.rings", "unknown"),
@@ -682,46 +794,91 @@ ERRORS = [
     (("objects", 0, "back_material"), "nope", "objects[0].back_material", "unknown material"),
     (("objects", 0, "back_material"), {"shininess": -2}, "objects[0].back_material.shininess", ""),
     (("objects", 0, "colour"), 1, "objects[0].colour", "unknown key 'colour'"),
-    (("objects", 0, "transform"), [[1, 0, 0, 0]], "objects[0].transform", "a 4x4 matrix"),
+    (
+        ("objects", 0, "transform"),
+        [[1, 0, 0, 0]],
+        "objects[0].transform",
+        "transform must have shape (4, 4), got (1, 4)",
+    ),
     (
         ("objects", 0, "transform"),
         [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 1, 1]],
-        "objects[0].transform[3]",
-        "expected [0, 0, 0, 1]",
+        "objects[0].transform",
+        "transform must be affine (last row 0 0 0 1),",
     ),
     (
         ("objects", 0, "transform"),
         [[1, 0, 0, 0], [0, 1, "x", 0], [0, 0, 1, 0], [0, 0, 0, 1]],
         "objects[0].transform[1][2]",
-        "expected a finite number, got 'x'",
+        "expected a number, got 'x'",
     ),
     (
         ("objects", 0, "transform"),
         [[1, 0, 0, 0], [0, 0, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]],
-        "objects[0]",
-        "singular",
+        "objects[0].transform",
+        "transform is singular (its 3x3 part has no",
     ),
-    (("objects", 0, "scale"), 0, "objects[0].scale", "a non-zero number or 3 non-zero numbers"),
-    (("objects", 0, "scale"), [1, 0, 1], "objects[0].scale", "non-zero"),
-    (("objects", 0, "scale"), "big", "objects[0].scale", "an array of 3 numbers"),
+    (("objects", 0, "scale"), 0, "objects[0]", "transform is singular (its 3x3 part has no"),
+    (
+        ("objects", 0, "scale"),
+        [1, 0, 1],
+        "objects[0]",
+        "transform is singular (its 3x3 part has no",
+    ),
+    (("objects", 0, "scale"), "big", "objects[0].scale", "expected an array of numbers, got 'big'"),
     (("objects", 0, "rotate"), [1, 2], "objects[0].rotate", "an array of 3 numbers"),
     (("objects", 0, "translate"), [1, True, 0], "objects[0].translate[1]", "got True"),
-    (("objects", 1, "mesh", "faces"), [[0, 1, 3]], "objects[1].mesh.faces[0][2]", "in [0, 3)"),
-    (("objects", 1, "mesh", "faces"), [[0, 1, 2**70]], "objects[1].mesh.faces[0][2]", "in [0, 3)"),
-    (("objects", 1, "mesh", "faces"), [[0, -1, 2]], "objects[1].mesh.faces[0][1]", "got -1"),
+    (
+        ("objects", 1, "mesh", "faces"),
+        [[0, 1, 3]],
+        "objects[1].mesh.faces",
+        "faces[0, 2] = 3 is out of range for 3 vertices",
+    ),
+    (
+        ("objects", 1, "mesh", "faces"),
+        [[0, 1, 2**70]],
+        "objects[1].mesh.faces",
+        "faces must be an integer array, got dtype object",
+    ),
+    (
+        ("objects", 1, "mesh", "faces"),
+        [[0, -1, 2]],
+        "objects[1].mesh.faces",
+        "faces[0, 1] = -1 is out of range for 3 vertices",
+    ),
     (("objects", 1, "mesh", "faces"), [[0, 1, 2.0]], "objects[1].mesh.faces[0][2]", "an integer"),
-    (("objects", 1, "mesh", "faces"), [[0, 1]], "objects[1].mesh.faces[0]", "3 integers"),
+    (
+        ("objects", 1, "mesh", "faces"),
+        [[0, 1]],
+        "objects[1].mesh.faces",
+        "faces must have shape (M, 3), got (1, 2)",
+    ),
     (("objects", 1, "mesh", "faces"), DELETE, "objects[1].mesh.faces", "missing required key"),
     (("objects", 1, "mesh"), {}, "objects[1].mesh", "a {primitive = ...} table or an inline"),
-    (("objects", 1, "mesh", "vertices"), [], "objects[1].mesh.vertices", "a non-empty array"),
+    (
+        ("objects", 1, "mesh", "vertices"),
+        [],
+        "objects[1].mesh.vertices",
+        "vertices must have shape (N, 3), got (0)",
+    ),
     (
         ("objects", 1, "mesh", "vertices"),
         [[0, 0, 0], [1, 0], [0, 1, 0]],
-        "objects[1].mesh.vertices[1]",
-        "an array of 3 numbers",
+        "objects[1].mesh.vertices",
+        "vertices must be array-like of numbers:",
     ),
-    (("objects", 1, "mesh", "normals"), [[0, 0, 1]], "objects[1].mesh.normals", "3 rows"),
-    (("objects", 1, "mesh", "uvs"), [[0, 0, 1]] * 3, "objects[1].mesh.uvs[0]", "2 numbers"),
+    (
+        ("objects", 1, "mesh", "normals"),
+        [[0, 0, 1]],
+        "objects[1].mesh",
+        "normals has 1 rows but the mesh has 3 vertices",
+    ),
+    (
+        ("objects", 1, "mesh", "uvs"),
+        [[0, 0, 1]] * 3,
+        "objects[1].mesh.uvs",
+        "uvs must have shape (N, 2), got (3, 3)",
+    ),
     (("objects", 1, "mesh", "colors"), [], "objects[1].mesh.colors", "unknown key 'colors'"),
 ]
 
@@ -740,7 +897,9 @@ def test_schema_errors_name_the_key_path(path, value, key, message):
 def test_spot_inner_needs_a_cone():
     doc = mutate(("lights", 2, "cutoff"), 180)
     doc["lights"][2]["inner"] = 10
-    with pytest.raises(sl.SceneFileError, match=r"^lights\[2\]\.inner: needs a cutoff <= 90"):
+    with pytest.raises(
+        sl.SceneFileError, match=r"^lights\[2\]\.inner: spot inner angle .* with cutoff <= 90"
+    ):
         sl.load_scene_dict(doc)
 
 
@@ -868,5 +1027,6 @@ def test_cli_reports_schema_errors_on_one_line(tmp_path):
     r = run("render", p, "-o", tmp_path / "o.png")
     assert r.returncode == 1
     assert r.stderr == (
-        f"shadelab: error: {p}: lights[2].cutoff: expected a number in (0, 90] or 180, got 200\n"
+        f"shadelab: error: {p}: lights[2].cutoff: spot cutoff must be in (0, 90] degrees"
+        " or exactly 180 (no cone), got 200\n"
     )

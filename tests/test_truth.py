@@ -1,7 +1,7 @@
-"""The benchmark's ground truth (bench/truth.py) and its error figures (bench/errors.py).
+"""The benchmark's ground truth (shadelab_ref.truth) and its error figures (shadelab_ref.errors).
 
 The analytic sphere and plane are checked against independent geometry and against the
-float64 reference rasterizer (tests/reference.py): a plane is exactly a two-triangle mesh, so
+float64 reference rasterizer (shadelab_ref.reference): a plane is exactly a two-triangle mesh, so
 the two must agree to float64 rounding; a sphere is the limit of ever finer tessellations, so
 the reference's error against it must shrink towards zero as the mesh is refined.
 """
@@ -9,20 +9,12 @@ the reference's error against it must shrink towards zero as the mesh is refined
 from __future__ import annotations
 
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "bench"))
-import errors  # bench/errors.py
-import truth  # bench/truth.py
-
-try:
-    import reference as ref
-except ImportError:  # pragma: no cover - tests/ imported as a package
-    from tests import reference as ref
+from shadelab_ref import errors, truth
+from shadelab_ref import reference as ref
 
 GOLD = ref.Material(
     (0.24725, 0.1995, 0.0745), (0.75164, 0.60648, 0.22648), (0.628281, 0.555802, 0.366065), 51.2

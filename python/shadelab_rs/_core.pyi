@@ -10,11 +10,11 @@ Errors: ``ValueError`` (bad values, with the offending element named, e.g.
 
 import os
 from collections.abc import Mapping, Sequence
-from typing import Any, Final, Literal, TypedDict, final, overload
+from typing import Any, ClassVar, Final, Literal, TypedDict, final, overload
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from typing_extensions import TypeAlias
+from typing_extensions import TypeAlias, Unpack
 
 __all__ = [
     "MAX_AREA_SAMPLES",
@@ -28,6 +28,7 @@ __all__ = [
     "Mesh",
     "ObjParseError",
     "PointLight",
+    "RenderOptions",
     "Scene",
     "SceneObject",
     "SpotLight",
@@ -191,7 +192,8 @@ class DirectionalLight:
         """The light's own ambient colour."""
     @property
     def direction(self) -> _Vec3:
-        """Unit direction of travel."""
+        """The direction of travel as given (not normalised: the light uses its unit
+        vector), so a light written to a scene file reads back exactly."""
     @property
     def color(self) -> _Vec3:
         """RGB colour."""
@@ -274,7 +276,8 @@ class SpotLight:
         """World position."""
     @property
     def direction(self) -> _Vec3:
-        """Unit direction the cone points."""
+        """The direction the cone points, as given (not normalised: the light uses its
+        unit vector)."""
     @property
     def cutoff(self) -> float:
         """Cone half-angle in degrees (180: no cone)."""
@@ -588,103 +591,140 @@ class _Frame(TypedDict):
     depth: NDArray[np.float32] | None
     stats: dict[str, Any]
 
+@final
+class RenderOptions:
+    """How to render, spelled once: :func:`render` and :func:`render_frame` take these
+    arguments (positionally after the camera, or by keyword) or an ``options=`` object,
+    scene files' ``[render]`` table has these keys, and the command line's flags map to
+    them. Checked when built (a ``ValueError`` names the argument in ``field``).
+
+    ``width``, ``height``: 1 to :data:`MAX_IMAGE_SIZE`. ``shading``: "flat", "gouraud" or
+    "phong"; ``specular``: "blinn" (Blinn-Phong), "phong" or "blinn-normalized"
+    (case-insensitive). ``background``: linear RGB of empty pixels (default black).
+    ``cull_backfaces``: skip clockwise faces. ``threads``: worker threads, None for all
+    cores; the image is bit-identical for any count."""
+
+    def __new__(
+        cls,
+        width: int = 800,
+        height: int = 600,
+        shading: _Shading = "phong",
+        specular: _Specular = "blinn",
+        background: _Vec3Like | None = None,
+        cull_backfaces: bool = False,
+        threads: int | None = None,
+    ) -> RenderOptions: ...
+    shading_names: ClassVar[tuple[str, str, str]]
+    """The names ``shading`` takes (in any case)."""
+    specular_names: ClassVar[tuple[str, str, str]]
+    """The names ``specular`` takes (in any case)."""
+    def replace(self, **changes: Unpack[_RenderOptionsArgs]) -> RenderOptions:
+        """The same options with the given ones changed."""
+    def to_dict(self) -> dict[str, Any]:
+        """Every option by name: ``RenderOptions(**o.to_dict()) == o``."""
+    @property
+    def width(self) -> int:
+        """Image width in pixels."""
+    @property
+    def height(self) -> int:
+        """Image height in pixels."""
+    @property
+    def shading(self) -> str:
+        """ "flat", "gouraud" or "phong"."""
+    @property
+    def specular(self) -> str:
+        """ "blinn", "phong" or "blinn-normalized"."""
+    @property
+    def background(self) -> _Vec3:
+        """Linear RGB of empty pixels."""
+    @property
+    def cull_backfaces(self) -> bool:
+        """Whether clockwise (back) faces are skipped."""
+    @property
+    def threads(self) -> int | None:
+        """Worker threads, or None for all cores."""
+
+class _RenderOptionsArgs(TypedDict, total=False):
+    """The keywords of :class:`RenderOptions` (tests/test_render_options.py checks that
+    they are the constructor's)."""
+
+    width: int
+    height: int
+    shading: _Shading
+    specular: _Specular
+    background: _Vec3Like | None
+    cull_backfaces: bool
+    threads: int | None
+
+# One overload per output type; the render options are RenderOptions' arguments.
 @overload
 def render(
     scene: Scene,
     camera: Camera,
-    width: int = 800,
-    height: int = 600,
-    shading: _Shading = "phong",
-    specular: _Specular = "blinn",
-    background: _Vec3Like | None = None,
+    *args: Any,
     dtype: _U8 | None = None,
     return_depth: Literal[False] = False,
-    cull_backfaces: bool = False,
-    threads: int | None = None,
+    options: RenderOptions | None = None,
+    **kwargs: Unpack[_RenderOptionsArgs],
 ) -> NDArray[np.uint8]: ...
 @overload
 def render(
     scene: Scene,
     camera: Camera,
-    width: int = 800,
-    height: int = 600,
-    shading: _Shading = "phong",
-    specular: _Specular = "blinn",
-    background: _Vec3Like | None = None,
-    *,
+    *args: Any,
     dtype: _F32,
     return_depth: Literal[False] = False,
-    cull_backfaces: bool = False,
-    threads: int | None = None,
+    options: RenderOptions | None = None,
+    **kwargs: Unpack[_RenderOptionsArgs],
 ) -> NDArray[np.float32]: ...
 @overload
 def render(
     scene: Scene,
     camera: Camera,
-    width: int = 800,
-    height: int = 600,
-    shading: _Shading = "phong",
-    specular: _Specular = "blinn",
-    background: _Vec3Like | None = None,
+    *args: Any,
     dtype: _U8 | None = None,
-    *,
     return_depth: Literal[True],
-    cull_backfaces: bool = False,
-    threads: int | None = None,
+    options: RenderOptions | None = None,
+    **kwargs: Unpack[_RenderOptionsArgs],
 ) -> tuple[NDArray[np.uint8], NDArray[np.float32]]: ...
 @overload
 def render(
     scene: Scene,
     camera: Camera,
-    width: int = 800,
-    height: int = 600,
-    shading: _Shading = "phong",
-    specular: _Specular = "blinn",
-    background: _Vec3Like | None = None,
-    *,
+    *args: Any,
     dtype: _F32,
     return_depth: Literal[True],
-    cull_backfaces: bool = False,
-    threads: int | None = None,
+    options: RenderOptions | None = None,
+    **kwargs: Unpack[_RenderOptionsArgs],
 ) -> tuple[NDArray[np.float32], NDArray[np.float32]]: ...
 @overload
 def render(
     scene: Scene,
     camera: Camera,
-    width: int = 800,
-    height: int = 600,
-    shading: _Shading = "phong",
-    specular: _Specular = "blinn",
-    background: _Vec3Like | None = None,
+    *args: Any,
     dtype: Any = None,
     return_depth: bool = False,
-    cull_backfaces: bool = False,
-    threads: int | None = None,
+    options: RenderOptions | None = None,
+    **kwargs: Unpack[_RenderOptionsArgs],
 ) -> NDArray[Any] | tuple[NDArray[Any], NDArray[np.float32]]:
     """Renders ``scene`` through ``camera`` into a C-contiguous (height, width, 3) array, or
     a tuple (image, depth) with ``return_depth=True``. The GIL is released while rendering.
 
-    ``width``, ``height``: 1 to :data:`MAX_IMAGE_SIZE`. ``shading``: "flat", "gouraud" or
-    "phong"; ``specular``: "blinn" (Blinn-Phong) or "phong" (case-insensitive).
-    ``background``: linear RGB of empty pixels (default black). ``dtype``: "uint8" (default,
-    ``round(clamp(c, 0, 1) * 255)``) or "float32" (linear, unclamped). ``depth``: float32
-    eye-space depth (distance along the viewing axis, world units), +inf where nothing was
-    drawn. ``threads``: worker threads, None for all cores; the image is bit-identical for
-    any count.
+    The render options are :class:`RenderOptions`' arguments (``render(s, c, 640, 480,
+    shading="flat")``), or ``options=`` (updated by any keyword given with it).
+    ``dtype``: "uint8" (default, ``round(clamp(c, 0, 1) * 255)``) or "float32" (linear,
+    unclamped). ``depth``: float32 eye-space depth (distance along the viewing axis, world
+    units), +inf where nothing was drawn.
     """
 
 def render_frame(
     scene: Scene,
     camera: Camera,
-    width: int = 800,
-    height: int = 600,
-    shading: _Shading = "phong",
-    specular: _Specular = "blinn",
-    background: _Vec3Like | None = None,
+    *args: Any,
     dtype: Any = None,
     return_depth: bool = False,
-    cull_backfaces: bool = False,
-    threads: int | None = None,
+    options: RenderOptions | None = None,
+    **kwargs: Unpack[_RenderOptionsArgs],
 ) -> _Frame:
     """Like :func:`render`, returning a dict with "image", "depth" (or None) and "stats":
     triangle counters (``triangles_in``, ``triangles_setup``, ``triangles_clipped``,

@@ -37,24 +37,11 @@ def _triple(text: str) -> tuple[float, float, float]:
     return vals  # type: ignore[return-value]
 
 
-# Render options and their defaults. The command-line flags default to None so that a
-# scene file's [render] table applies unless a flag is given.
-_RENDER_DEFAULTS: dict[str, Any] = {
-    "width": 800,
-    "height": 600,
-    "shading": "phong",
-    "specular": "blinn",
-    "background": (0.0, 0.0, 0.0),
-    "cull_backfaces": False,
-    "threads": None,
-}
-
-
 def _render_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("-o", "--output", default="out.png", help="image file to write (PNG, JPEG)")
     p.add_argument("--size", type=_size, default=None, help="WIDTHxHEIGHT (800x600)")
-    p.add_argument("--shading", choices=["flat", "gouraud", "phong"], default=None)
-    p.add_argument("--specular", choices=["blinn", "phong", "blinn-normalized"], default=None)
+    p.add_argument("--shading", choices=core.RenderOptions.shading_names, default=None)
+    p.add_argument("--specular", choices=core.RenderOptions.specular_names, default=None)
     p.add_argument("--background", type=_triple, default=None, help="r,g,b in [0,1] (0,0,0)")
     p.add_argument("--threads", type=int, default=None, help="worker threads (default: all)")
     p.add_argument("--cull-backfaces", action="store_true", default=None)
@@ -66,18 +53,18 @@ def _render(
     args: argparse.Namespace,
     file_options: dict[str, Any] | None = None,
 ) -> None:
-    """Renders with the defaults, updated by a scene file's options, updated by the flags."""
-    opts = {**_RENDER_DEFAULTS, **(file_options or {})}
+    """Renders with a scene file's options updated by the flags given."""
+    flags = {k: getattr(args, k) for k in ("shading", "specular", "background", "threads")}
+    flags["cull_backfaces"] = args.cull_backfaces
     if args.size is not None:
-        opts["width"], opts["height"] = args.size
-    for k in ("shading", "specular", "background", "cull_backfaces", "threads"):
-        if getattr(args, k) is not None:
-            opts[k] = getattr(args, k)
+        flags["width"], flags["height"] = args.size
+    given = {k: v for k, v in flags.items() if v is not None}
+    opts = core.RenderOptions(**{**(file_options or {}), **given})
     t0 = time.perf_counter()
-    img = core.render(scene, camera, **opts)
+    img = core.render(scene, camera, options=opts)
     dt = (time.perf_counter() - t0) * 1e3
     save_image(img, args.output)
-    w, h = opts["width"], opts["height"]
+    w, h = opts.width, opts.height
     print(f"wrote {args.output} ({w}x{h}, {scene.n_triangles} triangles, {dt:.1f} ms)")
 
 

@@ -1,32 +1,30 @@
 """Scene files: a versioned TOML schema for a scene, its camera and its render options.
 
-The schema (version 1) is documented in docs/USER_GUIDE.md, "Scene files". Everything is
-checked here, before any Rust object is built: every bad key or value raises
-:class:`SceneFileError` naming its key path (``lights[2].cutoff``) and what was expected, and
-unknown keys are errors. ``scene_to_dict`` writes the same schema as plain Python data (meshes
-as primitives when they are one, else inline arrays), so ``scene_from_dict(scene_to_dict(s))``
-renders bit-identically to ``s``; ``to_toml`` writes it as TOML without any dependency.
+The schema (version 1) is documented in docs/USER_GUIDE.md, "Scene files". This module
+checks the document's shape (tables, keys, TOML types; unknown keys are errors); values are
+checked once, by the constructors, whose errors name the argument (``field``) that is mapped
+here to a key path. Every bad key or value raises :class:`SceneFileError` naming its key path
+(``lights[2].cutoff``) and what was wrong. ``scene_to_dict`` writes the same schema as plain
+Python data (meshes as primitives when they are one, else inline arrays), so
+``scene_from_dict(scene_to_dict(s))`` renders bit-identically to ``s``; ``to_toml`` writes
+it as TOML (with tomli-w).
 """
 
 from __future__ import annotations
 
-import itertools
-import json
 import math
 import os
-import re
 import sys
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 from typing import Any, Callable, Union
 
 import numpy as np
+import tomli_w
 
 from ._core import (
-    MAX_AREA_SAMPLES,
-    MAX_IMAGE_SIZE,
-    MAX_THREADS,
     AreaLight,
     Camera,
     DirectionalLight,
@@ -34,6 +32,7 @@ from ._core import (
     Material,
     Mesh,
     PointLight,
+    RenderOptions,
     Scene,
     SpotLight,
     load_obj_parts,
@@ -66,7 +65,10 @@ class SceneFileError(ValueError):
 
 
 # ---------------------------------------------------------------------------------------
-# Checking helpers. `where` is always the key path of the value being checked.
+# Checking helpers. `where` is always the key path of the value being checked. This module
+# checks only the document's shape: tables, keys and TOML types (a number is not a boolean
+# or a string). Values — ranges, lengths, finiteness — are checked once, by the
+# constructors, whose errors name the argument (`field`); `_call` turns that into a key.
 
 
 def _at(where: str, key: str | int) -> str:
@@ -113,39 +115,15 @@ def _table(
     return dict(d)
 
 
-def _number(
-    v: Any,
-    where: str,
-    *,
-    lo: float | None = None,
-    lo_open: bool = False,
-    hi: float | None = None,
-    hi_open: bool = False,
-) -> float:
-    lo_s = "" if lo is None else ("(" if lo_open else "[") + f"{lo:g}"
-    hi_s = "" if hi is None else f"{hi:g}" + (")" if hi_open else "]")
-    if lo is not None and hi is not None:
-        what = f"a number in {lo_s}, {hi_s}"
-    elif lo is not None:
-        what = f"a number {'>' if lo_open else '>='} {lo:g}"
-    elif hi is not None:
-        what = f"a number {'<' if hi_open else '<='} {hi:g}"
-    else:
-        what = "a finite number"
-    if not _is_number(v) or not math.isfinite(v):
-        raise _fail(where, what, v)
-    x = float(v)
-    if lo is not None and (x < lo or (lo_open and x == lo)):
-        raise _fail(where, what, v)
-    if hi is not None and (x > hi or (hi_open and x == hi)):
-        raise _fail(where, what, v)
-    return x
+def _number(v: Any, where: str) -> Any:
+    if not _is_number(v):
+        raise _fail(where, "a number", v)
+    return v
 
 
-def _integer(v: Any, where: str, lo: int, hi: int | None = None) -> int:
-    what = f"an integer in [{lo}, {hi}]" if hi is not None else f"an integer >= {lo}"
-    if not isinstance(v, int) or isinstance(v, bool) or v < lo or (hi is not None and v > hi):
-        raise _fail(where, what, v)
+def _integer(v: Any, where: str) -> int:
+    if not isinstance(v, int) or isinstance(v, bool):
+        raise _fail(where, "an integer", v)
     return v
 
 
@@ -155,36 +133,56 @@ def _boolean(v: Any, where: str) -> bool:
     return v
 
 
+def _string(v: Any, where: str) -> str:
+    if not isinstance(v, str):
+        raise _fail(where, "a string", v)
+    return v
+
+
 def _choice(v: Any, where: str, choices: tuple[str, ...]) -> str:
+    """For the keys that choose a schema (a light's or a camera's type)."""
     if not isinstance(v, str) or v not in choices:
         raise _fail(where, "one of " + ", ".join(f"'{c}'" for c in choices), v)
     return v
 
 
-def _vec3(v: Any, where: str, *, nonneg: bool = False, nonzero: bool = False) -> list[float]:
-    what = "3 numbers" + (" >= 0" if nonneg else "") + (", not all zero" if nonzero else "")
-    if not isinstance(v, list) or len(v) != 3:
-        raise _fail(where, f"an array of {what}", v)
+def _numbers(v: Any, where: str) -> list[Any]:
+    """An array of numbers (its length is the constructor's to check)."""
+    if not isinstance(v, list):
+        raise _fail(where, "an array of numbers", v)
     for i, x in enumerate(v):
-        if not _is_number(x) or not math.isfinite(x) or (nonneg and x < 0):
-            raise _fail(_at(where, i), "a finite number" + (" >= 0" if nonneg else ""), x)
-    if nonzero and all(x == 0 for x in v):
-        raise _fail(where, f"an array of {what}", v)
-    return [float(x) for x in v]
+        _number(x, _at(where, i))
+    return v
 
 
-def _color(v: Any, where: str) -> list[float]:
-    return _vec3(v, where, nonneg=True)
+def _rows(v: Any, where: str, integer: bool = False) -> list[list[Any]]:
+    """An array of arrays of numbers (integers with ``integer``)."""
+    item = _integer if integer else _number
+    if not isinstance(v, list):
+        raise _fail(where, "an array of arrays of " + ("integers" if integer else "numbers"), v)
+    for i, row in enumerate(v):
+        if not isinstance(row, list):
+            raise _fail(_at(where, i), "an array of " + ("integers" if integer else "numbers"), row)
+        for j, x in enumerate(row):
+            item(x, _at(_at(where, i), j))
+    return v
 
 
-def _call(where: str, make: Callable[[], Any]) -> Any:
-    """Runs a constructor, turning its ValueError (a check this module does not repeat)
-    into a SceneFileError at ``where``."""
+def _call(
+    where: str, make: Callable[[], Any], rename: Mapping[str, str | None] | None = None
+) -> Any:
+    """Runs a constructor, turning its error into a SceneFileError at the key of the
+    argument it names (``where.<field>``; ``rename`` maps a field to another key, or to
+    None for ``where`` itself), else at ``where``."""
     try:
         return make()
     except SceneFileError:
         raise
-    except (ValueError, TypeError) as e:
+    except (ValueError, TypeError, OverflowError) as e:
+        field_name = getattr(e, "field", None)
+        if isinstance(field_name, str):
+            key = (rename or {}).get(field_name, field_name)
+            where = _at(where, key) if key else where
         raise SceneFileError(str(e), where) from e
 
 
@@ -197,13 +195,11 @@ _MATERIAL_KEYS = ("preset", "ambient", "diffuse", "specular", "shininess", "emis
 
 def _material_table(v: Any, where: str) -> Material:
     t = _table(v, where, optional=_MATERIAL_KEYS)
-    if "preset" in t:
-        name = t["preset"]
-        if not isinstance(name, str):
-            raise _fail(_at(where, "preset"), "a preset name (a string)", name)
-        base = _preset(name, _at(where, "preset"))
-    else:
-        base = Material()
+    base = (
+        _preset(_string(t["preset"], _at(where, "preset")), _at(where, "preset"))
+        if "preset" in t
+        else Material()
+    )
     values: dict[str, Any] = {
         "ambient": base.ambient,
         "diffuse": base.diffuse,
@@ -213,9 +209,9 @@ def _material_table(v: Any, where: str) -> Material:
     }
     for k in ("ambient", "diffuse", "specular", "emission"):
         if k in t:
-            values[k] = _color(t[k], _at(where, k))
+            values[k] = _numbers(t[k], _at(where, k))
     if "shininess" in t:
-        values["shininess"] = _number(t["shininess"], _at(where, "shininess"), lo=0)
+        values["shininess"] = _number(t["shininess"], _at(where, "shininess"))
     return _call(where, lambda: Material(**values))
 
 
@@ -304,61 +300,6 @@ _LIGHT_KEYS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
 }
 
 
-# The 27 ways of moving each of 3 float32 components by at most one ulp, smallest first.
-_ULP_STEPS = np.array(
-    sorted(itertools.product((-1, 0, 1), repeat=3), key=lambda s: sum(map(abs, s))),
-    dtype=np.int32,
-)
-
-
-def _normalize_f32(e: np.ndarray) -> np.ndarray:
-    """Rows of ``e`` (float32) normalised exactly as the core does (glam's
-    ``try_normalize``: ``e * (1 / sqrt((x*x + y*y) + z*z))``, each step rounded to
-    float32)."""
-    dot = (e[:, 0] * e[:, 0] + e[:, 1] * e[:, 1]) + e[:, 2] * e[:, 2]
-    return e * (np.float32(1.0) / np.sqrt(dot))[:, None]
-
-
-def _unit_preimage(d: list[float]) -> np.ndarray | None:
-    """A float32 vector whose float32 normalisation is exactly ``d``, or None.
-
-    Candidates are ``d`` scaled by 1 + k/4096 and rounded to float32, each moved by up to
-    an ulp per component: the rounding of the scaled vector varies with k, and over a few
-    thousand candidates one nearly always lands on ``d`` (every one of 5000 random unit
-    vectors in a test)."""
-    d32 = np.array(d, dtype=np.float32)
-    with np.errstate(all="ignore"):
-        for start in range(0, 4096, 128):
-            m = 1.0 + np.arange(start, start + 128) / 4096.0
-            base = (d32.astype(np.float64)[None, :] * m[:, None]).astype(np.float32)
-            bits = base.view(np.int32)[:, None, :] + _ULP_STEPS[None, :, :]
-            cand = bits.view(np.float32).reshape(-1, 3)
-            ok = np.all(_normalize_f32(cand) == d32, axis=1)
-            if ok.any():
-                return cand[int(np.argmax(ok))]
-    return None
-
-
-def _exact_direction(make: Callable[[list[float]], Any], d: list[float]) -> Any:
-    """``make(d)``, or ``make(e)`` for an ``e`` whose normalisation gives exactly ``d``
-    when ``d`` itself does not.
-
-    Lights store their direction normalised in float32, and normalising an already
-    normalised float32 vector moves it by an ulp about a third of the time; ``to_dict``
-    writes the stored unit direction, so this keeps ``from_dict(to_dict(s))``
-    bit-identical. A direction that is not unit (a hand-written one) is used as given."""
-    light = make(d)
-    target = tuple(float(np.float32(x)) for x in d)
-    if tuple(light.direction) == target or abs(math.hypot(*d) - 1.0) > 1e-6:
-        return light
-    e = _unit_preimage(d)
-    if e is not None:
-        cand = make([float(x) for x in e])
-        if tuple(cand.direction) == target:  # checked on the real constructor
-            return cand
-    return light  # within an ulp of d; see the user guide ("Round trips")
-
-
 def _light(v: Any, where: str) -> _Light:
     if not isinstance(v, Mapping):
         raise _fail(where, "a table", v)
@@ -370,129 +311,66 @@ def _light(v: Any, where: str) -> _Light:
     kind = _choice(v["type"], _at(where, "type"), tuple(_LIGHT_KEYS))
     required, optional = _LIGHT_KEYS[kind]
     t = _table(v, where, required, optional)
+    # Only the TOML types here; the light's constructor checks every value.
     kw: dict[str, Any] = {}
-    for k in ("color", "ambient", *_SPLIT):
-        if k in t:
-            kw[k] = _color(t[k], _at(where, k))
-    if "intensity" in t:
-        kw["intensity"] = _number(t["intensity"], _at(where, "intensity"), lo=0)
-    if "attenuation" in t:
-        kw["attenuation"] = _vec3(t["attenuation"], _at(where, "attenuation"), nonneg=True)
-        if all(x == 0 for x in kw["attenuation"]):
-            raise _fail(_at(where, "attenuation"), "3 numbers >= 0, not all zero", t["attenuation"])
-    if "position" in t:
-        kw["position"] = _vec3(t["position"], _at(where, "position"))
-    if kind == "directional":
-        d = _vec3(t["direction"], _at(where, "direction"), nonzero=True)
-        return _call(where, lambda: _exact_direction(lambda e: DirectionalLight(e, **kw), d))
-    if kind == "point":
-        return _call(where, lambda: PointLight(**kw))
-    if kind == "spot":
-        d = _vec3(t["direction"], _at(where, "direction"), nonzero=True)
-        if "cutoff" in t:
-            c = t["cutoff"]
-            if not (_is_number(c) and (0 < c <= 90 or c == 180)):
-                raise _fail(_at(where, "cutoff"), "a number in (0, 90] or 180", c)
-            kw["cutoff"] = float(c)
-        if "exponent" in t:
-            kw["exponent"] = _number(t["exponent"], _at(where, "exponent"), lo=0)
-        if "inner" in t:
-            cutoff = kw.get("cutoff", 30.0)
-            if cutoff > 90:
-                raise SceneFileError("needs a cutoff <= 90 (a cone)", _at(where, "inner"))
-            kw["inner"] = _number(t["inner"], _at(where, "inner"), lo=0, hi=cutoff, hi_open=True)
-        return _call(where, lambda: _exact_direction(lambda e: SpotLight(direction=e, **kw), d))
-    # area
-    kw["u"] = _vec3(t["u"], _at(where, "u"), nonzero=True)
-    kw["v"] = _vec3(t["v"], _at(where, "v"), nonzero=True)
-    if "shape" in t:
-        kw["shape"] = _choice(t["shape"], _at(where, "shape"), ("rectangle", "disk"))
-    if "samples" in t:
-        kw["samples"] = _integer(t["samples"], _at(where, "samples"), 1, MAX_AREA_SAMPLES)
-    if "one_sided" in t:
-        kw["one_sided"] = _boolean(t["one_sided"], _at(where, "one_sided"))
-    return _call(where, lambda: AreaLight(**kw))
+    for k, value in t.items():
+        w = _at(where, k)
+        if k in ("intensity", "cutoff", "exponent", "inner"):
+            kw[k] = _number(value, w)
+        elif k == "samples":
+            kw[k] = _integer(value, w)
+        elif k == "shape":
+            kw[k] = _string(value, w)
+        elif k == "one_sided":
+            kw[k] = _boolean(value, w)
+        elif k != "type":
+            kw[k] = _numbers(value, w)
+    make = {
+        "directional": DirectionalLight,
+        "point": PointLight,
+        "spot": SpotLight,
+        "area": AreaLight,
+    }[kind]
+    return _call(where, lambda: make(**kw))
+
+
+_LIGHT_TYPES = {
+    DirectionalLight: "directional",
+    PointLight: "point",
+    SpotLight: "spot",
+    AreaLight: "area",
+}
 
 
 def light_to_dict(light: _Light) -> dict[str, Any]:
-    """A light as a table of the schema, every value explicit (``diffuse`` / ``specular``
-    only when the light has its own)."""
-    d = _light_values(light)
-    for k in _SPLIT:
+    """A light as a table of the schema: every key the light's getters hold (``diffuse``,
+    ``specular`` and a spot's ``inner`` only when the light has them)."""
+    kind = _LIGHT_TYPES.get(type(light))
+    if kind is None:
+        raise TypeError(f"not a light: {type(light).__name__}")
+    required, optional = _LIGHT_KEYS[kind]
+    d: dict[str, Any] = {"type": kind}
+    for k in required[1:] + optional:
         v = getattr(light, k)
         if v is not None:
-            d[k] = list(v)
+            d[k] = list(v) if isinstance(v, tuple) else v
     return d
 
 
-def _light_values(light: _Light) -> dict[str, Any]:
-    if isinstance(light, DirectionalLight):
-        return {
-            "type": "directional",
-            "direction": list(light.direction),
-            "color": list(light.color),
-            "intensity": float(light.intensity),
-            "ambient": list(light.ambient),
-        }
-    if isinstance(light, PointLight):
-        return {
-            "type": "point",
-            "position": list(light.position),
-            "color": list(light.color),
-            "intensity": float(light.intensity),
-            "attenuation": list(light.attenuation),
-            "ambient": list(light.ambient),
-        }
-    if isinstance(light, SpotLight):
-        d: dict[str, Any] = {
-            "type": "spot",
-            "position": list(light.position),
-            "direction": list(light.direction),
-            "cutoff": float(light.cutoff),
-            "exponent": float(light.exponent),
-        }
-        if light.inner is not None:
-            d["inner"] = float(light.inner)
-        d.update(
-            color=list(light.color),
-            intensity=float(light.intensity),
-            attenuation=list(light.attenuation),
-            ambient=list(light.ambient),
-        )
-        return d
-    if isinstance(light, AreaLight):
-        return {
-            "type": "area",
-            "position": list(light.position),
-            "u": list(light.u),
-            "v": list(light.v),
-            "shape": light.shape,
-            "samples": int(light.samples),
-            "color": list(light.color),
-            "intensity": float(light.intensity),
-            "attenuation": list(light.attenuation),
-            "ambient": list(light.ambient),
-            "one_sided": bool(light.one_sided),
-        }
-    raise TypeError(f"not a light: {type(light).__name__}")
-
-
 def _fog(v: Any, where: str) -> Fog:
-    if not isinstance(v, Mapping):
-        raise _fail(where, "a table", v)
-    mode = _choice(v.get("mode", "linear"), _at(where, "mode"), ("linear", "exp", "exp2"))
-    params = ("start", "end") if mode == "linear" else ("density",)
-    t = _table(v, where, optional=("mode", *params, "color"))
+    t = _table(v, where, optional=("mode", "start", "end", "density", "color"))
+    mode = _string(t.get("mode", "linear"), _at(where, "mode"))
+    # A key of the other modes is an error, not silently ignored.
+    other = {"linear": ("density",), "exp": ("start", "end"), "exp2": ("start", "end")}
+    for k in other.get(mode, ()):
+        if k in t:
+            raise SceneFileError(f"unknown key '{k}' for {mode!r} fog", _at(where, k))
     kw: dict[str, Any] = {"mode": mode}
+    for k in ("start", "end", "density"):
+        if k in t:
+            kw[k] = _number(t[k], _at(where, k))
     if "color" in t:
-        kw["color"] = _color(t["color"], _at(where, "color"))
-    if mode == "linear":
-        kw["start"] = _number(t.get("start", 0.0), _at(where, "start"))
-        kw["end"] = _number(t.get("end", 1.0), _at(where, "end"))
-        if not kw["start"] < kw["end"]:
-            raise _fail(_at(where, "end"), f"a number > start ({kw['start']:g})", t.get("end", 1.0))
-    else:
-        kw["density"] = _number(t.get("density", 1.0), _at(where, "density"), lo=0)
+        kw["color"] = _numbers(t["color"], _at(where, "color"))
     return _call(where, lambda: Fog(**kw))
 
 
@@ -516,27 +394,15 @@ def _camera(v: Any, where: str) -> Camera:
     )
     extra = "fov_y" if kind == "perspective" else "height"
     t = _table(v, where, ("eye", "target"), ("type", "up", extra, "near", "far"))
-    eye = _vec3(t["eye"], _at(where, "eye"))
-    target = _vec3(t["target"], _at(where, "target"))
-    if eye == target:
-        raise SceneFileError("eye and target must be distinct points", where)
-    up = _vec3(t.get("up", [0.0, 1.0, 0.0]), _at(where, "up"), nonzero=True)
-    far = _number(t.get("far", 100.0), _at(where, "far"))
-    if kind == "perspective":
-        fov = _number(
-            t.get("fov_y", 45.0), _at(where, "fov_y"), lo=0, lo_open=True, hi=180, hi_open=True
-        )
-        near = _number(t.get("near", 0.1), _at(where, "near"), lo=0, lo_open=True)
-        if not near < far:
-            raise _fail(_at(where, "far"), f"a number > near ({near:g})", t.get("far", 100.0))
-        return _call(where, lambda: Camera.look_at(eye, target, up, fov_y=fov, near=near, far=far))
-    height = _number(t.get("height", 2.0), _at(where, "height"), lo=0, lo_open=True)
-    near = _number(t.get("near", 0.1), _at(where, "near"))
-    if not near < far:
-        raise _fail(_at(where, "far"), f"a number > near ({near:g})", t.get("far", 100.0))
-    return _call(
-        where, lambda: Camera.orthographic(eye, target, up, height=height, near=near, far=far)
-    )
+    kw: dict[str, Any] = {}
+    for k in ("eye", "target", "up"):
+        if k in t:
+            kw[k] = _numbers(t[k], _at(where, k))
+    for k in (extra, "near", "far"):
+        if k in t:
+            kw[k] = _number(t[k], _at(where, k))
+    make = Camera.look_at if kind == "perspective" else Camera.orthographic
+    return _call(where, lambda: make(**kw))
 
 
 def camera_to_dict(camera: Camera) -> dict[str, Any]:
@@ -556,104 +422,46 @@ def camera_to_dict(camera: Camera) -> dict[str, Any]:
     return d
 
 
-_RENDER_KEYS = (
-    "width",
-    "height",
-    "shading",
-    "specular",
-    "background",
-    "cull_backfaces",
-    "threads",
-)
-
-
 def _render_options(v: Any, where: str) -> dict[str, Any]:
+    """The options a ``[render]`` table gives (checked by :class:`RenderOptions`)."""
     if isinstance(v, Mapping) and "dtype" in v:
         raise SceneFileError(
             "dtype is not a file option (pass dtype= to render instead)", _at(where, "dtype")
         )
-    t = _table(v, where, optional=_RENDER_KEYS)
-    out: dict[str, Any] = {}
-    for k in ("width", "height"):
-        if k in t:
-            out[k] = _integer(t[k], _at(where, k), 1, MAX_IMAGE_SIZE)
-    if "shading" in t:
-        out["shading"] = _choice(t["shading"], _at(where, "shading"), ("flat", "gouraud", "phong"))
-    if "specular" in t:
-        out["specular"] = _choice(
-            t["specular"], _at(where, "specular"), ("blinn", "phong", "blinn-normalized")
-        )
-    if "background" in t:
-        out["background"] = _vec3(t["background"], _at(where, "background"))
-    if "cull_backfaces" in t:
-        out["cull_backfaces"] = _boolean(t["cull_backfaces"], _at(where, "cull_backfaces"))
-    if "threads" in t:
-        out["threads"] = _integer(t["threads"], _at(where, "threads"), 1, MAX_THREADS)
-    return out
+    keys = tuple(RenderOptions().to_dict())
+    t = _table(v, where, optional=keys)
+    types: dict[str, Callable[[Any, str], Any]] = {
+        "shading": _string,
+        "specular": _string,
+        "background": _numbers,
+        "cull_backfaces": _boolean,
+    }
+    for k, value in t.items():
+        if value is not None or k != "threads":
+            types.get(k, _integer)(value, _at(where, k))
+    _call(where, lambda: RenderOptions(**t))
+    return t
 
 
 # ---------------------------------------------------------------------------------------
 # Objects: meshes and transforms
 
 
-def _rows(v: Any, where: str, cols: int, integer: bool) -> list[list[Any]]:
-    what = f"rows of {cols} " + ("integers" if integer else "numbers")
-    if not isinstance(v, list) or not v:
-        raise _fail(where, f"a non-empty array of {what}", v)
-    for i, row in enumerate(v):
-        if not isinstance(row, list) or len(row) != cols:
-            raise _fail(
-                _at(where, i), f"an array of {cols} " + ("integers" if integer else "numbers"), row
-            )
-        for j, x in enumerate(row):
-            ok = (
-                isinstance(x, int) and not isinstance(x, bool)
-                if integer
-                else _is_number(x) and math.isfinite(x)
-            )
-            if not ok:
-                raise _fail(
-                    _at(_at(where, i), j), "an integer" if integer else "a finite number", x
-                )
-    return v
-
-
 _PRIMITIVES = ("sphere", "ico_sphere", "cube", "plane")
 
 
 def _inline_mesh(t: dict[str, Any], where: str) -> Mesh:
-    verts = np.array(_rows(t["vertices"], _at(where, "vertices"), 3, False), dtype=np.float64)
-    rows = _rows(t["faces"], _at(where, "faces"), 3, True)
-    # Checked as Python ints first: a huge index would overflow int64.
-    n = len(verts)
-    for i, row in enumerate(rows):
-        for j, x in enumerate(row):
-            if not 0 <= x < n:
-                raise _fail(_at(_at(_at(where, "faces"), i), j), f"a vertex index in [0, {n})", x)
-    faces = np.array(rows, dtype=np.int64)
-    kw: dict[str, Any] = {}
-    for k, cols in (("normals", 3), ("uvs", 2)):
-        if k in t:
-            a = np.array(_rows(t[k], _at(where, k), cols, False), dtype=np.float64)
-            if len(a) != len(verts):
-                raise _fail(_at(where, k), f"{len(verts)} rows (one per vertex)", t[k])
-            kw[k] = a
-    return _call(where, lambda: Mesh(verts, faces, **kw))
+    kw = {k: _rows(t[k], _at(where, k), integer=k == "faces") for k in t}
+    return _call(where, lambda: Mesh(**kw))
 
 
 def _primitive(t: dict[str, Any], where: str) -> Mesh:
     kind = _choice(t["primitive"], _at(where, "primitive"), _PRIMITIVES)
-    if kind == "sphere":
-        t = _table(t, where, ("primitive",), ("rings", "segments"))
-        rings = _integer(t.get("rings", 16), _at(where, "rings"), 2, 100_000)
-        segments = _integer(t.get("segments", 32), _at(where, "segments"), 3, 100_000)
-        return _call(where, lambda: Mesh.uv_sphere(rings, segments))
-    if kind == "ico_sphere":
-        t = _table(t, where, ("primitive",), ("subdivisions",))
-        n = _integer(t.get("subdivisions", 3), _at(where, "subdivisions"), 0, 10)
-        return _call(where, lambda: Mesh.ico_sphere(n))
-    _table(t, where, ("primitive",))
-    return Mesh.cube() if kind == "cube" else Mesh.plane()
+    params = {"sphere": ("rings", "segments"), "ico_sphere": ("subdivisions",)}.get(kind, ())
+    t = _table(t, where, ("primitive",), params)
+    kw = {k: _integer(t[k], _at(where, k)) for k in params if k in t}
+    make = getattr(Mesh, {"sphere": "uv_sphere"}.get(kind, kind))
+    return _call(where, lambda: make(**kw))
 
 
 def _mesh_file(v: str, where: str, base_dir: Path) -> list[tuple[Mesh, Material | None]]:
@@ -708,32 +516,25 @@ def compose_transform(
     return m
 
 
-def _transform(t: dict[str, Any], where: str) -> np.ndarray:
+def _transform(t: dict[str, Any], where: str) -> tuple[Any, dict[str, str | None]]:
+    """The object's transform and how the constructor's ``transform`` maps to a key."""
     trs = [k for k in ("translate", "rotate", "scale") if k in t]
     if "transform" in t:
         if trs:
             raise SceneFileError(
                 "give either transform or translate/rotate/scale, not both", _at(where, trs[0])
             )
-        w = _at(where, "transform")
-        rows = t["transform"]
-        if not isinstance(rows, list) or len(rows) != 4:
-            raise _fail(w, "a 4x4 matrix (4 rows of 4 numbers)", rows)
-        m = np.array(_rows(rows, w, 4, False), dtype=np.float64)
-        if list(m[3]) != [0.0, 0.0, 0.0, 1.0]:
-            raise _fail(_at(w, 3), "[0, 0, 0, 1] (an affine transform)", rows[3])
-        return m
-    translate = _vec3(t.get("translate", [0, 0, 0]), _at(where, "translate"))
-    rotate = _vec3(t.get("rotate", [0, 0, 0]), _at(where, "rotate"))
-    scale: Any = t.get("scale", 1.0)
-    if _is_number(scale):
-        if not math.isfinite(scale) or scale == 0:
-            raise _fail(_at(where, "scale"), "a non-zero number or 3 non-zero numbers", scale)
-    else:
-        scale = _vec3(scale, _at(where, "scale"))
-        if 0 in scale:
-            raise _fail(_at(where, "scale"), "a non-zero number or 3 non-zero numbers", t["scale"])
-    return compose_transform(translate, rotate, scale)
+        return _rows(t["transform"], _at(where, "transform")), {}
+    translate = _numbers(t.get("translate", [0, 0, 0]), _at(where, "translate"))
+    rotate = _numbers(t.get("rotate", [0, 0, 0]), _at(where, "rotate"))
+    scale = t.get("scale", 1.0)
+    if not _is_number(scale):
+        scale = _numbers(scale, _at(where, "scale"))
+    for k, value, n in (("translate", translate, 3), ("rotate", rotate, 3), ("scale", scale, 3)):
+        if isinstance(value, list) and len(value) != n:
+            raise _fail(_at(where, k), f"an array of {n} numbers", value)
+    # The matrix is built here: its errors (a zero scale) belong to the object.
+    return compose_transform(translate, rotate, scale), {"transform": None}
 
 
 _OBJECT_KEYS = ("material", "back_material", "transform", "translate", "rotate", "scale")
@@ -743,7 +544,7 @@ def _add_object(
     scene: Scene, v: Any, where: str, named: Mapping[str, Material], base_dir: Path
 ) -> None:
     t = _table(v, where, ("mesh",), _OBJECT_KEYS)
-    transform = _transform(t, where)
+    transform, rename = _transform(t, where)
     material = _material(t["material"], _at(where, "material"), named) if "material" in t else None
     # back_material is wired here: Scene.add(..., back_material=...).
     back = None
@@ -752,10 +553,7 @@ def _add_object(
     for mesh, file_material in _mesh(t["mesh"], _at(where, "mesh"), base_dir):
         # An explicit material overrides the file's (MTL) material; else the default.
         mat = material if material is not None else file_material
-        try:
-            scene.add(mesh, material=mat, transform=transform, back_material=back)
-        except (ValueError, TypeError) as e:
-            raise SceneFileError(str(e), where) from e
+        _call(where, partial(scene.add, mesh, mat, transform, back), rename)
 
 
 # ---------------------------------------------------------------------------------------
@@ -825,12 +623,13 @@ def load_scene_dict(d: Any, base_dir: _PathLike | None = None) -> SceneFile:
     ):
         raise _fail("version", f"{SCHEMA_VERSION} (the schema version this release reads)", version)
     t = _table(d, "", ("version",), _TOP_KEYS)
-    ambient = _color(t["ambient"], "ambient") if "ambient" in t else None
-    scene = Scene(
-        ambient=ambient,
-        fog=_fog(t["fog"], "fog") if "fog" in t else None,
-        two_sided=_boolean(t.get("two_sided", False), "two_sided"),
-        local_viewer=_boolean(t.get("local_viewer", True), "local_viewer"),
+    ambient = _numbers(t["ambient"], "ambient") if "ambient" in t else None
+    fog = _fog(t["fog"], "fog") if "fog" in t else None
+    two_sided = _boolean(t.get("two_sided", False), "two_sided")
+    local_viewer = _boolean(t.get("local_viewer", True), "local_viewer")
+    scene = _call(
+        "",
+        lambda: Scene(ambient=ambient, fog=fog, two_sided=two_sided, local_viewer=local_viewer),
     )
     camera = _camera(t["camera"], "camera") if "camera" in t else None
     render_options = _render_options(t["render"], "render") if "render" in t else {}
@@ -939,7 +738,9 @@ def mesh_to_dict(mesh: Mesh) -> dict[str, Any]:
 
 
 def scene_to_dict(
-    scene: Scene, camera: Camera | None = None, render: Mapping[str, Any] | None = None
+    scene: Scene,
+    camera: Camera | None = None,
+    render: Mapping[str, Any] | RenderOptions | None = None,
 ) -> dict[str, Any]:
     """``scene`` (and optionally a camera and render options) as plain Python data in the
     schema, which TOML can hold: ``scene_from_dict`` of it renders bit-identically."""
@@ -954,9 +755,13 @@ def scene_to_dict(
     if camera is not None:
         d["camera"] = camera_to_dict(camera)
     if render:
-        plain = {k: list(v) if isinstance(v, (tuple, np.ndarray)) else v for k, v in render.items()}
-        opts = _render_options(plain, "render")
-        d["render"] = {k: (v if k != "background" else list(v)) for k, v in opts.items()}
+        given = render.to_dict() if isinstance(render, RenderOptions) else dict(render)
+        # TOML has no None: threads = None (all cores) is the default, so it is left out.
+        d["render"] = _render_options(
+            {k: list(v) if isinstance(v, (tuple, np.ndarray)) else v for k, v in given.items()},
+            "render",
+        )
+        d["render"] = {k: v for k, v in d["render"].items() if v is not None}
     d["lights"] = [light_to_dict(light) for light in scene.lights]
     objects = []
     for o in scene.objects:
@@ -973,72 +778,17 @@ def scene_to_dict(
     return d
 
 
-_BARE_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
-
-
-def _toml_key(k: str) -> str:
-    return k if _BARE_KEY.match(k) else _toml_str(k)
-
-
-def _toml_str(s: str) -> str:
-    out = json.dumps(s, ensure_ascii=False)
-    # JSON leaves DEL unescaped; TOML does not allow it raw in a basic string.
-    return out.replace("\x7f", "\\u007f")
-
-
-def _toml_value(v: Any, indent: str = "") -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, int):
-        return str(v)
-    if isinstance(v, float):
-        if not math.isfinite(v):
-            return "nan" if math.isnan(v) else ("inf" if v > 0 else "-inf")
-        return repr(v)
-    if isinstance(v, str):
-        return _toml_str(v)
-    if isinstance(v, (list, tuple)):
-        if v and all(isinstance(x, (list, tuple)) for x in v):
-            inner = indent + "  "
-            rows = ",\n".join(inner + _toml_value(x, inner) for x in v)
-            return "[\n" + rows + ",\n" + indent + "]"
-        return "[" + ", ".join(_toml_value(x, indent) for x in v) + "]"
-    if isinstance(v, Mapping):
-        return "{ " + ", ".join(f"{_toml_key(k)} = {_toml_value(x)}" for k, x in v.items()) + " }"
-    raise TypeError(f"cannot write {type(v).__name__} to TOML")
-
-
-def _is_table_array(v: Any) -> bool:
-    return isinstance(v, list) and bool(v) and all(isinstance(x, Mapping) for x in v)
-
-
-def _emit(d: Mapping[str, Any], prefix: str, out: list[str]) -> None:
-    for k, v in d.items():
-        if not isinstance(v, Mapping) and not _is_table_array(v):
-            out.append(f"{_toml_key(k)} = {_toml_value(v)}")
-    for k, v in d.items():
-        name = f"{prefix}.{_toml_key(k)}" if prefix else _toml_key(k)
-        if isinstance(v, Mapping):
-            out.append(f"\n[{name}]")
-            _emit(v, name, out)
-        elif _is_table_array(v):
-            for item in v:
-                out.append(f"\n[[{name}]]")
-                _emit(item, name, out)
-
-
 def to_toml(d: Mapping[str, Any]) -> str:
-    """``d`` (plain data: tables, arrays, strings, numbers, booleans) as a TOML document."""
-    out: list[str] = []
-    _emit(d, "", out)
-    return "\n".join(out).lstrip("\n") + "\n"
+    """``d`` (plain data: tables, arrays, strings, numbers, booleans) as a TOML document,
+    written by tomli-w."""
+    return tomli_w.dumps(d)
 
 
 def save_scene(
     path: _PathLike,
     scene: Scene,
     camera: Camera | None = None,
-    render: Mapping[str, Any] | None = None,
+    render: Mapping[str, Any] | RenderOptions | None = None,
 ) -> None:
     """Writes ``scene`` (with an optional camera and render options) as a scene file."""
     Path(path).write_text(to_toml(scene_to_dict(scene, camera, render)), encoding="utf-8")

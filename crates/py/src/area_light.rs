@@ -2,12 +2,11 @@
 
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2};
-use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use shadelab_raster as core;
 
 use crate::convert;
-use crate::errors::to_py;
+use crate::errors::{to_py, type_error, value_error};
 
 /// A rectangle or disk light modelled by `samples**2` point sources.
 #[pyclass(name = "AreaLight", module = "shadelab_rs._core", frozen)]
@@ -20,27 +19,31 @@ fn shape_arg(shape: &str) -> PyResult<core::AreaShape> {
     match shape {
         "rectangle" => Ok(core::AreaShape::Rectangle),
         "disk" => Ok(core::AreaShape::Disk),
-        _ => Err(PyValueError::new_err(format!(
-            "unknown area light shape '{shape}'; expected 'rectangle' or 'disk'"
-        ))),
+        _ => Err(value_error(
+            "shape",
+            format!("unknown area light shape '{shape}'; expected 'rectangle' or 'disk'"),
+        )),
     }
 }
 
 fn samples_arg(obj: &Bound<'_, PyAny>) -> PyResult<u32> {
     let bad_type = || -> PyResult<PyErr> {
-        Ok(PyTypeError::new_err(format!(
-            "samples must be an integer, got {}",
-            obj.get_type().name()?
-        )))
+        Ok(type_error(
+            "samples",
+            format!("samples must be an integer, got {}", obj.get_type().name()?),
+        ))
     };
     if obj.is_instance_of::<pyo3::types::PyBool>() || obj.is_instance_of::<pyo3::types::PyFloat>() {
         return Err(bad_type()?);
     }
     let out_of_range = || {
-        PyValueError::new_err(format!(
-            "area light samples must be between 1 and {} per side, got {obj}",
-            core::MAX_AREA_SAMPLES
-        ))
+        value_error(
+            "samples",
+            format!(
+                "area light samples must be between 1 and {} per side, got {obj}",
+                core::MAX_AREA_SAMPLES
+            ),
+        )
     };
     match obj.extract::<i64>() {
         Ok(v) => u32::try_from(v).map_err(|_| out_of_range()),

@@ -3,12 +3,15 @@
 //! Arrays of any memory layout (C, Fortran, strided, read-only) are accepted: they are read
 //! through `numpy.ascontiguousarray`, which copies only when needed. Floating inputs may be
 //! any float or integer dtype; bool, complex, object and string dtypes are a `TypeError`.
+//! Every error carries the argument's name as its `field` attribute.
 
 use glam::{Mat4, Vec2, Vec3};
 use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+
+use crate::errors::with_field;
 
 /// An array as contiguous f64 plus its shape.
 struct Floats {
@@ -83,6 +86,10 @@ fn first_non_finite(name: &str, data: &[f64], cols: usize) -> PyResult<()> {
 
 /// An `(N, cols)` float array as rows, checked finite (and representable in f32).
 fn rows(obj: &Bound<'_, PyAny>, name: &str, cols: usize) -> PyResult<Vec<f32>> {
+    rows_unnamed(obj, name, cols).map_err(|e| with_field(e, name))
+}
+
+fn rows_unnamed(obj: &Bound<'_, PyAny>, name: &str, cols: usize) -> PyResult<Vec<f32>> {
     let a = floats(obj, name)?;
     if a.shape.len() != 2 || a.shape[1] != cols {
         return Err(PyValueError::new_err(format!(
@@ -112,6 +119,10 @@ pub fn vec2_rows(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<Vec2>> {
 
 /// A length-3 sequence or array → finite `Vec3`.
 pub fn vec3(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec3> {
+    vec3_unnamed(obj, name).map_err(|e| with_field(e, name))
+}
+
+fn vec3_unnamed(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec3> {
     let a = floats(obj, name)?;
     if a.shape != [3] {
         return Err(PyValueError::new_err(format!(
@@ -129,6 +140,10 @@ pub fn vec3(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec3> {
 
 /// A length-3 sequence → finite f64 triple (camera parameters keep double precision).
 pub fn dvec3(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<glam::DVec3> {
+    dvec3_unnamed(obj, name).map_err(|e| with_field(e, name))
+}
+
+fn dvec3_unnamed(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<glam::DVec3> {
     let a = floats(obj, name)?;
     if a.shape != [3] {
         return Err(PyValueError::new_err(format!(
@@ -142,6 +157,10 @@ pub fn dvec3(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<glam::DVec3> {
 
 /// A `(4, 4)` matrix acting on column vectors (`p' = M @ p`), checked finite.
 pub fn mat4(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Mat4> {
+    mat4_unnamed(obj, name).map_err(|e| with_field(e, name))
+}
+
+fn mat4_unnamed(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Mat4> {
     let a = floats(obj, name)?;
     if a.shape != [4, 4] {
         return Err(PyValueError::new_err(format!(
@@ -157,6 +176,10 @@ pub fn mat4(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Mat4> {
 
 /// An `(M, 3)` integer array of vertex indices, each checked in `[0, n_vertices)`.
 pub fn faces(obj: &Bound<'_, PyAny>, n_vertices: usize) -> PyResult<Vec<[u32; 3]>> {
+    faces_unnamed(obj, n_vertices).map_err(|e| with_field(e, "faces"))
+}
+
+fn faces_unnamed(obj: &Bound<'_, PyAny>, n_vertices: usize) -> PyResult<Vec<[u32; 3]>> {
     let py = obj.py();
     let (arr, kind, dname) = as_array(obj, "faces")?;
     let shape: Vec<usize> = arr.getattr("shape")?.extract()?;

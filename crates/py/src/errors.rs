@@ -3,9 +3,9 @@
 use pyo3::create_exception;
 use pyo3::exceptions::{
     PyFileNotFoundError, PyIsADirectoryError, PyMemoryError, PyOSError, PyRuntimeError,
-    PyValueError,
+    PyTypeError, PyValueError,
 };
-use pyo3::{pyfunction, PyErr, PyResult};
+use pyo3::prelude::*;
 use shadelab_raster::RasterError;
 
 create_exception!(
@@ -15,13 +15,39 @@ create_exception!(
     "A mesh file was read but its content is malformed (a ValueError)."
 );
 
+/// `err` with a `field` attribute naming the offending argument, unless it has one: a
+/// caller (the scene-file reader) maps it to its own key path instead of checking the value
+/// again.
+pub fn with_field(err: PyErr, field: &str) -> PyErr {
+    Python::attach(|py| {
+        let value = err.value(py);
+        if !value.hasattr("field").unwrap_or(true) {
+            // An exception instance always takes attributes; nothing to report if not.
+            let _ = value.setattr("field", field);
+        }
+    });
+    err
+}
+
+/// A `ValueError` about the argument `field`.
+pub fn value_error(field: &str, msg: impl Into<String>) -> PyErr {
+    with_field(PyValueError::new_err(msg.into()), field)
+}
+
+/// A `TypeError` about the argument `field`.
+pub fn type_error(field: &str, msg: impl Into<String>) -> PyErr {
+    with_field(PyTypeError::new_err(msg.into()), field)
+}
+
 /// The Python exception for a core error: `FileNotFoundError`, `IsADirectoryError`,
 /// `OSError`, `ObjParseError`
-/// (a `ValueError`), `MemoryError` or `ValueError`, with the core's message.
+/// (a `ValueError`), `MemoryError` or `ValueError`, with the core's message; a `ValueError`
+/// about one argument carries its name as `field`.
 pub fn to_py(e: RasterError) -> PyErr {
     let msg = e.to_string();
     match e {
         RasterError::InvalidInput(_) => PyValueError::new_err(msg),
+        RasterError::InvalidField { field, .. } => value_error(field, msg),
         RasterError::NotFound(_) => PyFileNotFoundError::new_err(msg),
         RasterError::Io { path, .. } if path.is_dir() => PyIsADirectoryError::new_err(msg),
         RasterError::Io { .. } => PyOSError::new_err(msg),

@@ -1,11 +1,10 @@
 //! `Fog`.
 
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use shadelab_raster as core;
 
 use crate::convert;
-use crate::errors::to_py;
+use crate::errors::{to_py, value_error};
 
 /// Depth cueing: colours blend toward `color` with the Euclidean distance from the eye.
 #[pyclass(name = "Fog", module = "shadelab_rs._core", frozen)]
@@ -38,9 +37,10 @@ impl PyFog {
                 density: density as f32,
             },
             other => {
-                return Err(PyValueError::new_err(format!(
-                    "unknown fog mode '{other}'; expected 'linear', 'exp' or 'exp2'"
-                )))
+                return Err(value_error(
+                    "mode",
+                    format!("unknown fog mode '{other}'; expected 'linear', 'exp' or 'exp2'"),
+                ))
             }
         };
         Ok(PyFog {

@@ -33,6 +33,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<camera::PyCamera>()?;
     m.add_function(wrap_pyfunction!(mesh::load_obj, m)?)?;
     m.add_function(wrap_pyfunction!(mesh::load_obj_parts, m)?)?;
+    m.add_class::<render::PyRenderOptions>()?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(render::render_frame, m)?)?;
     // A test hook: set as an attribute, so it stays out of `__all__`.

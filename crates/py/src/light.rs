@@ -26,6 +26,9 @@ fn tuple(v: Option<glam::Vec3>) -> Option<(f32, f32, f32)> {
 #[derive(Clone)]
 pub struct PyDirectionalLight {
     pub inner: core::DirectionalLight,
+    /// The direction as the user gave it (the core keeps its float32 unit vector), so
+    /// writing a light and reading it back gives the same light exactly.
+    pub given: [f64; 3],
 }
 
 #[pymethods]
@@ -44,12 +47,13 @@ impl PyDirectionalLight {
         let (diffuse, specular) = split_colors(diffuse, specular)?;
         let color = color.map_or(Ok(glam::Vec3::ONE), |c| convert::vec3(c, "color"))?;
         let ambient = ambient.map_or(Ok(glam::Vec3::ZERO), |a| convert::vec3(a, "ambient"))?;
+        let given = convert::dvec3(direction, "direction")?.to_array();
         let direction = convert::vec3(direction, "direction")?;
         let inner = core::DirectionalLight::new(direction, color, intensity as f32)
             .and_then(|l| l.with_ambient(ambient))
             .and_then(|l| l.with_split_colors(diffuse, specular))
             .map_err(to_py)?;
-        Ok(Self { inner })
+        Ok(Self { inner, given })
     }
 
     /// The light's own ambient colour (r, g, b).
@@ -58,10 +62,10 @@ impl PyDirectionalLight {
         self.inner.ambient.into()
     }
 
-    /// Unit direction of travel.
+    /// The direction of travel as given (not normalised: the light uses its unit vector).
     #[getter]
-    fn direction(&self) -> (f32, f32, f32) {
-        self.inner.direction().into()
+    fn direction(&self) -> (f64, f64, f64) {
+        self.given.into()
     }
 
     /// RGB colour.
@@ -91,7 +95,7 @@ impl PyDirectionalLight {
     fn __repr__(&self) -> String {
         format!(
             "DirectionalLight(direction={:?}, color={:?}, intensity={})",
-            self.inner.direction().to_array(),
+            self.given,
             self.inner.color.to_array(),
             self.inner.intensity
         )
@@ -190,6 +194,8 @@ impl PyPointLight {
 #[derive(Clone)]
 pub struct PySpotLight {
     pub inner: core::SpotLight,
+    /// The direction as given; see `PyDirectionalLight::given`.
+    pub given: [f64; 3],
 }
 
 #[pymethods]
@@ -221,6 +227,7 @@ impl PySpotLight {
             specular,
         )?
         .inner;
+        let given = convert::dvec3(direction, "direction")?.to_array();
         let direction = convert::vec3(direction, "direction")?;
         let spot = core::SpotLight::new(point, direction, cutoff as f32, exponent as f32)
             .and_then(|s| match inner {
@@ -228,7 +235,7 @@ impl PySpotLight {
                 None => Ok(s),
             })
             .map_err(to_py)?;
-        Ok(Self { inner: spot })
+        Ok(Self { inner: spot, given })
     }
 
     /// World position.
@@ -237,10 +244,11 @@ impl PySpotLight {
         self.inner.point.position.into()
     }
 
-    /// Unit direction the cone points.
+    /// The direction the cone points, as given (not normalised: the light uses its unit
+    /// vector).
     #[getter]
-    fn direction(&self) -> (f32, f32, f32) {
-        self.inner.direction().into()
+    fn direction(&self) -> (f64, f64, f64) {
+        self.given.into()
     }
 
     /// Cone half-angle in degrees (180: no cone).
@@ -302,7 +310,7 @@ impl PySpotLight {
         format!(
             "SpotLight(position={:?}, direction={:?}, cutoff={}, exponent={}, inner={:?})",
             self.inner.point.position.to_array(),
-            self.inner.direction().to_array(),
+            self.given,
             self.inner.cutoff(),
             self.inner.exponent(),
             self.inner.inner()

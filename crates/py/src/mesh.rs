@@ -10,7 +10,7 @@ use pyo3::types::PyTuple;
 use shadelab_raster as core;
 
 use crate::convert;
-use crate::errors::to_py;
+use crate::errors::{to_py, value_error};
 use crate::material::PyMaterial;
 
 /// A validated triangle mesh (shared, immutable).
@@ -87,9 +87,10 @@ impl PyMesh {
     #[pyo3(signature = (rings=16, segments=32))]
     fn uv_sphere(rings: i64, segments: i64) -> PyResult<Self> {
         if rings < 2 || segments < 3 {
-            return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "uv_sphere needs rings >= 2 and segments >= 3, got rings={rings}, segments={segments}"
-            )));
+            return Err(value_error(
+                if rings < 2 { "rings" } else { "segments" },
+                format!("uv_sphere needs rings >= 2 and segments >= 3, got rings={rings}, segments={segments}"),
+            ));
         }
         if rings.saturating_mul(segments) > 50_000_000 {
             return Err(pyo3::exceptions::PyValueError::new_err(format!(
@@ -108,9 +109,10 @@ impl PyMesh {
     fn ico_sphere(subdivisions: i64) -> PyResult<Self> {
         let max = core::primitives::MAX_ICO_SUBDIVISIONS;
         if !(0..=max as i64).contains(&subdivisions) {
-            return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "ico_sphere needs 0 <= subdivisions <= {max}, got {subdivisions}"
-            )));
+            return Err(value_error(
+                "subdivisions",
+                format!("ico_sphere needs 0 <= subdivisions <= {max}, got {subdivisions}"),
+            ));
         }
         Ok(PyMesh {
             inner: Arc::new(core::primitives::ico_sphere(subdivisions as u32)),

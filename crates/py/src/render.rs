@@ -9,7 +9,7 @@ use shadelab_raster as core;
 
 use crate::camera::PyCamera;
 use crate::convert;
-use crate::errors::{no_panic, to_py};
+use crate::errors::{no_panic, to_py, value_error, with_field};
 use crate::scene::PyScene;
 
 /// An integer argument; huge values become `None` (out of any range) instead of an
@@ -32,13 +32,18 @@ fn int_arg(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Option<i64>> {
 }
 
 fn size(obj: Option<&Bound<'_, PyAny>>, default: u32, name: &str) -> PyResult<u32> {
-    let Some(obj) = obj else { return Ok(default) };
+    let Some(obj) = obj.filter(|o| !o.is_none()) else {
+        return Ok(default);
+    };
     match int_arg(obj, name)? {
         Some(v) if (1..=core::MAX_IMAGE_SIZE as i64).contains(&v) => Ok(v as u32),
-        _ => Err(PyValueError::new_err(format!(
-            "{name} must be between 1 and {}, got {obj}",
-            core::MAX_IMAGE_SIZE
-        ))),
+        _ => Err(value_error(
+            name,
+            format!(
+                "{name} must be between 1 and {}, got {obj}",
+                core::MAX_IMAGE_SIZE
+            ),
+        )),
     }
 }
 
@@ -48,11 +53,195 @@ fn threads_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
     };
     match int_arg(obj, "threads")? {
         Some(n) if (1..=core::MAX_THREADS as i64).contains(&n) => Ok(Some(n as usize)),
-        _ => Err(PyValueError::new_err(format!(
-            "threads must be between 1 and {} (or None for all cores), got {obj}",
-            core::MAX_THREADS
-        ))),
+        _ => Err(value_error(
+            "threads",
+            format!(
+                "threads must be between 1 and {} (or None for all cores), got {obj}",
+                core::MAX_THREADS
+            ),
+        )),
     }
+}
+
+fn shading_name(mode: core::ShadingMode) -> &'static str {
+    match mode {
+        core::ShadingMode::Flat => "flat",
+        core::ShadingMode::Gouraud => "gouraud",
+        core::ShadingMode::Phong => "phong",
+    }
+}
+
+fn specular_name(model: core::SpecularModel) -> &'static str {
+    match model {
+        core::SpecularModel::BlinnPhong => "blinn",
+        core::SpecularModel::Phong => "phong",
+        core::SpecularModel::NormalizedBlinnPhong => "blinn-normalized",
+    }
+}
+
+/// How to render: the one spelling of the options shared by `render`, `render_frame`,
+/// scene files' `[render]` table and the command line. Checked when built; immutable.
+#[pyclass(name = "RenderOptions", module = "shadelab_rs._core", frozen, eq)]
+#[derive(Clone, PartialEq)]
+pub struct PyRenderOptions {
+    pub inner: core::RenderOptions,
+}
+
+#[pymethods]
+impl PyRenderOptions {
+    #[new]
+    #[pyo3(signature = (width=None, height=None, shading="phong", specular="blinn",
+                        background=None, cull_backfaces=false, threads=None),
+           text_signature = "(width=800, height=600, shading='phong', specular='blinn', background=None, cull_backfaces=False, threads=None)")]
+    fn new(
+        width: Option<&Bound<'_, PyAny>>,
+        height: Option<&Bound<'_, PyAny>>,
+        shading: &str,
+        specular: &str,
+        background: Option<&Bound<'_, PyAny>>,
+        cull_backfaces: bool,
+        threads: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        let mut inner =
+            core::RenderOptions::new(size(width, 800, "width")?, size(height, 600, "height")?);
+        inner.shading = shading
+            .parse()
+            .map_err(|e| with_field(to_py(e), "shading"))?;
+        inner.specular = specular
+            .parse()
+            .map_err(|e| with_field(to_py(e), "specular"))?;
+        if let Some(bg) = background.filter(|b| !b.is_none()) {
+            inner.background = convert::vec3(bg, "background")?;
+        }
+        inner.cull_backfaces = cull_backfaces;
+        inner.threads = threads_arg(threads)?;
+        inner.validate().map_err(to_py)?;
+        Ok(Self { inner })
+    }
+
+    /// The names `shading` takes (it also accepts them in any case).
+    #[classattr]
+    fn shading_names() -> (&'static str, &'static str, &'static str) {
+        use core::ShadingMode::*;
+        (
+            shading_name(Flat),
+            shading_name(Gouraud),
+            shading_name(Phong),
+        )
+    }
+
+    /// The names `specular` takes (it also accepts them in any case).
+    #[classattr]
+    fn specular_names() -> (&'static str, &'static str, &'static str) {
+        use core::SpecularModel::*;
+        (
+            specular_name(BlinnPhong),
+            specular_name(Phong),
+            specular_name(NormalizedBlinnPhong),
+        )
+    }
+
+    /// The same options with the given ones changed (checked like the constructor's).
+    #[pyo3(signature = (**changes))]
+    fn replace<'py>(
+        &self,
+        py: Python<'py>,
+        changes: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let all = self.to_dict(py)?;
+        if let Some(c) = changes {
+            all.update(c.as_mapping())?;
+        }
+        py.get_type::<Self>().call((), Some(&all))
+    }
+
+    /// Every option by name (the constructor's keywords): `RenderOptions(**o.to_dict())`
+    /// equals `o`.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        d.set_item("width", self.inner.width)?;
+        d.set_item("height", self.inner.height)?;
+        d.set_item("shading", shading_name(self.inner.shading))?;
+        d.set_item("specular", specular_name(self.inner.specular))?;
+        d.set_item("background", self.background())?;
+        d.set_item("cull_backfaces", self.inner.cull_backfaces)?;
+        d.set_item("threads", self.inner.threads)?;
+        Ok(d)
+    }
+
+    /// Image width in pixels.
+    #[getter]
+    fn width(&self) -> u32 {
+        self.inner.width
+    }
+
+    /// Image height in pixels.
+    #[getter]
+    fn height(&self) -> u32 {
+        self.inner.height
+    }
+
+    /// "flat", "gouraud" or "phong".
+    #[getter]
+    fn shading(&self) -> &'static str {
+        shading_name(self.inner.shading)
+    }
+
+    /// "blinn", "phong" or "blinn-normalized".
+    #[getter]
+    fn specular(&self) -> &'static str {
+        specular_name(self.inner.specular)
+    }
+
+    /// Linear RGB of empty pixels.
+    #[getter]
+    fn background(&self) -> (f32, f32, f32) {
+        self.inner.background.into()
+    }
+
+    /// Whether clockwise (back) faces are skipped.
+    #[getter]
+    fn cull_backfaces(&self) -> bool {
+        self.inner.cull_backfaces
+    }
+
+    /// Worker threads, or None for all cores.
+    #[getter]
+    fn threads(&self) -> Option<usize> {
+        self.inner.threads
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        let items = self
+            .to_dict(py)?
+            .iter()
+            .map(|(k, v)| Ok(format!("{k}={}", v.repr()?)))
+            .collect::<PyResult<Vec<_>>>()?;
+        Ok(format!("RenderOptions({})", items.join(", ")))
+    }
+}
+
+/// The options of a `render` call: `options`, updated by the arguments of `RenderOptions`
+/// given positionally (`args`) or by keyword.
+fn options_of(
+    py: Python<'_>,
+    options: Option<&PyRenderOptions>,
+    args: &Bound<'_, PyTuple>,
+    kwargs: Option<&Bound<'_, PyDict>>,
+) -> PyResult<core::RenderOptions> {
+    let built = match options {
+        Some(o) if args.is_empty() && kwargs.map_or(true, |k| k.is_empty()) => {
+            return Ok(o.inner.clone())
+        }
+        Some(_) if !args.is_empty() => {
+            return Err(PyTypeError::new_err(
+                "give the render options either as options= or as arguments, not both",
+            ))
+        }
+        Some(o) => o.replace(py, kwargs)?,
+        None => py.get_type::<PyRenderOptions>().call(args, kwargs)?,
+    };
+    Ok(built.extract::<PyRenderOptions>()?.inner)
 }
 
 fn format_of(dtype: &Bound<'_, PyAny>) -> PyResult<core::ColorFormat> {
@@ -79,30 +268,14 @@ struct Rendered<'py> {
     stats: core::RenderStats,
 }
 
-#[allow(clippy::too_many_arguments)]
 fn render_impl<'py>(
     py: Python<'py>,
     scene: &PyScene,
     camera: &PyCamera,
-    width: Option<&Bound<'py, PyAny>>,
-    height: Option<&Bound<'py, PyAny>>,
-    shading: &str,
-    specular: &str,
-    background: Option<&Bound<'py, PyAny>>,
+    options: core::RenderOptions,
     dtype: Option<&Bound<'py, PyAny>>,
     return_depth: bool,
-    cull_backfaces: bool,
-    threads: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Rendered<'py>> {
-    let mut options =
-        core::RenderOptions::new(size(width, 800, "width")?, size(height, 600, "height")?);
-    options.shading = shading.parse().map_err(to_py)?;
-    options.specular = specular.parse().map_err(to_py)?;
-    if let Some(bg) = background {
-        options.background = convert::vec3(bg, "background")?;
-    }
-    options.cull_backfaces = cull_backfaces;
-    options.threads = threads_arg(threads)?;
     let format = match dtype {
         Some(d) => format_of(d)?,
         None => core::ColorFormat::U8,
@@ -143,38 +316,20 @@ fn render_impl<'py>(
 /// Renders `scene` through `camera` into a C-contiguous (height, width, 3) array, or a
 /// tuple (image, depth) with `return_depth=True`. The GIL is released while rendering.
 #[pyfunction]
-#[pyo3(signature = (scene, camera, width=None, height=None, shading="phong", specular="blinn",
-                    background=None, dtype=None, return_depth=false, cull_backfaces=false, threads=None),
-       text_signature = "(scene, camera, width=800, height=600, shading='phong', specular='blinn', background=None, dtype=None, return_depth=False, cull_backfaces=False, threads=None)")]
+#[pyo3(signature = (scene, camera, *args, dtype=None, return_depth=false, options=None, **kwargs))]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
     py: Python<'py>,
     scene: &PyScene,
     camera: &PyCamera,
-    width: Option<&Bound<'py, PyAny>>,
-    height: Option<&Bound<'py, PyAny>>,
-    shading: &str,
-    specular: &str,
-    background: Option<&Bound<'py, PyAny>>,
+    args: &Bound<'py, PyTuple>,
     dtype: Option<&Bound<'py, PyAny>>,
     return_depth: bool,
-    cull_backfaces: bool,
-    threads: Option<&Bound<'py, PyAny>>,
+    options: Option<PyRef<'py, PyRenderOptions>>,
+    kwargs: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let r = render_impl(
-        py,
-        scene,
-        camera,
-        width,
-        height,
-        shading,
-        specular,
-        background,
-        dtype,
-        return_depth,
-        cull_backfaces,
-        threads,
-    )?;
+    let options = options_of(py, options.as_deref(), args, kwargs)?;
+    let r = render_impl(py, scene, camera, options, dtype, return_depth)?;
     match r.depth {
         Some(d) => Ok(PyTuple::new(py, [r.image, d])?.into_any()),
         None => Ok(r.image),
@@ -185,38 +340,20 @@ pub fn render<'py>(
 /// counters and per-stage times in milliseconds: vertex_ms, setup_ms (assembly, clipping,
 /// setup and binning), raster_shade_ms).
 #[pyfunction]
-#[pyo3(signature = (scene, camera, width=None, height=None, shading="phong", specular="blinn",
-                    background=None, dtype=None, return_depth=false, cull_backfaces=false, threads=None),
-       text_signature = "(scene, camera, width=800, height=600, shading='phong', specular='blinn', background=None, dtype=None, return_depth=False, cull_backfaces=False, threads=None)")]
+#[pyo3(signature = (scene, camera, *args, dtype=None, return_depth=false, options=None, **kwargs))]
 #[allow(clippy::too_many_arguments)]
 pub fn render_frame<'py>(
     py: Python<'py>,
     scene: &PyScene,
     camera: &PyCamera,
-    width: Option<&Bound<'py, PyAny>>,
-    height: Option<&Bound<'py, PyAny>>,
-    shading: &str,
-    specular: &str,
-    background: Option<&Bound<'py, PyAny>>,
+    args: &Bound<'py, PyTuple>,
     dtype: Option<&Bound<'py, PyAny>>,
     return_depth: bool,
-    cull_backfaces: bool,
-    threads: Option<&Bound<'py, PyAny>>,
+    options: Option<PyRef<'py, PyRenderOptions>>,
+    kwargs: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let r = render_impl(
-        py,
-        scene,
-        camera,
-        width,
-        height,
-        shading,
-        specular,
-        background,
-        dtype,
-        return_depth,
-        cull_backfaces,
-        threads,
-    )?;
+    let options = options_of(py, options.as_deref(), args, kwargs)?;
+    let r = render_impl(py, scene, camera, options, dtype, return_depth)?;
     let s = r.stats;
     let stats = PyDict::new(py);
     stats.set_item("triangles_in", s.triangles_in)?;

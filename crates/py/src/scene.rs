@@ -89,6 +89,9 @@ fn scene_file_fn<'py>(py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>
 #[pyclass(name = "Scene", module = "shadelab_rs._core")]
 pub struct PyScene {
     pub inner: core::Scene,
+    /// Per light (parallel to `inner.lights()`), the direction as the user gave it, for
+    /// the directional and spot lights that have one: `lights` hands them back unchanged.
+    given_directions: Vec<Option<[f64; 3]>>,
 }
 
 #[pymethods]
@@ -107,7 +110,10 @@ impl PyScene {
         inner.set_fog(fog.map(|f| f.inner));
         inner.set_two_sided(two_sided);
         inner.set_local_viewer(local_viewer);
-        Ok(PyScene { inner })
+        Ok(PyScene {
+            inner,
+            given_directions: Vec::new(),
+        })
     }
 
     /// Two-sided lighting: back faces (clockwise on screen) lit with the flipped normal.
@@ -191,20 +197,25 @@ impl PyScene {
 
     /// Adds a DirectionalLight, PointLight, SpotLight or AreaLight.
     fn add_light(&mut self, light: &Bound<'_, PyAny>) -> PyResult<()> {
-        if let Ok(l) = light.extract::<PyRef<'_, PyDirectionalLight>>() {
+        let given = if let Ok(l) = light.extract::<PyRef<'_, PyDirectionalLight>>() {
             self.inner.add_light(l.inner);
+            Some(l.given)
         } else if let Ok(l) = light.extract::<PyRef<'_, PyPointLight>>() {
             self.inner.add_light(l.inner);
+            None
         } else if let Ok(l) = light.extract::<PyRef<'_, PySpotLight>>() {
             self.inner.add_light(l.inner);
+            Some(l.given)
         } else if let Ok(l) = light.extract::<PyRef<'_, PyAreaLight>>() {
             self.inner.add_light(l.inner);
+            None
         } else {
             return Err(PyTypeError::new_err(format!(
                 "add_light expects a DirectionalLight, PointLight, SpotLight or AreaLight, got {}",
                 light.get_type().name()?
             )));
-        }
+        };
+        self.given_directions.push(given);
         Ok(())
     }
 
@@ -230,13 +241,17 @@ impl PyScene {
         self.inner
             .lights()
             .iter()
-            .map(|l| -> PyResult<Bound<'py, PyAny>> {
+            .zip(&self.given_directions)
+            .map(|(l, given)| -> PyResult<Bound<'py, PyAny>> {
+                let given = given.unwrap_or_default();
                 Ok(match *l {
                     core::Light::Directional(inner) => {
-                        Bound::new(py, PyDirectionalLight { inner })?.into_any()
+                        Bound::new(py, PyDirectionalLight { inner, given })?.into_any()
                     }
                     core::Light::Point(inner) => Bound::new(py, PyPointLight { inner })?.into_any(),
-                    core::Light::Spot(inner) => Bound::new(py, PySpotLight { inner })?.into_any(),
+                    core::Light::Spot(inner) => {
+                        Bound::new(py, PySpotLight { inner, given })?.into_any()
+                    }
                     core::Light::Area(inner) => Bound::new(py, PyAreaLight { inner })?.into_any(),
                 })
             })

@@ -18,6 +18,9 @@
 //!
 //! The frame-time report with per-stage times is `make bench` (bench/bench_render.py).
 
+// `criterion_group!` defines an undocumented public function.
+#![allow(missing_docs)]
+
 use std::hint::black_box;
 use std::sync::Arc;
 use std::time::Duration;

@@ -34,14 +34,14 @@ pub struct Camera {
     far: f64,
 }
 
-fn check_vec(name: &str, v: DVec3) -> Result<()> {
+fn check_vec(name: &'static str, v: DVec3) -> Result<()> {
     if v.is_finite() {
         Ok(())
     } else {
-        Err(RasterError::invalid(format!(
-            "camera {name} must be finite, got {:?}",
-            v.to_array()
-        )))
+        Err(RasterError::invalid_field(
+            name,
+            format!("camera {name} must be finite, got {:?}", v.to_array()),
+        ))
     }
 }
 
@@ -59,14 +59,23 @@ impl Camera {
         far: f64,
     ) -> Result<Self> {
         if !(fov_y.is_finite() && fov_y > 0.0 && fov_y < 180.0) {
-            return Err(RasterError::invalid(format!(
-                "fov_y must be in (0, 180) degrees, got {fov_y}"
-            )));
+            return Err(RasterError::invalid_field(
+                "fov_y",
+                format!("fov_y must be in (0, 180) degrees, got {fov_y}"),
+            ));
         }
         if !(near.is_finite() && far.is_finite() && near > 0.0 && far > near) {
-            return Err(RasterError::invalid(format!(
+            let field = if near.is_finite() && near > 0.0 {
+                "far"
+            } else {
+                "near"
+            };
+            return Err(RasterError::invalid_field(
+                field,
+                format!(
                 "a perspective camera needs 0 < near < far (finite), got near={near}, far={far}"
-            )));
+            ),
+            ));
         }
         Self::build(
             eye,
@@ -90,14 +99,19 @@ impl Camera {
         far: f64,
     ) -> Result<Self> {
         if !(height.is_finite() && height > 0.0) {
-            return Err(RasterError::invalid(format!(
-                "orthographic height must be > 0, got {height}"
-            )));
+            return Err(RasterError::invalid_field(
+                "height",
+                format!("orthographic height must be > 0, got {height}"),
+            ));
         }
         if !(near.is_finite() && far.is_finite() && far > near) {
-            return Err(RasterError::invalid(format!(
-                "an orthographic camera needs near < far (finite), got near={near}, far={far}"
-            )));
+            let field = if near.is_finite() { "far" } else { "near" };
+            return Err(RasterError::invalid_field(
+                field,
+                format!(
+                    "an orthographic camera needs near < far (finite), got near={near}, far={far}"
+                ),
+            ));
         }
         Self::build(
             eye,
@@ -122,16 +136,20 @@ impl Camera {
         check_vec("up", up)?;
         let forward = target - eye;
         if forward.length_squared() == 0.0 || !forward.length_squared().is_normal() {
-            return Err(RasterError::invalid(
+            return Err(RasterError::invalid_field(
+                "target",
                 "camera eye and target must be distinct points",
             ));
         }
         let side = forward.normalize().cross(up);
         if up.length_squared() == 0.0 || side.length() < 1e-9 * up.length() {
-            return Err(RasterError::invalid(format!(
-                "camera up {:?} must not be zero or parallel to the view direction",
-                up.to_array()
-            )));
+            return Err(RasterError::invalid_field(
+                "up",
+                format!(
+                    "camera up {:?} must not be zero or parallel to the view direction",
+                    up.to_array()
+                ),
+            ));
         }
         Ok(Camera {
             eye,

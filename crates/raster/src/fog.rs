@@ -39,24 +39,32 @@ impl Fog {
     /// the colour ≥ 0.
     pub fn new(mode: FogMode, color: Vec3) -> Result<Self> {
         if !color.is_finite() || color.min_element() < 0.0 {
-            return Err(RasterError::invalid(format!(
-                "fog color must be finite and >= 0, got {:?}",
-                color.to_array()
-            )));
+            return Err(RasterError::invalid_field(
+                "color",
+                format!(
+                    "fog color must be finite and >= 0, got {:?}",
+                    color.to_array()
+                ),
+            ));
         }
         match mode {
             FogMode::Linear { start, end } => {
                 if !(start.is_finite() && end.is_finite() && start < end) {
-                    return Err(RasterError::invalid(format!(
-                        "linear fog needs finite start < end, got start={start}, end={end}"
-                    )));
+                    let field = if start.is_finite() { "end" } else { "start" };
+                    return Err(RasterError::invalid_field(
+                        field,
+                        format!(
+                            "linear fog needs finite start < end, got start={start}, end={end}"
+                        ),
+                    ));
                 }
             }
             FogMode::Exp { density } | FogMode::Exp2 { density } => {
                 if !(density.is_finite() && density >= 0.0) {
-                    return Err(RasterError::invalid(format!(
-                        "fog density must be finite and >= 0, got {density}"
-                    )));
+                    return Err(RasterError::invalid_field(
+                        "density",
+                        format!("fog density must be finite and >= 0, got {density}"),
+                    ));
                 }
             }
         }

@@ -42,16 +42,20 @@ impl Material {
             ("specular", specular),
         ] {
             if !v.is_finite() || v.min_element() < 0.0 {
-                return Err(RasterError::invalid(format!(
-                    "material {name} must be finite and >= 0, got {:?}",
-                    v.to_array()
-                )));
+                return Err(RasterError::invalid_field(
+                    name,
+                    format!(
+                        "material {name} must be finite and >= 0, got {:?}",
+                        v.to_array()
+                    ),
+                ));
             }
         }
         if !(shininess.is_finite() && shininess >= 0.0) {
-            return Err(RasterError::invalid(format!(
-                "material shininess must be finite and >= 0, got {shininess}"
-            )));
+            return Err(RasterError::invalid_field(
+                "shininess",
+                format!("material shininess must be finite and >= 0, got {shininess}"),
+            ));
         }
         Ok(Material {
             ambient,
@@ -65,10 +69,13 @@ impl Material {
     /// The same material emitting `emission` (finite, ≥ 0).
     pub fn with_emission(mut self, emission: Vec3) -> Result<Self> {
         if !emission.is_finite() || emission.min_element() < 0.0 {
-            return Err(RasterError::invalid(format!(
-                "material emission must be finite and >= 0, got {:?}",
-                emission.to_array()
-            )));
+            return Err(RasterError::invalid_field(
+                "emission",
+                format!(
+                    "material emission must be finite and >= 0, got {:?}",
+                    emission.to_array()
+                ),
+            ));
         }
         self.emission = emission;
         Ok(self)

@@ -93,6 +93,7 @@ pub fn render_into<P: Pixel>(
     // SAFETY: `MaybeUninit<T>` has `T`'s layout, and the pipeline only ever writes
     // initialised values through these views, so the caller's slices stay initialised.
     let color = unsafe { &mut *(color as *mut [P] as *mut [Out<P>]) };
+    // SAFETY: as for `color`.
     let depth = depth.map(|d| unsafe { &mut *(d as *mut [f32] as *mut [Out<f32>]) });
     run_checked(scene, camera, options, color, depth)
 }

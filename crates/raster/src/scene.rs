@@ -27,20 +27,27 @@ impl Object {
     /// normals go through the inverse transpose, which needs an invertible matrix.
     pub fn new(mesh: Arc<Mesh>, material: Material, transform: Mat4) -> Result<Self> {
         if !transform.is_finite() {
-            return Err(RasterError::invalid("transform must be finite"));
+            return Err(RasterError::invalid_field(
+                "transform",
+                "transform must be finite",
+            ));
         }
         let t = transform.as_dmat4();
         if t.row(3) != glam::DVec4::new(0.0, 0.0, 0.0, 1.0) {
-            return Err(RasterError::invalid(format!(
-                "transform must be affine (last row 0 0 0 1), got last row {:?}",
-                t.row(3).to_array()
-            )));
+            return Err(RasterError::invalid_field(
+                "transform",
+                format!(
+                    "transform must be affine (last row 0 0 0 1), got last row {:?}",
+                    t.row(3).to_array()
+                ),
+            ));
         }
         let linear = DMat3::from_mat4(t);
         let det = linear.determinant();
         let scale = linear.x_axis.length() * linear.y_axis.length() * linear.z_axis.length();
         if det.abs() <= 1e-12 * scale || !det.is_finite() || scale == 0.0 {
-            return Err(RasterError::invalid(
+            return Err(RasterError::invalid_field(
+                "transform",
                 "transform is singular (its 3x3 part has no inverse), so normals are undefined",
             ));
         }
@@ -115,10 +122,13 @@ impl Scene {
     /// An empty scene with global ambient `ambient` (finite, ≥ 0).
     pub fn new(ambient: Vec3) -> Result<Self> {
         if !ambient.is_finite() || ambient.min_element() < 0.0 {
-            return Err(RasterError::invalid(format!(
-                "scene ambient must be finite and >= 0, got {:?}",
-                ambient.to_array()
-            )));
+            return Err(RasterError::invalid_field(
+                "ambient",
+                format!(
+                    "scene ambient must be finite and >= 0, got {:?}",
+                    ambient.to_array()
+                ),
+            ));
         }
         Ok(Scene {
             ambient,

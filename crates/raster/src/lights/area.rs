@@ -56,14 +56,14 @@ pub struct AreaLight {
     pub split: SplitColors,
 }
 
-fn finite_vec(v: Vec3, what: &str) -> Result<Vec3> {
+fn finite_vec(v: Vec3, what: &'static str) -> Result<Vec3> {
     if v.is_finite() {
         Ok(v)
     } else {
-        Err(RasterError::invalid(format!(
-            "area light {what} must be finite, got {:?}",
-            v.to_array()
-        )))
+        Err(RasterError::invalid_field(
+            what,
+            format!("area light {what} must be finite, got {:?}", v.to_array()),
+        ))
     }
 }
 
@@ -82,14 +82,17 @@ impl AreaLight {
         // Relative test: parallel or zero edges leave no area to sample (or no normal).
         // (f64 holds every product of finite f32 values: no NaN here.)
         if n.length() <= 1e-6 * ud.length() * vd.length() {
-            return Err(RasterError::invalid(format!(
-                "area light edges u={:?} and v={:?} must be non-zero and not parallel",
-                u.to_array(),
-                v.to_array()
-            )));
+            return Err(RasterError::invalid_field(
+                "v",
+                format!(
+                    "area light edges u={:?} and v={:?} must be non-zero and not parallel",
+                    u.to_array(),
+                    v.to_array()
+                ),
+            ));
         }
         if !(1..=MAX_AREA_SAMPLES).contains(&samples) {
-            return Err(RasterError::invalid(format!(
+            return Err(RasterError::invalid_field("samples", format!(
                 "area light samples must be between 1 and {MAX_AREA_SAMPLES} per side, got {samples}"
             )));
         }

@@ -21,10 +21,13 @@ impl SplitColors {
         for (name, c) in [("diffuse", diffuse), ("specular", specular)] {
             if let Some(c) = c {
                 if !c.is_finite() || c.min_element() < 0.0 {
-                    return Err(RasterError::invalid(format!(
-                        "light {name} colour must be finite and >= 0, got {:?}",
-                        c.to_array()
-                    )));
+                    return Err(RasterError::invalid_field(
+                        name,
+                        format!(
+                            "light {name} colour must be finite and >= 0, got {:?}",
+                            c.to_array()
+                        ),
+                    ));
                 }
             }
         }
@@ -42,25 +45,32 @@ impl SplitColors {
 
 pub(crate) fn check_ambient(ambient: Vec3) -> Result<()> {
     if !ambient.is_finite() || ambient.min_element() < 0.0 {
-        return Err(RasterError::invalid(format!(
-            "light ambient must be finite and >= 0, got {:?}",
-            ambient.to_array()
-        )));
+        return Err(RasterError::invalid_field(
+            "ambient",
+            format!(
+                "light ambient must be finite and >= 0, got {:?}",
+                ambient.to_array()
+            ),
+        ));
     }
     Ok(())
 }
 
 pub(crate) fn check_color(color: Vec3, intensity: f32) -> Result<()> {
     if !color.is_finite() || color.min_element() < 0.0 {
-        return Err(RasterError::invalid(format!(
-            "light color must be finite and >= 0, got {:?}",
-            color.to_array()
-        )));
+        return Err(RasterError::invalid_field(
+            "color",
+            format!(
+                "light color must be finite and >= 0, got {:?}",
+                color.to_array()
+            ),
+        ));
     }
     if !(intensity.is_finite() && intensity >= 0.0) {
-        return Err(RasterError::invalid(format!(
-            "light intensity must be finite and >= 0, got {intensity}"
-        )));
+        return Err(RasterError::invalid_field(
+            "intensity",
+            format!("light intensity must be finite and >= 0, got {intensity}"),
+        ));
     }
     Ok(())
 }

@@ -29,10 +29,13 @@ impl DirectionalLight {
             .try_normalize()
             .filter(|_| direction.is_finite())
             .ok_or_else(|| {
-                RasterError::invalid(format!(
-                    "light direction must be finite and non-zero, got {:?}",
-                    direction.to_array()
-                ))
+                RasterError::invalid_field(
+                    "direction",
+                    format!(
+                        "light direction must be finite and non-zero, got {:?}",
+                        direction.to_array()
+                    ),
+                )
             })?;
         Ok(DirectionalLight {
             direction: unit,

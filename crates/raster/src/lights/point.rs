@@ -33,10 +33,13 @@ impl PointLight {
     pub fn new(position: Vec3, color: Vec3, intensity: f32) -> Result<Self> {
         check_color(color, intensity)?;
         if !position.is_finite() {
-            return Err(RasterError::invalid(format!(
-                "light position must be finite, got {:?}",
-                position.to_array()
-            )));
+            return Err(RasterError::invalid_field(
+                "position",
+                format!(
+                    "light position must be finite, got {:?}",
+                    position.to_array()
+                ),
+            ));
         }
         Ok(PointLight {
             position,
@@ -60,9 +63,12 @@ impl PointLight {
     pub fn with_attenuation(mut self, kc: f32, kl: f32, kq: f32) -> Result<Self> {
         let k = [kc, kl, kq];
         if k.iter().any(|v| !v.is_finite() || *v < 0.0) || k.iter().all(|&v| v == 0.0) {
-            return Err(RasterError::invalid(format!(
-                "attenuation (kc, kl, kq) must be finite, >= 0 and not all zero, got {k:?}"
-            )));
+            return Err(RasterError::invalid_field(
+                "attenuation",
+                format!(
+                    "attenuation (kc, kl, kq) must be finite, >= 0 and not all zero, got {k:?}"
+                ),
+            ));
         }
         self.attenuation = k;
         Ok(self)

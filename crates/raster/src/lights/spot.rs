@@ -31,20 +31,27 @@ impl SpotLight {
             .try_normalize()
             .filter(|_| direction.is_finite())
             .ok_or_else(|| {
-                RasterError::invalid(format!(
-                    "spot direction must be finite and non-zero, got {:?}",
-                    direction.to_array()
-                ))
+                RasterError::invalid_field(
+                    "direction",
+                    format!(
+                        "spot direction must be finite and non-zero, got {:?}",
+                        direction.to_array()
+                    ),
+                )
             })?;
         if !(cutoff.is_finite() && ((cutoff > 0.0 && cutoff <= 90.0) || cutoff == 180.0)) {
-            return Err(RasterError::invalid(format!(
-                "spot cutoff must be in (0, 90] degrees or exactly 180 (no cone), got {cutoff}"
-            )));
+            return Err(RasterError::invalid_field(
+                "cutoff",
+                format!(
+                    "spot cutoff must be in (0, 90] degrees or exactly 180 (no cone), got {cutoff}"
+                ),
+            ));
         }
         if !(exponent.is_finite() && exponent >= 0.0) {
-            return Err(RasterError::invalid(format!(
-                "spot exponent must be finite and >= 0, got {exponent}"
-            )));
+            return Err(RasterError::invalid_field(
+                "exponent",
+                format!("spot exponent must be finite and >= 0, got {exponent}"),
+            ));
         }
         Ok(SpotLight {
             point,
@@ -59,7 +66,7 @@ impl SpotLight {
     /// out to the cutoff.
     pub fn with_inner(mut self, inner: f32) -> Result<Self> {
         if !(inner.is_finite() && inner >= 0.0 && inner < self.cutoff && self.cutoff <= 90.0) {
-            return Err(RasterError::invalid(format!(
+            return Err(RasterError::invalid_field("inner", format!(
                 "spot inner angle must be in [0, cutoff) with cutoff <= 90, got inner={inner}, cutoff={}",
                 self.cutoff
             )));

@@ -1,7 +1,7 @@
 """Analytic ground truth: spheres and planes shaded exactly, in float64.
 
 A ray from the eye through each pixel centre (the project's camera conventions, from
-``tests/reference.py``'s :func:`pixel_rays`) is intersected with the true surface, and the
+``shadelab_ref.reference``'s :func:`pixel_rays`) is intersected with the true surface, and the
 exact normal at the hit point goes through the same lighting equation as the float64
 reference rasterizer (:func:`reference.lighting`, reused rather than rewritten). Every
 tessellation and shading mode approximates this image; the difference is its error.
@@ -11,14 +11,11 @@ Only NumPy; every pixel is independent, so each step is one vectorised expressio
 
 from __future__ import annotations
 
-import sys
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
-import reference as ref
+from . import reference as ref
 
 __all__ = ["Truth", "plane_truth", "sphere_truth", "world_rays"]
 

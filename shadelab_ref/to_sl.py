@@ -1,12 +1,13 @@
-"""Translation of the float64 reference's scene descriptions (tests/reference.py) into
+"""Translation of the float64 reference's scene descriptions (shadelab_ref.reference) into
 shadelab_rs objects, shared by the tests that compare the two."""
 
 from __future__ import annotations
 
 import dataclasses
 
-import reference as ref
 import shadelab_rs as sl
+
+from . import reference as ref
 
 _CLASSES = {
     ref.DirectionalLight: sl.DirectionalLight,
