@@ -5,9 +5,10 @@ use std::time::Duration;
 /// Wall time per pipeline stage of one render.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct StageTimings {
-    /// Vertex transform (and Gouraud lighting).
+    /// Vertex transform.
     pub vertex: Duration,
-    /// Assembly, clipping, setup, binning (and flat lighting).
+    /// Assembly, clipping, setup, binning, and the lighting flat and Gouraud do before the
+    /// tile stage (per face, per vertex).
     pub setup: Duration,
     /// Rasterization and shading of all tiles.
     pub raster_shade: Duration,

@@ -11,8 +11,8 @@ use std::sync::Arc;
 use glam::{DVec3, Mat4, Vec3, Vec4};
 
 use crate::camera::{Camera, Projection};
+use crate::effects::{Fog, FogMode};
 use crate::error::RasterError;
-use crate::fog::{Fog, FogMode};
 use crate::frame::{ColorBuffer, ColorFormat};
 use crate::lights::{AreaLight, AreaShape};
 use crate::lights::{DirectionalLight, Light, PointLight, SplitColors, SpotLight};

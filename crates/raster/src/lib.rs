@@ -23,8 +23,8 @@
 #![warn(missing_docs)]
 
 mod camera;
+mod effects;
 mod error;
-mod fog;
 mod frame;
 #[cfg(feature = "fuzzing")]
 #[doc(hidden)]
@@ -42,8 +42,8 @@ mod render;
 mod scene;
 
 pub use camera::{Camera, Projection};
+pub use effects::{Fog, FogMode};
 pub use error::{RasterError, Result};
-pub use fog::{Fog, FogMode};
 pub use frame::{ColorBuffer, ColorFormat, Frame, RenderStats, StageTimings};
 pub use lights::{
     AreaLight, AreaShape, DirectionalLight, Light, PointLight, SplitColors, SpotLight,

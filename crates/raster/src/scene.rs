@@ -4,8 +4,8 @@ use std::sync::Arc;
 
 use glam::{DMat3, Mat3, Mat4, Vec3};
 
+use crate::effects::Fog;
 use crate::error::{RasterError, Result};
-use crate::fog::Fog;
 use crate::lights::Light;
 use crate::material::Material;
 use crate::mesh::Mesh;

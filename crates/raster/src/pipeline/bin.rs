@@ -15,6 +15,11 @@ pub(crate) const LOCAL_BITS: u32 = 16;
 pub(crate) struct Chunk {
     pub tris: Vec<SetupTri>,
     pub bins: Bins,
+    /// The object all of the chunk's triangles belong to.
+    pub object: u32,
+    /// Pieces of clipped triangles: (index in `tris`, the original triangle's vertices), in
+    /// order; flat shading lights the original triangle, not the piece.
+    pub clipped_from: Vec<(u32, [u32; 3])>,
 }
 
 /// All set-up triangles, addressed by id `chunk << LOCAL_BITS | local`.

@@ -22,18 +22,19 @@ use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 
 use crate::camera::Camera;
+use crate::effects::FogEffect;
 use crate::error::{RasterError, Result};
 use crate::frame::RenderStats;
-use crate::lighting::{normalize_lanes, LightSet, Surface, LANES};
+use crate::lighting::{LightSet, Surface};
 use crate::material::Material;
 use crate::options::{RenderOptions, ShadingMode};
 use crate::scene::Scene;
 use bin::{Binned, Bins, Chunk};
 use clip::ClipPlanes;
 use raster::TileBuffers;
-use setup::{Setup, SetupTri, Snapped};
-use shade::{Out, Pixel, ShadeContext};
-use vertex::{Vertices, INVALID};
+use setup::{Setup, Snapped};
+use shade::{prelight, Out, Pixel, ShadeContext};
+use vertex::{Attributes, Vertices, INVALID};
 
 /// Marks a vertex index that refers to a chunk's clip-generated vertices (fixed up on merge).
 const EXTRA_BIT: u32 = 1 << 31;
@@ -49,27 +50,15 @@ struct ChunkOut {
     dropped: usize,
 }
 
+/// What the primitive stage reads: geometry only.
 struct PrimitiveContext<'a> {
     verts: &'a Vertices,
-    materials: &'a [Sides],
     planes: ClipPlanes,
-    eye: Vec3,
     options: &'a RenderOptions,
     tiles: (usize, usize),
-    two_sided: bool,
 }
 
 impl PrimitiveContext<'_> {
-    /// The flat-shaded colour of original triangle `v`: face normal (flipped when `flip`)
-    /// at the centroid.
-    fn flat_color(&self, v: [u32; 3], object: u32, flip: bool) -> Vec3 {
-        let [a, b, c] = v.map(|i| self.verts.world[i as usize]);
-        let n = (b - a).cross(c - a).normalize_or_zero();
-        let n = if flip { -n } else { n };
-        let centroid = (a + b + c) / 3.0;
-        self.materials[object as usize][flip as usize].shade(n, centroid, self.eye)
-    }
-
     fn assemble(&self, object: u32, first_vertex: u32, indices: &[[u32; 3]]) -> ChunkOut {
         let (w, h) = (self.options.width, self.options.height);
         let (wf, hf) = (w as f64, h as f64);
@@ -77,6 +66,8 @@ impl PrimitiveContext<'_> {
             chunk: Chunk {
                 tris: Vec::with_capacity(indices.len()),
                 bins: Bins::default(),
+                object,
+                clipped_from: Vec::new(),
             },
             extra: Vertices::default(),
             clipped: 0,
@@ -84,31 +75,23 @@ impl PrimitiveContext<'_> {
             dropped: 0,
         };
         let cull = self.options.cull_backfaces;
-        let flat_mode = self.options.shading == ShadingMode::Flat;
-        let two_sided = self.two_sided;
-        // Sets up one triangle. Clipped pieces (`flat` is Some) carry their original
-        // triangle's flat colour, computed once and cached across the pieces; the others are
-        // flat-lit together by `light_flat` when the chunk is done.
-        let push = |s: [Snapped; 3],
-                    vv: [u32; 3],
-                    v: [u32; 3],
-                    flat: Option<&mut Option<Vec3>>,
-                    out: &mut ChunkOut| {
-            match setup::setup(s, vv, object, w, h, cull) {
-                Setup::Draw(mut t) => {
-                    if let Some(flat) = flat {
-                        t.clipped = true;
-                        if flat_mode {
-                            let flip = two_sided && !t.front;
-                            t.flat = *flat.get_or_insert_with(|| self.flat_color(v, object, flip));
+        // Sets up one triangle; a piece of a clipped triangle (`clipped_from` is the original's
+        // vertices) is marked and remembers its original.
+        let push =
+            |s: [Snapped; 3], vv: [u32; 3], clipped_from: Option<[u32; 3]>, out: &mut ChunkOut| {
+                match setup::setup(s, vv, object, w, h, cull) {
+                    Setup::Draw(mut t) => {
+                        if let Some(v) = clipped_from {
+                            t.clipped = true;
+                            let i = out.chunk.tris.len() as u32;
+                            out.chunk.clipped_from.push((i, v));
                         }
+                        out.chunk.tris.push(t);
                     }
-                    out.chunk.tris.push(t);
+                    Setup::Culled => out.culled += 1,
+                    Setup::Skip => {}
                 }
-                Setup::Culled => out.culled += 1,
-                Setup::Skip => {}
-            }
-        };
+            };
         for idx in indices {
             let v = idx.map(|i| i + first_vertex);
             let codes = v.map(|i| self.verts.outcode[i as usize]);
@@ -122,7 +105,7 @@ impl PrimitiveContext<'_> {
             let mask = codes[0] | codes[1] | codes[2];
             if mask == 0 {
                 let s = v.map(|i| self.verts.screen[i as usize]);
-                push(s, v, v, None, &mut out);
+                push(s, v, None, &mut out);
                 continue;
             }
             let c: [Vec4; 3] = v.map(|i| self.verts.clip[i as usize]);
@@ -131,7 +114,6 @@ impl PrimitiveContext<'_> {
                 continue;
             }
             out.clipped += 1;
-            let mut flat = None;
             let mut ids = Vec::with_capacity(poly.len());
             let mut snapped = Vec::with_capacity(poly.len());
             for (pos, wts) in &poly {
@@ -153,54 +135,11 @@ impl PrimitiveContext<'_> {
             };
             for k in 1..poly.len() - 1 {
                 let vv = [ids[0], ids[k], ids[k + 1]];
-                push([s[0], s[k], s[k + 1]], vv, v, Some(&mut flat), &mut out);
+                push([s[0], s[k], s[k + 1]], vv, Some(v), &mut out);
             }
-        }
-        if flat_mode {
-            self.light_flat(object, &mut out.chunk.tris);
         }
         out.chunk.bins = bin::bin(&out.chunk.tris, self.tiles.0, self.tiles.1);
         out
-    }
-
-    /// Flat colours of the unclipped triangles that survived setup, [`LANES`] at a time
-    /// (clipped pieces already carry their original triangle's colour).
-    fn light_flat(&self, object: u32, tris: &mut [SetupTri]) {
-        let world = &self.verts.world;
-        // Two-sided lighting lights back faces with the flipped normal and their material.
-        let side = |t: &SetupTri| self.two_sided && !t.front;
-        for back in [false, true] {
-            let material = &self.materials[object as usize][back as usize];
-            let todo: Vec<usize> = (0..tris.len())
-                .filter(|&i| !tris[i].clipped && side(&tris[i]) == back)
-                .collect();
-            for group in todo.chunks(LANES) {
-                let mut raw = [[0.0; LANES]; 3];
-                let mut p = [[0.0; LANES]; 3];
-                for (k, &i) in group.iter().enumerate() {
-                    let t = &tris[i];
-                    let [a, b, c] = t.v.map(|v| world[v as usize]);
-                    // Setup swapped two vertices of front faces; undo it for the true normal.
-                    let n = if t.front {
-                        (c - a).cross(b - a)
-                    } else {
-                        (b - a).cross(c - a)
-                    };
-                    let n = if back { -n } else { n };
-                    let centroid = (a + b + c) / 3.0;
-                    for ax in 0..3 {
-                        raw[ax][k] = n[ax];
-                        p[ax][k] = centroid[ax];
-                    }
-                }
-                let mut n = [[0.0; LANES]; 3];
-                normalize_lanes(&mut n, |k| (raw[0][k], raw[1][k], raw[2][k]));
-                let c = material.shade_lanes(&n, &p, self.eye);
-                for (k, &i) in group.iter().enumerate() {
-                    tris[i].flat = Vec3::new(c[0][k], c[1][k], c[2][k]);
-                }
-            }
-        }
     }
 }
 
@@ -280,9 +219,7 @@ pub(crate) fn prepare(scene: &Scene, camera: &Camera, options: &RenderOptions) -
     let mut verts = vertex::transform(
         scene,
         view_proj,
-        options.shading,
-        &materials,
-        eye,
+        Attributes::for_mode(options.shading),
         &planes,
         (w as f64, h as f64),
     );
@@ -299,17 +236,21 @@ pub(crate) fn prepare(scene: &Scene, camera: &Camera, options: &RenderOptions) -
     }
     let ctx = PrimitiveContext {
         verts: &verts,
-        materials: &materials,
         planes,
-        eye,
         options,
         tiles: tiles::tile_counts(w, h),
-        two_sided: scene.two_sided(),
     };
     let mut outs: Vec<ChunkOut> = work
         .par_iter()
         .map(|&(oi, fv, idx)| ctx.assemble(oi, fv, idx))
         .collect();
+    if options.shading == ShadingMode::Flat {
+        // Before the clip-made vertices join: faces are lit from the transformed ones.
+        let two_sided = scene.two_sided();
+        outs.par_iter_mut().for_each(|o| {
+            prelight::light_faces(&mut o.chunk, &verts.world, &materials, eye, two_sided)
+        });
+    }
     // Clip-generated vertices go after the transformed ones, chunk by chunk.
     let mut offset = verts.clip.len() as u32;
     let mut extras = Vertices::default();
@@ -330,6 +271,9 @@ pub(crate) fn prepare(scene: &Scene, camera: &Camera, options: &RenderOptions) -
         stats.triangles_dropped += out.dropped;
     }
     verts.append(&mut extras);
+    if options.shading == ShadingMode::Gouraud {
+        prelight::light_vertices(scene, &mut verts, &materials, eye);
+    }
     let tris = Binned {
         chunks: outs.into_iter().map(|o| o.chunk).collect(),
     };
@@ -411,7 +355,7 @@ pub(crate) fn run<P: Pixel>(
         size: (options.width as f64, options.height as f64),
         fog: scene
             .fog()
-            .map(|f| (*f, camera.eye_distance(options.width, options.height))),
+            .map(|f| FogEffect::new(*f, camera.eye_distance(options.width, options.height))),
     };
     rects
         .par_iter()

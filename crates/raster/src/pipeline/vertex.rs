@@ -1,15 +1,14 @@
-//! Vertex stage: object → world → clip space, and per-vertex lighting for Gouraud.
+//! Vertex stage: object → world → clip space. Geometry only: no material or light is read
+//! here (Gouraud's vertex colours are lit afterwards by `shade::prelight`).
 //!
-//! Only the attributes the shading mode reads are produced: flat needs world positions,
-//! Gouraud lit colours, Phong world positions and normals.
+//! Only the attributes a render reads are produced ([`Attributes`]): world positions (every
+//! mode lights somewhere), world normals for Gouraud and Phong.
 
 use glam::{DMat4, Vec3, Vec4};
 use rayon::prelude::*;
 
 use super::clip::ClipPlanes;
 use super::setup::{snap, Snapped};
-use super::Sides;
-use crate::lighting::LANES;
 use crate::options::ShadingMode;
 use crate::scene::Scene;
 
@@ -30,27 +29,22 @@ pub(crate) struct Vertices {
     pub color: Vec<Vec3>,
     /// Gouraud with two-sided lighting: colours lit with the flipped normal and the back material.
     pub color_back: Vec<Vec3>,
+    /// How each vertex made by clipping blends three transformed ones (their indices and
+    /// weights), so an attribute produced after clipping (a lit colour) extends to them.
+    pub blends: Vec<([u32; 3], [f32; 3])>,
 }
 
 impl Vertices {
     /// Appends a vertex blended from three existing ones with weights `w` (clip-space linear,
     /// which is exact for every attribute before the perspective divide).
     pub fn push_blend(&mut self, from: &Vertices, v: [u32; 3], w: [f32; 3], clip: Vec4) {
-        fn blend(a: &[Vec3], v: [u32; 3], w: [f32; 3]) -> Vec3 {
-            a[v[0] as usize] * w[0] + a[v[1] as usize] * w[1] + a[v[2] as usize] * w[2]
-        }
         self.clip.push(clip);
+        self.blends.push((v, w));
         if !from.world.is_empty() {
             self.world.push(blend(&from.world, v, w));
         }
         if !from.normal.is_empty() {
             self.normal.push(blend(&from.normal, v, w));
-        }
-        if !from.color.is_empty() {
-            self.color.push(blend(&from.color, v, w));
-        }
-        if !from.color_back.is_empty() {
-            self.color_back.push(blend(&from.color_back, v, w));
         }
     }
 
@@ -61,6 +55,37 @@ impl Vertices {
         self.normal.append(&mut other.normal);
         self.color.append(&mut other.color);
         self.color_back.append(&mut other.color_back);
+        self.blends.append(&mut other.blends);
+    }
+
+    /// Extends `attr`, given for the transformed vertices, to the vertices made by clipping.
+    pub fn extend_to_clipped(blends: &[([u32; 3], [f32; 3])], attr: &mut Vec<Vec3>) {
+        attr.reserve_exact(blends.len());
+        for &(v, w) in blends {
+            let x = blend(attr, v, w);
+            attr.push(x);
+        }
+    }
+}
+
+/// An attribute of a clip-made vertex: the clip-space-linear blend of three vertices' (exact
+/// for every attribute before the perspective divide).
+fn blend(a: &[Vec3], v: [u32; 3], w: [f32; 3]) -> Vec3 {
+    a[v[0] as usize] * w[0] + a[v[1] as usize] * w[1] + a[v[2] as usize] * w[2]
+}
+
+/// Which per-vertex attributes a render produces.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Attributes {
+    pub normal: bool,
+}
+
+impl Attributes {
+    /// What a shading mode reads (world positions always).
+    pub fn for_mode(mode: ShadingMode) -> Self {
+        Attributes {
+            normal: mode != ShadingMode::Flat,
+        }
     }
 }
 
@@ -72,9 +97,7 @@ const CHUNK: usize = 4096;
 pub(crate) fn transform(
     scene: &Scene,
     view_proj: DMat4,
-    mode: ShadingMode,
-    materials: &[Sides],
-    eye: Vec3,
+    attrs: Attributes,
     planes: &ClipPlanes,
     size: (f64, f64),
 ) -> Vertices {
@@ -85,11 +108,11 @@ pub(crate) fn transform(
         .map(|o| o.mesh().positions().len())
         .sum();
     out.clip.reserve_exact(total);
-    let need_world = matches!(mode, ShadingMode::Flat | ShadingMode::Phong);
-    if need_world {
-        out.world.reserve_exact(total);
+    out.world.reserve_exact(total);
+    if attrs.normal {
+        out.normal.reserve_exact(total);
     }
-    for (obj, [front, back]) in scene.objects().iter().zip(materials) {
+    for obj in scene.objects() {
         let mesh = obj.mesh();
         let pos = mesh.positions();
         let model = obj.transform();
@@ -120,56 +143,19 @@ pub(crate) fn transform(
         out.clip.extend_from_slice(&clip);
         out.outcode.extend_from_slice(&codes);
         out.screen.extend_from_slice(&screen);
-        if need_world {
-            out.world.par_extend(
-                pos.par_iter()
+        out.world.par_extend(
+            pos.par_iter()
+                .with_min_len(CHUNK)
+                .map(|p| model.transform_point3(*p)),
+        );
+        if attrs.normal {
+            let nm = obj.normal_matrix();
+            out.normal.par_extend(
+                mesh.vertex_normals()
+                    .par_iter()
                     .with_min_len(CHUNK)
-                    .map(|p| model.transform_point3(*p)),
+                    .map(|n| (nm * *n).normalize_or_zero()),
             );
-        }
-        match mode {
-            ShadingMode::Flat => {}
-            ShadingMode::Phong => {
-                let nm = obj.normal_matrix();
-                let normals = mesh.vertex_normals();
-                out.normal.par_extend(
-                    normals
-                        .par_iter()
-                        .with_min_len(CHUNK)
-                        .map(|n| (nm * *n).normalize_or_zero()),
-                );
-            }
-            ShadingMode::Gouraud => {
-                let nm = obj.normal_matrix();
-                let normals = mesh.vertex_normals();
-                // Lit LANES vertices at a time (SIMD lane loops), in order; with two-sided
-                // lighting a second colour per vertex, lit with the flipped normal and the
-                // back material.
-                let light = |flip: f32| {
-                    let pm = if flip > 0.0 { front } else { back };
-                    pos.par_chunks(LANES)
-                        .zip(normals.par_chunks(LANES))
-                        .with_min_len(CHUNK / LANES)
-                        .flat_map_iter(move |(p, n)| {
-                            let mut nl = [[0.0; LANES]; 3];
-                            let mut pl = [[0.0; LANES]; 3];
-                            for (k, (p, n)) in p.iter().zip(n).enumerate() {
-                                let n = (nm * *n).normalize_or_zero() * flip;
-                                let p = model.transform_point3(*p);
-                                for ax in 0..3 {
-                                    nl[ax][k] = n[ax];
-                                    pl[ax][k] = p[ax];
-                                }
-                            }
-                            let c = pm.shade_lanes(&nl, &pl, eye);
-                            (0..p.len()).map(move |k| Vec3::new(c[0][k], c[1][k], c[2][k]))
-                        })
-                };
-                out.color.par_extend(light(1.0));
-                if scene.two_sided() {
-                    out.color_back.par_extend(light(-1.0));
-                }
-            }
         }
     }
     out

@@ -3,6 +3,7 @@
 
 use glam::Vec3;
 
+use crate::camera::EyeDistance;
 use crate::error::{RasterError, Result};
 
 /// How the fog factor falls with distance `d`.
@@ -100,6 +101,26 @@ impl Fog {
     pub fn apply(&self, c: Vec3, d: f32) -> Vec3 {
         let f = self.factor(d);
         c * f + self.color * (1.0 - f)
+    }
+}
+
+/// Fog as the shade stage applies it: the scene's [`Fog`] and the per-render constants that
+/// turn a pixel's eye depth into its distance from the eye.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct FogEffect {
+    fog: Fog,
+    distance: EyeDistance,
+}
+
+impl FogEffect {
+    pub fn new(fog: Fog, distance: EyeDistance) -> Self {
+        FogEffect { fog, distance }
+    }
+
+    /// `c` seen through the fog at pixel (x, y), whose eye depth is `depth`.
+    #[inline(always)]
+    pub fn apply(&self, c: Vec3, x: usize, y: usize, depth: f32) -> Vec3 {
+        self.fog.apply(c, self.distance.at(x, y, depth))
     }
 }
 

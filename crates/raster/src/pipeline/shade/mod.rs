@@ -1,0 +1,129 @@
+//! Shade pass: every visible pixel of a tile is shaded exactly once, from its triangle's
+//! setup data, and written straight into the output rows.
+//!
+//! Rooms: [`store`] (output samples), [`planes`] (interpolation planes), [`runs`] (flat and
+//! Gouraud), [`phong`], [`prelight`] (the lighting that flat and Gouraud do before the tile
+//! stage: per face and per vertex). The shading mode and the per-pixel effects present
+//! ([`crate::effects`]) are chosen once per render, so each loop carries only its own work.
+
+mod phong;
+mod planes;
+
+pub(crate) mod prelight;
+mod runs;
+mod store;
+
+pub use store::Pixel;
+pub(crate) use store::{put, Out};
+
+use glam::Vec3;
+
+use super::bin::Binned;
+use super::raster::TileBuffers;
+use super::tiles::{TileRect, TILE};
+use super::vertex::Vertices;
+use super::Sides;
+use crate::camera::Camera;
+use crate::effects::FogEffect;
+use crate::options::ShadingMode;
+use store::fill_out;
+
+/// Everything the shade pass reads, shared by all tiles.
+pub(crate) struct ShadeContext<'a> {
+    pub tris: &'a Binned,
+    pub verts: &'a Vertices,
+    pub materials: &'a [Sides],
+    pub camera: &'a Camera,
+    pub eye: Vec3,
+    pub background: Vec3,
+    /// Back faces (clockwise on screen) are lit with the flipped normal.
+    pub two_sided: bool,
+    /// Image width and height in pixels (the viewport of the clip coordinates).
+    pub size: (f64, f64),
+    /// The scene's fog, as applied per pixel.
+    pub fog: Option<FogEffect>,
+}
+
+impl ShadeContext<'_> {
+    /// Eye depth of a pixel from its stored z and interpolated 1/w, when `wanted` (depth
+    /// output or fog); 0 otherwise, saving a division per pixel.
+    #[inline(always)]
+    pub(super) fn eye_depth(&self, wanted: bool, z: f32, inv_w: f32) -> f32 {
+        if wanted {
+            self.camera.eye_depth(z, inv_w)
+        } else {
+            0.0
+        }
+    }
+
+    /// `c` seen through the fog at pixel (x, y) with eye depth `depth`. `FOG` is whether the
+    /// scene has fog, fixed per render so the foggless loops carry no fog code at all.
+    #[inline(always)]
+    pub(super) fn fogged<const FOG: bool>(&self, c: Vec3, x: usize, y: usize, depth: f32) -> Vec3 {
+        match &self.fog {
+            Some(fog) if FOG => fog.apply(c, x, y, depth),
+            _ => c,
+        }
+    }
+}
+
+/// The background colour stored once for a whole tile row.
+pub(super) fn background_row<P: Pixel>(ctx: &ShadeContext<'_>) -> [P; TILE * 3] {
+    let mut px = [P::default(); 3];
+    P::store(&mut px, ctx.background);
+    let mut row = [P::default(); TILE * 3];
+    for dst in row.chunks_exact_mut(3) {
+        dst.copy_from_slice(&px);
+    }
+    row
+}
+
+/// Fills a tile that no triangle touches with the background (and infinite depth).
+#[inline(always)]
+pub(crate) fn fill_background<P: Pixel>(
+    ctx: &ShadeContext<'_>,
+    rect: TileRect,
+    color: &mut [&mut [Out<P>]],
+    depth: Option<&mut [&mut [Out<f32>]]>,
+) {
+    let bg = background_row::<P>(ctx);
+    for row in color.iter_mut() {
+        put(row, &bg[..rect.w * 3]);
+    }
+    for row in depth.into_iter().flatten() {
+        fill_out(row, f32::INFINITY);
+    }
+}
+
+const FLAT: u8 = 0;
+
+const GOURAUD: u8 = 1;
+
+/// Shades one tile into its output rows (and depth rows when requested).
+#[inline(always)]
+pub(crate) fn shade_tile<P: Pixel>(
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    rect: TileRect,
+    buf: &TileBuffers,
+    color: &mut [&mut [Out<P>]],
+    depth: Option<&mut [&mut [Out<f32>]]>,
+) {
+    // One monomorphised loop per (mode, fog): a scene without fog pays nothing for it.
+    match (mode, ctx.fog.is_some()) {
+        (ShadingMode::Flat, false) => {
+            runs::shade_runs::<P, FLAT, false>(ctx, rect, buf, color, depth)
+        }
+        (ShadingMode::Flat, true) => {
+            runs::shade_runs::<P, FLAT, true>(ctx, rect, buf, color, depth)
+        }
+        (ShadingMode::Gouraud, false) => {
+            runs::shade_runs::<P, GOURAUD, false>(ctx, rect, buf, color, depth)
+        }
+        (ShadingMode::Gouraud, true) => {
+            runs::shade_runs::<P, GOURAUD, true>(ctx, rect, buf, color, depth)
+        }
+        (ShadingMode::Phong, false) => phong::shade_phong::<P, false>(ctx, rect, buf, color, depth),
+        (ShadingMode::Phong, true) => phong::shade_phong::<P, true>(ctx, rect, buf, color, depth),
+    }
+}

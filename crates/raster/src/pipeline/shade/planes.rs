@@ -1,0 +1,166 @@
+//! Interpolation planes: the perspective weights of a triangle as planes over pixel
+//! coordinates, cached per tile, and what flat and Gouraud step along a run.
+
+use super::{ShadeContext, GOURAUD};
+use crate::pipeline::raster::NO_TRIANGLE;
+use crate::pipeline::setup::{SetupTri, ONE};
+
+/// The perspective weight planes of `t` in pixel units: λ_k / w_k at the pixel-space point
+/// (x, y) is `plane[k][0]·x + plane[k][1]·y + plane[k][2]` (f64, so no cancellation matters).
+///
+/// Coverage uses the snapped vertices, but attributes are interpolated over the unsnapped
+/// screen triangle (from the f32 clip coordinates, to ~1e-4 px instead of the snap's 1/512
+/// px), as GPUs do: snapping then moves no colour or normal. Where snapping changed the
+/// triangle's area by more than 2× (slivers), the unsnapped planes would extrapolate far
+/// outside the triangle at covered pixels, so the exact planes of the snapped triangle are
+/// used instead.
+pub(super) fn weight_planes(ctx: &ShadeContext<'_>, t: &SetupTri) -> [[f64; 3]; 3] {
+    let (w, h) = ctx.size;
+    let screen = |k: u32| {
+        let c = ctx.verts.clip[k as usize].as_dvec4();
+        let iw = 1.0 / c.w;
+        ((c.x * iw + 1.0) * 0.5 * w, (1.0 - c.y * iw) * 0.5 * h)
+    };
+    let s = [screen(t.v[0]), screen(t.v[1]), screen(t.v[2])];
+    let area = (s[1].0 - s[0].0) * (s[2].1 - s[0].1) - (s[1].1 - s[0].1) * (s[2].0 - s[0].0);
+    let snapped_area = t.area2 as f64 / (ONE * ONE) as f64;
+    let mut plane = [[0.0; 3]; 3];
+    if area.is_finite() && area > 0.5 * snapped_area && area < 2.0 * snapped_area {
+        let inv_area = 1.0 / area;
+        for (k, pk) in plane.iter_mut().enumerate() {
+            let ((ax, ay), (bx, by)) = (s[(k + 1) % 3], s[(k + 2) % 3]);
+            let q = t.inv_w[k] as f64 * inv_area;
+            *pk = [
+                -(by - ay) * q,
+                (bx - ax) * q,
+                ((by - ay) * ax - (bx - ax) * ay) * q,
+            ];
+        }
+    } else {
+        // E_k(P) over fixed-point P = ONE·(x, y), divided by the snapped area.
+        let e = t.edges();
+        let one = ONE as f64;
+        for (k, pk) in plane.iter_mut().enumerate() {
+            let q = t.inv_w[k] as f64 / t.area2 as f64;
+            *pk = [
+                e.a[k] as f64 * one * q,
+                e.b[k] as f64 * one * q,
+                e.c[k] as f64 * q,
+            ];
+        }
+    }
+    plane
+}
+
+/// A plane `p[0]·x + p[1]·y + p[2]` over pixel coordinates.
+pub(super) type Plane = [f64; 3];
+
+/// Entries of the per-tile plane caches.
+const PLANE_CACHE: usize = 64;
+
+/// Planes of recently seen triangles, direct-mapped by id: a triangle's rows alternate with
+/// its neighbours' within a tile and each row segment needs them again, so without this they
+/// (a dozen f64 products and four divisions) were recomputed per segment.
+pub(super) struct PlaneCache<T> {
+    entries: [(u32, T); PLANE_CACHE],
+}
+
+impl<T: Copy + Default> PlaneCache<T> {
+    pub(super) fn new() -> Self {
+        PlaneCache {
+            entries: [(NO_TRIANGLE, T::default()); PLANE_CACHE],
+        }
+    }
+
+    #[inline]
+    pub(super) fn get(&mut self, id: u32, make: impl FnOnce() -> T) -> T {
+        let e = &mut self.entries[id as usize % PLANE_CACHE];
+        if e.0 != id {
+            *e = (id, make());
+        }
+        e.1
+    }
+}
+
+/// What flat and Gouraud interpolate, as planes over pixel coordinates: `inv_w` is the
+/// interpolated 1/w (Σ λ_k/w_k), and Gouraud's `color[c]` is Σ λ_k/w_k · colour_k[c], so a
+/// pixel's colour is `color / inv_w`: four planes instead of three weights and nine products.
+#[derive(Clone, Copy, Default)]
+pub(super) struct RunPlanes {
+    inv_w: Plane,
+    color: [Plane; 3],
+}
+
+impl RunPlanes {
+    #[allow(clippy::needless_range_loop)] // plane coefficient c of three arrays
+    pub(super) fn new<const MODE: u8>(ctx: &ShadeContext<'_>, t: &SetupTri) -> Self {
+        let w = weight_planes(ctx, t);
+        let mut out = RunPlanes::default();
+        for c in 0..3 {
+            out.inv_w[c] = w[0][c] + w[1][c] + w[2][c];
+        }
+        if MODE == GOURAUD {
+            let colors = if ctx.two_sided && !t.front {
+                &ctx.verts.color_back
+            } else {
+                &ctx.verts.color
+            };
+            let a0 = colors[t.v[0] as usize].as_dvec3().to_array();
+            let a1 = colors[t.v[1] as usize].as_dvec3().to_array();
+            let a2 = colors[t.v[2] as usize].as_dvec3().to_array();
+            // Written out: closures and array maps here were not inlined (per triangle and
+            // tile, it showed in profiles of small-triangle meshes).
+            for ch in 0..3 {
+                for c in 0..3 {
+                    out.color[ch][c] = w[0][c] * a0[ch] + w[1][c] * a1[ch] + w[2][c] * a2[ch];
+                }
+            }
+        }
+        out
+    }
+}
+
+/// Value at (x, y) and step per pixel in x of a plane.
+#[inline(always)]
+fn start_step(p: &Plane, x: f64, y: f64) -> (f64, f64) {
+    (p[0] * x + p[1] * y + p[2], p[0])
+}
+
+/// [`RunPlanes`] evaluated at a run's first pixel, with their steps along the run.
+#[derive(Clone, Copy)]
+pub(super) struct RunStart {
+    inv_w: (f64, f64),
+    /// Gouraud only (zero otherwise).
+    color: [(f64, f64); 3],
+}
+
+impl RunStart {
+    #[inline(always)]
+    pub(super) fn new<const MODE: u8>(pl: &RunPlanes, x: f64, y: f64) -> Self {
+        let mut color = [(0.0, 0.0); 3];
+        if MODE == GOURAUD {
+            color = pl.color.map(|p| start_step(&p, x, y));
+        }
+        RunStart {
+            inv_w: start_step(&pl.inv_w, x, y),
+            color,
+        }
+    }
+
+    /// Interpolated 1/w at the run's pixel `k`.
+    #[inline(always)]
+    pub(super) fn inv_w(&self, k: f64) -> f64 {
+        self.inv_w.0 + self.inv_w.1 * k
+    }
+
+    /// Gouraud colour at the run's pixel `k`, given `r` = 1 / [`RunStart::inv_w`] there.
+    #[inline(always)]
+    pub(super) fn color(&self, k: f64, r: f64) -> [f32; 3] {
+        let [(r0, dr), (g0, dg), (b0, db)] = self.color;
+        [
+            ((r0 + dr * k) * r) as f32,
+            ((g0 + dg * k) * r) as f32,
+            ((b0 + db * k) * r) as f32,
+        ]
+    }
+}

@@ -1,0 +1,134 @@
+//! The lighting flat and Gouraud do before the tile stage, on geometry that knows no
+//! material: Gouraud lights every vertex (then extends the colours to the vertices clipping
+//! made, by their blends), flat lights every set-up triangle once (a clipped triangle's
+//! pieces share the colour of the original). Both evaluate [`LANES`] points at a time.
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use crate::lighting::{normalize_lanes, LANES};
+use crate::pipeline::bin::Chunk;
+use crate::pipeline::setup::SetupTri;
+use crate::pipeline::vertex::Vertices;
+use crate::pipeline::Sides;
+use crate::scene::Scene;
+
+/// Vertices lit per parallel work item.
+const CHUNK: usize = 4096;
+
+/// Gouraud: the lit colour of every vertex (`verts.color`) and, under two-sided lighting,
+/// the colour lit with the flipped normal and the back material (`verts.color_back`). Reads
+/// the world positions and normals of the transformed vertices and drops them afterwards
+/// (the tile stage interpolates colours only).
+pub(crate) fn light_vertices(scene: &Scene, verts: &mut Vertices, surfaces: &[Sides], eye: Vec3) {
+    let two_sided = scene.two_sided();
+    let mut first = 0;
+    let mut color = Vec::with_capacity(verts.clip.len());
+    let mut color_back = Vec::new();
+    for (obj, [front, back]) in scene.objects().iter().zip(surfaces) {
+        let n = obj.mesh().positions().len();
+        let (pos, normals) = (
+            &verts.world[first..first + n],
+            &verts.normal[first..first + n],
+        );
+        let light = |flip: f32| {
+            let surface = if flip > 0.0 { front } else { back };
+            pos.par_chunks(LANES)
+                .zip(normals.par_chunks(LANES))
+                .with_min_len(CHUNK / LANES)
+                .flat_map_iter(move |(p, n)| {
+                    let mut nl = [[0.0; LANES]; 3];
+                    let mut pl = [[0.0; LANES]; 3];
+                    for (k, (p, n)) in p.iter().zip(n).enumerate() {
+                        let n = *n * flip;
+                        for ax in 0..3 {
+                            nl[ax][k] = n[ax];
+                            pl[ax][k] = p[ax];
+                        }
+                    }
+                    let c = surface.shade_lanes(&nl, &pl, eye);
+                    (0..p.len()).map(move |k| Vec3::new(c[0][k], c[1][k], c[2][k]))
+                })
+        };
+        color.par_extend(light(1.0));
+        if two_sided {
+            color_back.par_extend(light(-1.0));
+        }
+        first += n;
+    }
+    Vertices::extend_to_clipped(&verts.blends, &mut color);
+    if two_sided {
+        Vertices::extend_to_clipped(&verts.blends, &mut color_back);
+    }
+    verts.color = color;
+    verts.color_back = color_back;
+    verts.world = Vec::new();
+    verts.normal = Vec::new();
+}
+
+/// Flat: the colour of every set-up triangle of `chunk` (`t.flat`), lit with the face normal
+/// at the centroid; back faces under two-sided lighting with the flipped normal and the back
+/// material. `world` holds the transformed vertices' world positions.
+pub(crate) fn light_faces(
+    chunk: &mut Chunk,
+    world: &[Vec3],
+    surfaces: &[Sides],
+    eye: Vec3,
+    two_sided: bool,
+) {
+    let sides = &surfaces[chunk.object as usize];
+    let tris = &mut chunk.tris;
+    // Two-sided lighting lights back faces with the flipped normal and their material.
+    let side = |t: &SetupTri| two_sided && !t.front;
+    for back in [false, true] {
+        let surface = &sides[back as usize];
+        let todo: Vec<usize> = (0..tris.len())
+            .filter(|&i| !tris[i].clipped && side(&tris[i]) == back)
+            .collect();
+        for group in todo.chunks(LANES) {
+            let mut raw = [[0.0; LANES]; 3];
+            let mut p = [[0.0; LANES]; 3];
+            for (k, &i) in group.iter().enumerate() {
+                let t = &tris[i];
+                let [a, b, c] = t.v.map(|v| world[v as usize]);
+                // Setup swapped two vertices of front faces; undo it for the true normal.
+                let n = if t.front {
+                    (c - a).cross(b - a)
+                } else {
+                    (b - a).cross(c - a)
+                };
+                let n = if back { -n } else { n };
+                let centroid = (a + b + c) / 3.0;
+                for ax in 0..3 {
+                    raw[ax][k] = n[ax];
+                    p[ax][k] = centroid[ax];
+                }
+            }
+            let mut n = [[0.0; LANES]; 3];
+            normalize_lanes(&mut n, |k| (raw[0][k], raw[1][k], raw[2][k]));
+            let c = surface.shade_lanes(&n, &p, eye);
+            for (k, &i) in group.iter().enumerate() {
+                tris[i].flat = Vec3::new(c[0][k], c[1][k], c[2][k]);
+            }
+        }
+    }
+    // Pieces of a clipped triangle: the original triangle's colour, lit once (the side of
+    // its first piece decides), shared by its consecutive pieces.
+    let mut last: Option<([u32; 3], Vec3)> = None;
+    for &(i, v) in &chunk.clipped_from {
+        let t = &mut tris[i as usize];
+        let color = match last {
+            Some((lv, c)) if lv == v => c,
+            _ => {
+                let flip = two_sided && !t.front;
+                let [a, b, c] = v.map(|i| world[i as usize]);
+                let n = (b - a).cross(c - a).normalize_or_zero();
+                let n = if flip { -n } else { n };
+                let centroid = (a + b + c) / 3.0;
+                sides[flip as usize].shade(n, centroid, eye)
+            }
+        };
+        t.flat = color;
+        last = Some((v, color));
+    }
+}

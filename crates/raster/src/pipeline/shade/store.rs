@@ -1,0 +1,161 @@
+//! Output samples: how a linear RGB colour is stored (`u8` quantised, `f32` as is), into
+//! rows that are written exactly once and never read (`MaybeUninit`).
+
+use std::mem::MaybeUninit;
+
+use glam::Vec3;
+
+use crate::lighting::LANES;
+use crate::pipeline::tiles::TILE;
+
+mod sealed {
+    /// Only the crate's own sample types are [`super::Pixel`]s.
+    pub trait Sealed {}
+    impl Sealed for u8 {}
+    impl Sealed for f32 {}
+}
+
+/// An output sample type: how a linear RGB colour is stored. Implemented for `u8`
+/// (`round(clamp(c, 0, 1) · 255)`) and `f32` (linear, unclamped) only (sealed).
+pub trait Pixel: sealed::Sealed + Copy + Default + Send + Sync + 'static {
+    /// Writes `c` into `dst[0..3]`.
+    fn store(dst: &mut [Self], c: Vec3);
+
+    /// Writes the first `dst.len() / 3` colours of the row `c` (`c[channel][pixel]`) into
+    /// the output `dst`, as [`Pixel::store`] would one by one.
+    #[doc(hidden)]
+    #[inline(always)]
+    fn store_row(dst: &mut [MaybeUninit<Self>], c: &RowColors) {
+        for (k, px) in dst.chunks_exact_mut(3).enumerate() {
+            store_out(px, Vec3::new(c[0][k], c[1][k], c[2][k]));
+        }
+    }
+}
+
+/// Output rows are written, never read, so the image needs no zeroing first: the
+/// pipeline writes every sample of them (background or shaded) exactly once.
+pub(crate) type Out<T> = MaybeUninit<T>;
+
+/// Copies `src` into the output `dst` (same length).
+#[inline(always)]
+pub(crate) fn put<T: Copy>(dst: &mut [Out<T>], src: &[T]) {
+    for (d, &s) in dst.iter_mut().zip(src) {
+        d.write(s);
+    }
+}
+
+/// Fills the output `dst` with `v`.
+#[inline(always)]
+pub(crate) fn fill_out<T: Copy>(dst: &mut [Out<T>], v: T) {
+    for d in dst {
+        d.write(v);
+    }
+}
+
+/// [`Pixel::store`] into the output.
+#[inline(always)]
+pub(crate) fn store_out<P: Pixel>(dst: &mut [Out<P>], c: Vec3) {
+    let mut px = [P::default(); 3];
+    P::store(&mut px, c);
+    put(dst, &px);
+}
+
+/// Linear colours of up to a tile row's pixels (plus a lane loop's overrun), channel-major.
+#[doc(hidden)]
+pub type RowColors = [[f32; ROW_LANES]; 3];
+
+/// Length of a [`RowColors`] channel: a tile row rounded up to whole [`LANES`].
+#[doc(hidden)]
+pub const ROW_LANES: usize = TILE + LANES;
+
+/// `round(clamp(v, 0, 1) · 255)`, NaN to 0.
+#[inline(always)]
+fn quantize(v: f32) -> u8 {
+    quantize_i32(v) as u8
+}
+
+/// [`quantize`] as an i32 (what a SIMD conversion makes; narrowed when stored).
+#[inline(always)]
+#[allow(clippy::manual_clamp)] // `clamp` keeps NaN; `max` sends it to 0, as wanted
+fn quantize_i32(v: f32) -> i32 {
+    // Clamped before the cast (`max` sends NaN to 0): v > 1 gives at least 255.5 → 255,
+    // v < 0 less than 0.5 → 0. The cast of a value known to be in [0, 255] then needs no
+    // saturation fix-ups, so lane loops of this vectorise.
+    let x = (v * 255.0 + 0.5).max(0.0).min(255.0);
+    // SAFETY: x is in [0, 255] and not NaN, so it is representable in i32.
+    unsafe { x.to_int_unchecked::<i32>() }
+}
+
+impl Pixel for u8 {
+    /// `round(clamp(c, 0, 1) · 255)`.
+    #[inline]
+    fn store(dst: &mut [u8], c: Vec3) {
+        dst[0] = quantize(c.x);
+        dst[1] = quantize(c.y);
+        dst[2] = quantize(c.z);
+    }
+
+    #[inline(always)]
+    fn store_row(dst: &mut [Out<u8>], c: &RowColors) {
+        // Quantised a channel at a time over whole lanes (SIMD), then interleaved.
+        let n = (dst.len() / 3).div_ceil(LANES) * LANES;
+        let mut q = [[0i32; ROW_LANES]; 3];
+        for (qc, cc) in q.iter_mut().zip(c) {
+            for (qv, &v) in qc[..n].iter_mut().zip(&cc[..n]) {
+                *qv = quantize_i32(v);
+            }
+        }
+        for (k, px) in dst.chunks_exact_mut(3).enumerate() {
+            put(px, &[q[0][k] as u8, q[1][k] as u8, q[2][k] as u8]);
+        }
+    }
+}
+
+impl Pixel for f32 {
+    /// Linear, unclamped.
+    #[inline]
+    fn store(dst: &mut [f32], c: Vec3) {
+        dst[0] = c.x;
+        dst[1] = c.y;
+        dst[2] = c.z;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn u8_store_is_round_of_clamp_times_255() {
+        let reference = |v: f32| (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+        let mut values = vec![
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            -1e30,
+            -1.0,
+            -0.5 / 255.0,
+            -1e-9,
+            0.0,
+            -0.0,
+            1.0,
+            1.0 + f32::EPSILON,
+            1.5,
+            1e30,
+        ];
+        // Every rounding boundary (k + 0.5)/255 and its neighbours.
+        for k in 0..256 {
+            let b = (k as f32 + 0.5) / 255.0;
+            values.extend([
+                b,
+                f32::from_bits(b.to_bits() - 1),
+                f32::from_bits(b.to_bits() + 1),
+            ]);
+        }
+        for v in values {
+            let mut out = [0u8; 3];
+            u8::store(&mut out, Vec3::splat(v));
+            assert_eq!(out, [reference(v); 3], "{v}");
+        }
+    }
+}
