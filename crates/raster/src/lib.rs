@@ -56,5 +56,5 @@ pub use options::{RenderOptions, ShadingMode, SpecularModel, MAX_IMAGE_SIZE};
 pub use pipeline::shade::Pixel;
 pub use pipeline::MAX_RADIANCE;
 pub use pool::{default_threads, MAX_THREADS};
-pub use render::{coverage_counts, render, render_into};
+pub use render::{coverage_counts, render, render_depth_map, render_into};
 pub use scene::{Object, Scene};

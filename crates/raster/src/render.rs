@@ -127,7 +127,29 @@ fn run_checked<P: Pixel>(
         }
     }
     let pool = pool::pool(options.threads)?;
-    pool.install(|| pipeline::run(scene, camera, options, color, depth))
+    pool.install(|| pipeline::color_pass(scene, camera, options, color, depth))
+}
+
+/// The window depth of every pixel, row-major `height·width`, from the visibility pass alone
+/// (nothing is shaded; no material or light is read): reversed-Z, 1 at the near plane and 0
+/// at the far plane, −1 where no triangle is. This is the pass a shadow map renders from a
+/// light; [`render`]'s depth output is the eye-space distance of the same visibility.
+pub fn render_depth_map(
+    scene: &Scene,
+    camera: &Camera,
+    options: &RenderOptions,
+) -> Result<(Vec<f32>, RenderStats)> {
+    options.validate()?;
+    let n = options.pixel_count();
+    let mut depth = reserve::<f32>(n)?;
+    let pool = pool::pool(options.threads)?;
+    let stats = pool.install(|| {
+        pipeline::depth_pass(scene, camera, options, &mut depth.spare_capacity_mut()[..n])
+    })?;
+    // SAFETY: the pass succeeded, so it wrote all `n` depths (every tile writes every pixel
+    // of its rows); the vector has that capacity.
+    unsafe { depth.set_len(n) };
+    Ok((depth, stats))
 }
 
 /// Test hook: per-pixel count of covering triangles (no depth test), row-major

@@ -596,3 +596,70 @@ fn lighting_beyond_float32_range_is_refused_not_nan() {
     let centre = (4 * 8 + 4) * 3;
     assert_eq!(c[centre], 1e30);
 }
+
+#[test]
+fn depth_map_is_the_visibility_of_the_colour_pass() {
+    // The depth-only pass (a shadow map's) against the colour pass's depth output: the same
+    // pixels covered; with an orthographic camera the eye depth is the window depth mapped
+    // linearly, so the two agree bit for bit.
+    let (scene, _) = busy_scene();
+    let ortho = Camera::orthographic(
+        DVec3::new(0.5, 0.7, 2.5),
+        DVec3::ZERO,
+        DVec3::Y,
+        2.5,
+        0.5,
+        10.0,
+    )
+    .unwrap();
+    let (_, persp) = busy_scene();
+    for (cam, is_ortho) in [(ortho, true), (persp, false)] {
+        for mode in [ShadingMode::Flat, ShadingMode::Phong] {
+            let mut opts = RenderOptions::new(173, 111);
+            opts.shading = mode;
+            let (map, stats) = render_depth_map(&scene, &cam, &opts).unwrap();
+            let frame = render(&scene, &cam, &opts, ColorFormat::U8, true).unwrap();
+            assert_eq!(stats.triangles_setup, frame.stats.triangles_setup);
+            let depth = frame.depth.unwrap();
+            let mut covered = 0;
+            for (z, d) in map.iter().zip(&depth) {
+                assert_eq!(*z == -1.0, d.is_infinite(), "coverage differs");
+                assert!(*z == -1.0 || (0.0..=1.0).contains(z), "{z}");
+                if *z != -1.0 {
+                    covered += 1;
+                    if is_ortho {
+                        let eye = (10.0 - *z as f64 * (10.0 - 0.5)) as f32;
+                        assert_eq!(eye.to_bits(), d.to_bits(), "{z} {d}");
+                    }
+                }
+            }
+            assert!(covered > 1000, "{covered}");
+            // Any thread count gives the same map.
+            opts.threads = Some(1);
+            assert_eq!(render_depth_map(&scene, &cam, &opts).unwrap().0, map);
+        }
+    }
+    // It reads no material: a scene whose lighting the colour pass refuses still has depth.
+    let mut scene = Scene::new(Vec3::ZERO).unwrap();
+    scene
+        .add(
+            Arc::new(primitives::cube()),
+            Material::preset("gold").unwrap(),
+            Mat4::IDENTITY,
+        )
+        .unwrap();
+    scene.add_light(DirectionalLight::new(-Vec3::Z, Vec3::ONE, 3e38).unwrap());
+    let cam = Camera::look_at(
+        DVec3::new(2.0, 2.0, 3.0),
+        DVec3::ZERO,
+        DVec3::Y,
+        45.0,
+        0.5,
+        10.0,
+    )
+    .unwrap();
+    let opts = RenderOptions::new(64, 48);
+    assert!(render(&scene, &cam, &opts, ColorFormat::U8, false).is_err());
+    let (map, _) = render_depth_map(&scene, &cam, &opts).unwrap();
+    assert!(map.iter().any(|&z| z > 0.0));
+}

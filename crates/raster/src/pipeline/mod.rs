@@ -10,11 +10,14 @@
 pub(crate) mod bin;
 pub(crate) mod clip;
 pub(crate) mod isa;
+mod passes;
 pub(crate) mod raster;
 pub(crate) mod setup;
 pub mod shade;
 pub(crate) mod tiles;
 pub(crate) mod vertex;
+
+pub(crate) use passes::{color_pass, coverage_counts, depth_pass};
 
 use std::time::Instant;
 
@@ -22,7 +25,6 @@ use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 
 use crate::camera::Camera;
-use crate::effects::FogEffect;
 use crate::error::{RasterError, Result};
 use crate::frame::RenderStats;
 use crate::lighting::{LightSet, Surface};
@@ -31,9 +33,8 @@ use crate::options::{RenderOptions, ShadingMode};
 use crate::scene::Scene;
 use bin::{Binned, Bins, Chunk};
 use clip::ClipPlanes;
-use raster::TileBuffers;
 use setup::{Setup, Snapped};
-use shade::{prelight, Out, Pixel, ShadeContext};
+use shade::prelight;
 use vertex::{Attributes, Vertices, INVALID};
 
 /// Marks a vertex index that refers to a chunk's clip-generated vertices (fixed up on merge).
@@ -157,8 +158,23 @@ pub(crate) struct Prepared {
     t_start: Instant,
 }
 
-/// Vertex, primitive and binning stages.
-pub(crate) fn prepare(scene: &Scene, camera: &Camera, options: &RenderOptions) -> Result<Prepared> {
+/// What a pass needs of the scene beyond its geometry.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Needs {
+    /// Geometry only (depth and coverage passes): no material or light is read.
+    Geometry,
+    /// Lit colour: surfaces prepared, and flat or Gouraud lit before the tile stage.
+    Color,
+}
+
+/// Vertex, primitive and binning stages (and, for colour, the surfaces and the lighting
+/// flat and Gouraud do before the tile stage).
+pub(crate) fn prepare(
+    scene: &Scene,
+    camera: &Camera,
+    options: &RenderOptions,
+    needs: Needs,
+) -> Result<Prepared> {
     let t_start = Instant::now();
     let (w, h) = (options.width as usize, options.height as usize);
     let mut stats = RenderStats {
@@ -200,9 +216,11 @@ pub(crate) fn prepare(scene: &Scene, camera: &Camera, options: &RenderOptions) -
         }
     };
     let two_sided = scene.two_sided();
+    let lit = needs == Needs::Color;
     let materials: Vec<Sides> = scene
         .objects()
         .iter()
+        .filter(|_| lit)
         .map(|o| {
             let front = prepare_material(o.material());
             let back_material = o.material_for(true, two_sided);
@@ -219,7 +237,11 @@ pub(crate) fn prepare(scene: &Scene, camera: &Camera, options: &RenderOptions) -
     let mut verts = vertex::transform(
         scene,
         view_proj,
-        Attributes::for_mode(options.shading),
+        if lit {
+            Attributes::for_mode(options.shading)
+        } else {
+            Attributes::NONE
+        },
         &planes,
         (w as f64, h as f64),
     );
@@ -244,7 +266,7 @@ pub(crate) fn prepare(scene: &Scene, camera: &Camera, options: &RenderOptions) -
         .par_iter()
         .map(|&(oi, fv, idx)| ctx.assemble(oi, fv, idx))
         .collect();
-    if options.shading == ShadingMode::Flat {
+    if lit && options.shading == ShadingMode::Flat {
         // Before the clip-made vertices join: faces are lit from the transformed ones.
         let two_sided = scene.two_sided();
         outs.par_iter_mut().for_each(|o| {
@@ -271,7 +293,7 @@ pub(crate) fn prepare(scene: &Scene, camera: &Camera, options: &RenderOptions) -
         stats.triangles_dropped += out.dropped;
     }
     verts.append(&mut extras);
-    if options.shading == ShadingMode::Gouraud {
+    if lit && options.shading == ShadingMode::Gouraud {
         prelight::light_vertices(scene, &mut verts, &materials, eye);
     }
     let tris = Binned {
@@ -320,96 +342,4 @@ fn check_dynamic_range(scene: &Scene, materials: &[Sides]) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// Runs the whole pipeline into caller-provided row-major buffers. On success every sample
-/// of `color` and `depth` has been written (tiles cover the image, and each tile writes
-/// every pixel of its rows: background or shaded).
-pub(crate) fn run<P: Pixel>(
-    scene: &Scene,
-    camera: &Camera,
-    options: &RenderOptions,
-    color: &mut [Out<P>],
-    depth: Option<&mut [Out<f32>]>,
-) -> Result<RenderStats> {
-    let prep = prepare(scene, camera, options)?;
-    let (w, h) = (options.width as usize, options.height as usize);
-    let rects = tiles::tile_rects(w, h);
-    let mut color_rows = tiles::split_rows(color, w, h, 3);
-    let mut depth_rows: Vec<Option<Vec<&mut [Out<f32>]>>> = match depth {
-        Some(d) => tiles::split_rows(d, w, h, 1)
-            .into_iter()
-            .map(Some)
-            .collect(),
-        None => (0..rects.len()).map(|_| None).collect(),
-    };
-    let isa = isa::Isa::detect(options.baseline_isa);
-    let shade_ctx = ShadeContext {
-        tris: &prep.tris,
-        verts: &prep.verts,
-        materials: &prep.materials,
-        camera,
-        eye: prep.eye,
-        background: options.background,
-        two_sided: scene.two_sided(),
-        size: (options.width as f64, options.height as f64),
-        fog: scene
-            .fog()
-            .map(|f| FogEffect::new(*f, camera.eye_distance(options.width, options.height))),
-    };
-    rects
-        .par_iter()
-        .zip(color_rows.par_iter_mut())
-        .zip(depth_rows.par_iter_mut())
-        .enumerate()
-        .for_each_init(TileBuffers::new, |buf, (i, ((rect, crows), drows))| {
-            let job = isa::TileJob {
-                index: i,
-                rect: *rect,
-                color: crows,
-                depth: drows.as_deref_mut(),
-            };
-            isa::run_tile(isa, &shade_ctx, options.shading, buf, job);
-        });
-    let mut stats = prep.stats;
-    stats.timings.raster_shade = prep.t_start.elapsed();
-    Ok(stats)
-}
-
-/// Test hook: how many triangles cover each pixel centre (no depth test), row-major.
-pub(crate) fn coverage_counts(
-    scene: &Scene,
-    camera: &Camera,
-    options: &RenderOptions,
-) -> Result<Vec<u32>> {
-    let prep = prepare(scene, camera, options)?;
-    let (w, h) = (options.width as usize, options.height as usize);
-    struct Counter<'a> {
-        counts: &'a mut [u32],
-        rect: tiles::TileRect,
-        width: usize,
-    }
-    impl raster::SpanSink for Counter<'_> {
-        fn span(&mut self, s: raster::Span) {
-            for slot in s.start..s.start + s.len {
-                self.pixel(slot, 0.0, s.id);
-            }
-        }
-
-        fn pixel(&mut self, slot: usize, _: f32, _: u32) {
-            let x = self.rect.x0 + slot % tiles::TILE;
-            let y = self.rect.y0 + slot / tiles::TILE;
-            self.counts[y * self.width + x] += 1;
-        }
-    }
-    let mut counts = vec![0u32; w * h];
-    for (i, rect) in tiles::tile_rects(w, h).into_iter().enumerate() {
-        let mut counter = Counter {
-            counts: &mut counts,
-            rect,
-            width: w,
-        };
-        raster::for_each_span(prep.tris.tile(i), rect, &mut counter);
-    }
-    Ok(counts)
 }

@@ -81,6 +81,9 @@ pub(crate) struct Attributes {
 }
 
 impl Attributes {
+    /// Positions only (world positions are always produced: clipping blends them).
+    pub const NONE: Attributes = Attributes { normal: false };
+
     /// What a shading mode reads (world positions always).
     pub fn for_mode(mode: ShadingMode) -> Self {
         Attributes {

@@ -1,0 +1,137 @@
+//! Passes over the prepared geometry: the colour pass (visibility, then shading, into the
+//! user's buffers), the depth-only pass (visibility alone: a shadow map's pass) and the
+//! coverage test hook. Each is the same vertex, primitive, binning and raster stages; they
+//! differ in what a tile does with its visibility buffer.
+
+use rayon::prelude::*;
+
+use super::raster::{self, TileBuffers};
+use super::shade::{put, Out, Pixel, ShadeContext};
+use super::{isa, prepare, tiles, Needs};
+use crate::camera::Camera;
+use crate::effects::FogEffect;
+use crate::error::Result;
+use crate::frame::RenderStats;
+use crate::options::RenderOptions;
+use crate::scene::Scene;
+
+/// Runs the whole pipeline into caller-provided row-major buffers. On success every sample
+/// of `color` and `depth` has been written (tiles cover the image, and each tile writes
+/// every pixel of its rows: background or shaded).
+pub(crate) fn color_pass<P: Pixel>(
+    scene: &Scene,
+    camera: &Camera,
+    options: &RenderOptions,
+    color: &mut [Out<P>],
+    depth: Option<&mut [Out<f32>]>,
+) -> Result<RenderStats> {
+    let prep = prepare(scene, camera, options, Needs::Color)?;
+    let (w, h) = (options.width as usize, options.height as usize);
+    let rects = tiles::tile_rects(w, h);
+    let mut color_rows = tiles::split_rows(color, w, h, 3);
+    let mut depth_rows: Vec<Option<Vec<&mut [Out<f32>]>>> = match depth {
+        Some(d) => tiles::split_rows(d, w, h, 1)
+            .into_iter()
+            .map(Some)
+            .collect(),
+        None => (0..rects.len()).map(|_| None).collect(),
+    };
+    let isa = isa::Isa::detect(options.baseline_isa);
+    let shade_ctx = ShadeContext {
+        tris: &prep.tris,
+        verts: &prep.verts,
+        materials: &prep.materials,
+        camera,
+        eye: prep.eye,
+        background: options.background,
+        two_sided: scene.two_sided(),
+        size: (options.width as f64, options.height as f64),
+        fog: scene
+            .fog()
+            .map(|f| FogEffect::new(*f, camera.eye_distance(options.width, options.height))),
+    };
+    rects
+        .par_iter()
+        .zip(color_rows.par_iter_mut())
+        .zip(depth_rows.par_iter_mut())
+        .enumerate()
+        .for_each_init(TileBuffers::new, |buf, (i, ((rect, crows), drows))| {
+            let job = isa::TileJob {
+                index: i,
+                rect: *rect,
+                color: crows,
+                depth: drows.as_deref_mut(),
+            };
+            isa::run_tile(isa, &shade_ctx, options.shading, buf, job);
+        });
+    let mut stats = prep.stats;
+    stats.timings.raster_shade = prep.t_start.elapsed();
+    Ok(stats)
+}
+
+/// Depth-only pass: the visibility of every pixel, written as its window depth (reversed-Z:
+/// 1 at the near plane, 0 at the far plane; −1, below every depth, where no triangle is),
+/// row-major. No material
+/// or light is read and nothing is shaded: this is the pass a shadow map renders from a light.
+pub(crate) fn depth_pass(
+    scene: &Scene,
+    camera: &Camera,
+    options: &RenderOptions,
+    depth: &mut [Out<f32>],
+) -> Result<RenderStats> {
+    let prep = prepare(scene, camera, options, Needs::Geometry)?;
+    let (w, h) = (options.width as usize, options.height as usize);
+    let rects = tiles::tile_rects(w, h);
+    let mut rows = tiles::split_rows(depth, w, h, 1);
+    rects
+        .par_iter()
+        .zip(rows.par_iter_mut())
+        .enumerate()
+        .for_each_init(TileBuffers::new, |buf, (i, (rect, rows))| {
+            raster::rasterize_tile(&prep.tris, i, *rect, buf);
+            for (j, row) in rows.iter_mut().enumerate() {
+                put(row, &buf.depth[j * tiles::TILE..j * tiles::TILE + rect.w]);
+            }
+        });
+    let mut stats = prep.stats;
+    stats.timings.raster_shade = prep.t_start.elapsed();
+    Ok(stats)
+}
+
+/// Test hook: how many triangles cover each pixel centre (no depth test), row-major.
+pub(crate) fn coverage_counts(
+    scene: &Scene,
+    camera: &Camera,
+    options: &RenderOptions,
+) -> Result<Vec<u32>> {
+    let prep = prepare(scene, camera, options, Needs::Geometry)?;
+    let (w, h) = (options.width as usize, options.height as usize);
+    struct Counter<'a> {
+        counts: &'a mut [u32],
+        rect: tiles::TileRect,
+        width: usize,
+    }
+    impl raster::SpanSink for Counter<'_> {
+        fn span(&mut self, s: raster::Span) {
+            for slot in s.start..s.start + s.len {
+                self.pixel(slot, 0.0, s.id);
+            }
+        }
+
+        fn pixel(&mut self, slot: usize, _: f32, _: u32) {
+            let x = self.rect.x0 + slot % tiles::TILE;
+            let y = self.rect.y0 + slot / tiles::TILE;
+            self.counts[y * self.width + x] += 1;
+        }
+    }
+    let mut counts = vec![0u32; w * h];
+    for (i, rect) in tiles::tile_rects(w, h).into_iter().enumerate() {
+        let mut counter = Counter {
+            counts: &mut counts,
+            rect,
+            width: w,
+        };
+        raster::for_each_span(prep.tris.tile(i), rect, &mut counter);
+    }
+    Ok(counts)
+}
