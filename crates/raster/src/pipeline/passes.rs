@@ -6,7 +6,7 @@
 use rayon::prelude::*;
 
 use super::raster::{self, TileBuffers};
-use super::shade::{put, Out, Pixel, ShadeContext};
+use super::shade::{put, Out, Pixel, Program, ShadeContext};
 use super::{isa, prepare, tiles, Needs};
 use crate::camera::Camera;
 use crate::effects::FogEffect;
@@ -49,6 +49,7 @@ pub(crate) fn color_pass<P: Pixel>(
         fog: scene
             .fog()
             .map(|f| FogEffect::new(*f, camera.eye_distance(options.width, options.height))),
+        program: Program::for_scene(scene.fog().is_some()),
     };
     rects
         .par_iter()

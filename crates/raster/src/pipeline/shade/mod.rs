@@ -8,11 +8,13 @@
 
 mod phong;
 mod planes;
+mod program;
 
 pub(crate) mod prelight;
 mod runs;
 mod store;
 
+pub(crate) use program::Program;
 pub use store::Pixel;
 pub(crate) use store::{put, Out};
 
@@ -42,6 +44,8 @@ pub(crate) struct ShadeContext<'a> {
     pub size: (f64, f64),
     /// The scene's fog, as applied per pixel.
     pub fog: Option<FogEffect>,
+    /// The per-pixel stages after lighting, chosen once per render ([`Program::for_scene`]).
+    pub program: Program,
 }
 
 impl ShadeContext<'_> {
@@ -109,7 +113,10 @@ pub(crate) fn shade_tile<P: Pixel>(
     color: &mut [&mut [Out<P>]],
     depth: Option<&mut [&mut [Out<f32>]]>,
 ) {
-    // One monomorphised loop per (mode, fog): a scene without fog pays nothing for it.
+    // Flat and Gouraud: one monomorphised run loop per fog on/off (their run fast paths are
+    // specialised); Phong: its effects are a per-render program, and its loop is specialised
+    // only on whether that program reads the eye depth. A scene without fog pays nothing for
+    // it either way.
     match (mode, ctx.fog.is_some()) {
         (ShadingMode::Flat, false) => {
             runs::shade_runs::<P, FLAT, false>(ctx, rect, buf, color, depth)
@@ -123,7 +130,10 @@ pub(crate) fn shade_tile<P: Pixel>(
         (ShadingMode::Gouraud, true) => {
             runs::shade_runs::<P, GOURAUD, true>(ctx, rect, buf, color, depth)
         }
-        (ShadingMode::Phong, false) => phong::shade_phong::<P, false>(ctx, rect, buf, color, depth),
-        (ShadingMode::Phong, true) => phong::shade_phong::<P, true>(ctx, rect, buf, color, depth),
+        // Phong's per-pixel effects run as the render's program over each batch.
+        (ShadingMode::Phong, read_depth) => match read_depth || ctx.program.reads_depth() {
+            false => phong::shade_phong::<P, false>(ctx, rect, buf, color, depth),
+            true => phong::shade_phong::<P, true>(ctx, rect, buf, color, depth),
+        },
     }
 }

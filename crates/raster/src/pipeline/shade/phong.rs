@@ -3,6 +3,7 @@
 use glam::Vec3;
 
 use super::planes::{weight_planes, Plane, PlaneCache};
+use super::program::Fragments;
 use super::store::{put, store_out, Out, Pixel};
 use super::{background_row, ShadeContext};
 use crate::lighting::{normalize_lanes, Lanes, Surface, LANES};
@@ -77,7 +78,7 @@ struct PhongBatch<'a> {
 
 impl<'a> PhongBatch<'a> {
     #[inline(always)]
-    fn flush<P: Pixel, const FOG: bool>(
+    fn flush<P: Pixel>(
         &mut self,
         ctx: &ShadeContext<'_>,
         rect: TileRect,
@@ -88,11 +89,22 @@ impl<'a> PhongBatch<'a> {
             let mut n = [[0.0; LANES]; 3];
             let raw = &self.n;
             normalize_lanes(&mut n, |k| (raw[0][k], raw[1][k], raw[2][k]));
-            let c = m.shade_lanes(&n, &self.p, eye);
+            let mut frags = Fragments {
+                color: m.shade_lanes(&n, &self.p, eye),
+                at: &self.at[..self.len],
+                depth: &self.depth,
+                origin: (rect.x0, rect.y0),
+            };
+            // The render's program after lighting: one branch per stage per batch.
+            for stage in &ctx.program {
+                stage.run(ctx, &mut frags);
+            }
+            let c = &frags.color;
             for (k, &(j, i)) in self.at[..self.len].iter().enumerate() {
-                let lit = Vec3::new(c[0][k], c[1][k], c[2][k]);
-                let lit = ctx.fogged::<FOG>(lit, rect.x0 + i, rect.y0 + j, self.depth[k]);
-                store_out(&mut color[j][i * 3..i * 3 + 3], lit);
+                store_out(
+                    &mut color[j][i * 3..i * 3 + 3],
+                    Vec3::new(c[0][k], c[1][k], c[2][k]),
+                );
             }
         }
         self.len = 0;
@@ -100,7 +112,7 @@ impl<'a> PhongBatch<'a> {
 
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn push<P: Pixel, const FOG: bool>(
+    fn push<P: Pixel>(
         &mut self,
         ctx: &ShadeContext<'_>,
         rect: TileRect,
@@ -112,7 +124,7 @@ impl<'a> PhongBatch<'a> {
         color: &mut [&mut [Out<P>]],
     ) {
         if self.len > 0 && !std::ptr::eq(m, self.material.unwrap_or(m)) {
-            self.flush::<P, FOG>(ctx, rect, color);
+            self.flush::<P>(ctx, rect, color);
         }
         self.material = Some(m);
         let k = self.len;
@@ -122,21 +134,23 @@ impl<'a> PhongBatch<'a> {
         self.depth[k] = depth;
         self.len += 1;
         if self.len == LANES {
-            self.flush::<P, FOG>(ctx, rect, color);
+            self.flush::<P>(ctx, rect, color);
         }
     }
 }
 
 /// Phong: interpolation per pixel, lighting [`LANES`] pixels at a time.
 #[inline(always)]
-pub(super) fn shade_phong<P: Pixel, const FOG: bool>(
+pub(super) fn shade_phong<P: Pixel, const STAGES_READ_DEPTH: bool>(
     ctx: &ShadeContext<'_>,
     rect: TileRect,
     buf: &TileBuffers,
     color: &mut [&mut [Out<P>]],
     mut depth: Option<&mut [&mut [Out<f32>]]>,
 ) {
-    let want_depth = depth.is_some() || FOG;
+    // Whether the program's stages read the eye depth (fog does) is a constant of the loop:
+    // a per-pixel test of it cost 3 % more instructions per Phong frame.
+    let want_depth = depth.is_some() || STAGES_READ_DEPTH;
     let mut cur = Current::empty();
     let mut planes = PlaneCache::new();
     let background = background_row::<P>(ctx);
@@ -185,10 +199,10 @@ pub(super) fn shade_phong<P: Pixel, const FOG: bool>(
             let n = if ctx.two_sided && !t.front { -n } else { n };
             let p = cur.pos[0] * b0 + cur.pos[1] * b1 + cur.pos[2] * b2;
             let m = cur.material.expect("loaded for phong");
-            batch.push::<P, FOG>(ctx, rect, m, n, p, (j, i), eye_depth, color);
+            batch.push::<P>(ctx, rect, m, n, p, (j, i), eye_depth, color);
         }
     }
-    batch.flush::<P, FOG>(ctx, rect, color);
+    batch.flush::<P>(ctx, rect, color);
 }
 
 /// The world-space face normal in the triangle's original winding (zero if degenerate).

@@ -1,0 +1,79 @@
+//! The shade program: the per-pixel stages that run after lighting over a batch of
+//! fragments, chosen once per render from what the scene uses. A stage is one variant of
+//! [`Stage`] and one arm of [`Stage::run`]; the batch loop matches once per stage per batch
+//! of [`LANES`](crate::lighting::LANES) pixels, so a scene pays for the stages it has and nothing for the others,
+//! without a const-generic loop body per combination of effects.
+
+use glam::Vec3;
+
+use super::ShadeContext;
+use crate::lighting::Lanes;
+
+/// Lit fragments of one batch (at most [`LANES`](crate::lighting::LANES)), in flight through the program.
+pub(crate) struct Fragments<'a> {
+    /// Linear colour per lane, channel-major.
+    pub color: [Lanes; 3],
+    /// (row, column) in the tile of each live lane; its length is the batch's.
+    pub at: &'a [(usize, usize)],
+    /// Eye depth per lane (computed when a stage or the depth output needs it).
+    pub depth: &'a Lanes,
+    /// The tile's top-left pixel.
+    pub origin: (usize, usize),
+}
+
+/// A per-pixel stage after lighting.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Stage {
+    /// Blend toward the fog colour with the distance from the eye (`crate::effects::fog`).
+    Fog,
+}
+
+impl Stage {
+    #[inline(always)]
+    pub fn run(&self, ctx: &ShadeContext<'_>, f: &mut Fragments<'_>) {
+        match self {
+            Stage::Fog => {
+                let Some(fog) = &ctx.fog else { return };
+                for (k, &(j, i)) in f.at.iter().enumerate() {
+                    let c = Vec3::new(f.color[0][k], f.color[1][k], f.color[2][k]);
+                    let c = fog.apply(c, f.origin.0 + i, f.origin.1 + j, f.depth[k]);
+                    (f.color[0][k], f.color[1][k], f.color[2][k]) = (c.x, c.y, c.z);
+                }
+            }
+        }
+    }
+}
+
+/// The stages a render runs, in order.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Program {
+    stages: Vec<Stage>,
+}
+
+impl Program {
+    /// The stages a scene needs: fog when it has fog.
+    pub fn for_scene(fog: bool) -> Self {
+        let mut stages = Vec::new();
+        if fog {
+            stages.push(Stage::Fog);
+        }
+        Program { stages }
+    }
+}
+
+impl Program {
+    /// Whether a stage reads the fragments' eye depth.
+    pub fn reads_depth(&self) -> bool {
+        self.stages.iter().any(|s| match s {
+            Stage::Fog => true,
+        })
+    }
+}
+
+impl<'a> IntoIterator for &'a Program {
+    type Item = &'a Stage;
+    type IntoIter = std::slice::Iter<'a, Stage>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.stages.iter()
+    }
+}
