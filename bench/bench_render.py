@@ -46,7 +46,7 @@ SPHERE_FILL = 0.95
 MODES = ("flat", "gouraud", "phong")
 THREADS = (1, 2)
 # The stages are whatever ``*_ms`` entries render_frame(...)["stats"] has (they follow
-# StageTimings in crates/raster/src/render.rs); these describe the ones known when this was
+# StageTimings in crates/raster/src/frame.rs); these describe the ones known when this was
 # written.
 STAGE_NOTES = {
     "vertex_ms": "vertex transform; Gouraud lighting",
@@ -376,7 +376,7 @@ def markdown(
         "",
         "Medians of the per-stage wall times the renderer reports in `render_frame(...)"
         '["stats"]`, in ms. The stages are those of `StageTimings` in '
-        "`crates/raster/src/render.rs`:",
+        "`crates/raster/src/frame.rs`:",
         "",
         *[f"- {label(s)}: {STAGE_NOTES.get(s, 'see StageTimings')}" for s in stages],
         "- other: the median of frame time minus the stages above: Python call overhead, "
