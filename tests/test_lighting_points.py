@@ -160,4 +160,8 @@ def test_equation_at_points_matches_reference(
         d = np.linalg.norm(p - np.asarray(EYE), axis=1)
         f = fog.factor(d)[:, None]
         want = f * want + (1 - f) * np.asarray(fog.color)
-    np.testing.assert_allclose(got, want, rtol=3e-4, atol=3e-4)
+    # x^f near x = 1 multiplies the float32 rounding of x (a few ulp, 6e-8 each) by f: with
+    # f = 1e4 a 4-ulp dot product is 2.4e-3 relative (Hypothesis found 1.3e-3 in a Phong
+    # lobe), so the tolerance grows with the exponent beyond the 3e-4 of real materials.
+    tol = 3e-4 + 4 * 6e-8 * float(shininess)
+    np.testing.assert_allclose(got, want, rtol=tol, atol=tol)
