@@ -7,7 +7,7 @@
 //! - the equation itself, written once over [`LANES`] points ([`Surface::terms_lanes`]),
 //!   into a [`Terms`] target: [`Folded`] (one colour) or [`Split`] (ambient, diffuse and
 //!   specular apart); one point is one lane ([`Surface::shade`]);
-//! - the spot factor ([`Cone`]) and the branch-free power (`pow01`).
+//! - the spot factor (`spot::Cone`) and the branch-free power (`pow01`).
 //!
 //! The pipeline calls this room; this room knows nothing of the pipeline.
 

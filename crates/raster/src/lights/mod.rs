@@ -22,7 +22,7 @@ pub enum Light {
     Point(PointLight),
     /// See [`SpotLight`].
     Spot(SpotLight),
-    /// See [`AreaLight`](AreaLight): shaded as its point sources.
+    /// See [`AreaLight`]: shaded as its point sources.
     Area(AreaLight),
 }
 

@@ -96,7 +96,7 @@ fn depth_test(depth: &mut f32, slot_id: &mut u32, z: f32, id: u32) {
 }
 
 /// Depth test and write of one span: `s.len` slots of the tile from `s.start`. Spans of at
-/// least [`LANES`] go a window of [`LANES`] slots at a time through local arrays (a select
+/// least [`LANES`](crate::lighting::LANES) go a window of [`LANES`](crate::lighting::LANES) slots at a time through local arrays (a select
 /// on memory compiles to a branch or a masked store, microcoded and slow on AMD; on locals
 /// it is a SIMD compare and blend); the last window ends at the span's end, overlapping the
 /// one before, which is harmless as testing a pixel against its own depth changes nothing.

@@ -83,7 +83,7 @@ impl<T: Copy + Default> PlaneCache<T> {
 }
 
 /// What flat and Gouraud interpolate, as planes over pixel coordinates: `inv_w` is the
-/// interpolated 1/w (Σ λ_k/w_k), and Gouraud's `color[c]` is Σ λ_k/w_k · colour_k[c], so a
+/// interpolated 1/w (Σ λ_k/w_k), and Gouraud's `color[c]` is Σ λ_k/w_k · colour_k\[c\], so a
 /// pixel's colour is `color / inv_w`: four planes instead of three weights and nine products.
 #[derive(Clone, Copy, Default)]
 pub(super) struct RunPlanes {
