@@ -27,11 +27,17 @@ from ._core import (
     __version__,
     load_obj,
     load_obj_parts,
-    render,
-    render_frame,
 )
-from .demo import data_path, demo_scene, frame_mesh
-from .io import load_mesh, save_image, to_uint8
+from .demo import VIEWS, data_path, demo_scene, frame_mesh, view_direction
+from .io import (
+    file_up_axis,
+    load_mesh,
+    save_depth,
+    save_image,
+    smooth_normals,
+    to_uint8,
+)
+from .rendering import EmptyRenderWarning, render, render_frame, srgb_encode
 from .scene_file import (
     SceneFile,
     SceneFileError,
@@ -48,9 +54,11 @@ __all__ = [
     "MAX_AREA_SAMPLES",
     "MAX_IMAGE_SIZE",
     "MAX_THREADS",
+    "VIEWS",
     "AreaLight",
     "Camera",
     "DirectionalLight",
+    "EmptyRenderWarning",
     "Fog",
     "Material",
     "Mesh",
@@ -64,6 +72,7 @@ __all__ = [
     "__version__",
     "data_path",
     "demo_scene",
+    "file_up_axis",
     "frame_mesh",
     "frame_scene",
     "load_mesh",
@@ -74,9 +83,13 @@ __all__ = [
     "material_sheet",
     "render",
     "render_frame",
+    "save_depth",
     "save_image",
     "save_scene",
     "scene_to_dict",
+    "smooth_normals",
+    "srgb_encode",
     "to_toml",
     "to_uint8",
+    "view_direction",
 ]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -17,28 +18,113 @@ def data_path(name: str) -> Path:
     return _DATA / name
 
 
+#: Named views of :func:`frame_mesh`, each a direction from the model to the camera in the
+#: frame of the up axis (see :func:`view_direction`).
+VIEWS = ("front", "back", "left", "right", "top", "bottom", "iso")
+
+#: The default view: from the front, a little to the right and above (right, up, front).
+DEFAULT_VIEW = (0.55, 0.35, 1.0)
+
+
+def _unit(v: Any, name: str) -> np.ndarray:
+    a = np.asarray(v, dtype=np.float64).reshape(-1)
+    if a.shape != (3,) or not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be three finite numbers, got {v!r}")
+    n = float(np.linalg.norm(a))
+    if n == 0.0:
+        raise ValueError(f"{name} must be non-zero, got {tuple(a.tolist())}")
+    return a / n
+
+
+def view_frame(up: Any = (0.0, 1.0, 0.0)) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The (right, up, front) axes of named views for the up axis ``up``: front is +z for a
+    Y-up world (OpenGL's convention) and -y for a Z-up one (Blender's, CAD's), right is
+    ``up x front``."""
+    u = _unit(up, "up")
+    for c in ((0.0, 0.0, 1.0), (0.0, -1.0, 0.0), (1.0, 0.0, 0.0)):
+        cand = np.asarray(c)
+        if abs(float(cand @ u)) < 0.9:
+            break
+    front = cand - (cand @ u) * u
+    front /= np.linalg.norm(front)
+    return np.cross(u, front), u, front
+
+
+def view_direction(view: Any, up: Any = (0.0, 1.0, 0.0)) -> tuple[np.ndarray, np.ndarray]:
+    """The unit direction from the model to the camera for ``view`` and the camera up
+    vector to use with it. ``view``: a name of :data:`VIEWS` or a direction (x, y, z) in
+    world space. The top and bottom views (and any direction parallel to ``up``) look
+    along the up axis, so their camera up is the model's back (top) or front (bottom):
+    the front of the model is at the bottom of a top view, as in CAD."""
+    right, u, front = view_frame(up)
+    if isinstance(view, str):
+        name = view.lower()
+        table = {
+            "front": front,
+            "back": -front,
+            "right": right,
+            "left": -right,
+            "top": u,
+            "bottom": -u,
+            "iso": right + u + front,
+            "default": DEFAULT_VIEW[0] * right + DEFAULT_VIEW[1] * u + DEFAULT_VIEW[2] * front,
+        }
+        if name not in table:
+            raise ValueError(f"unknown view '{view}'; use one of {', '.join(VIEWS)} or x,y,z")
+        d = table[name] / np.linalg.norm(table[name])
+    else:
+        d = _unit(view, "view direction")
+    along = float(d @ u)
+    cam_up = u if abs(along) < 0.999 else (-front if along > 0 else front)
+    return d, cam_up
+
+
+def _points_of(obj: Any) -> np.ndarray:
+    if isinstance(obj, Mesh):
+        return obj.vertices
+    if isinstance(obj, Scene):
+        b = obj.bounds()
+        if b is None:
+            raise ValueError("cannot frame a scene without objects; give a camera")
+        return np.array(b)
+    if hasattr(obj, "vertices") and not isinstance(obj, np.ndarray):
+        return np.asarray(obj.vertices)
+    if isinstance(obj, tuple) and len(obj) == 2:
+        return np.asarray(obj[0])
+    return np.asarray(obj)
+
+
 def frame_mesh(
-    vertices: np.ndarray,
+    vertices: Any,
     fov_y: float = 35.0,
-    direction: tuple[float, float, float] = (0.55, 0.35, 1.0),
+    direction: Any = None,
+    up: Any = (0.0, 1.0, 0.0),
 ) -> Camera:
-    """A perspective camera that looks at the bounding sphere of ``vertices`` from
-    ``direction`` and fits it in the frame."""
-    v = np.asarray(vertices, dtype=np.float64)
+    """A perspective camera that looks at the bounding sphere of a mesh from ``direction``
+    and fits it in the frame.
+
+    ``vertices``: an (N, 3) array, a :class:`Mesh`, a trimesh, a ``(V, F)`` pair or a
+    :class:`Scene`. ``direction``: from the model to the camera, a view name (see
+    :func:`view_direction`: "front", "top", "iso", ...) or (x, y, z); None is the default
+    view, from the front, a little right and above, for the up axis ``up`` (default +y;
+    ``(0, 0, 1)`` for Z-up models such as STL files). The near/far planes are left to
+    ``render`` to fit to the scene (``near``/``far`` are None)."""
+    v = np.asarray(_points_of(vertices), dtype=np.float64).reshape(-1, 3)
+    if len(v) == 0 or not np.all(np.isfinite(v)):
+        raise ValueError("cannot frame an empty or non-finite set of vertices")
+    if not (0.0 < fov_y < 180.0):
+        raise ValueError(f"fov_y must be in (0, 180) degrees, got {fov_y}")
     lo, hi = v.min(axis=0), v.max(axis=0)
     centre = (lo + hi) / 2
     radius = max(float(np.linalg.norm(hi - lo)) / 2, 1e-6)
-    d = np.asarray(direction, dtype=np.float64)
-    d = d / np.linalg.norm(d)
+    d, cam_up = view_direction("default" if direction is None else direction, up)
     dist = radius / math.sin(math.radians(fov_y) / 2) * 1.05
     eye = centre + d * dist
     return Camera.look_at(
-        eye=tuple(eye),
-        target=tuple(centre),
-        up=(0.0, 1.0, 0.0),
+        eye=tuple(eye.tolist()),
+        target=tuple(centre.tolist()),
+        up=tuple(cam_up.tolist()),
         fov_y=fov_y,
-        near=max(dist - 2 * radius, dist * 1e-3),
-        far=dist + 2 * radius,
     )
 
 

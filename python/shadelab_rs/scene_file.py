@@ -521,19 +521,20 @@ def _camera(v: Any, where: str) -> Camera:
     if eye == target:
         raise SceneFileError("eye and target must be distinct points", where)
     up = _vec3(t.get("up", [0.0, 1.0, 0.0]), _at(where, "up"), nonzero=True)
-    far = _number(t.get("far", 100.0), _at(where, "far"))
+    # near/far left out: fitted to the scene's bounds at render time.
+    far = _number(t["far"], _at(where, "far")) if "far" in t else None
     if kind == "perspective":
         fov = _number(
             t.get("fov_y", 45.0), _at(where, "fov_y"), lo=0, lo_open=True, hi=180, hi_open=True
         )
-        near = _number(t.get("near", 0.1), _at(where, "near"), lo=0, lo_open=True)
-        if not near < far:
-            raise _fail(_at(where, "far"), f"a number > near ({near:g})", t.get("far", 100.0))
+        near = _number(t["near"], _at(where, "near"), lo=0, lo_open=True) if "near" in t else None
+        if near is not None and far is not None and not near < far:
+            raise _fail(_at(where, "far"), f"a number > near ({near:g})", t["far"])
         return _call(where, lambda: Camera.look_at(eye, target, up, fov_y=fov, near=near, far=far))
     height = _number(t.get("height", 2.0), _at(where, "height"), lo=0, lo_open=True)
-    near = _number(t.get("near", 0.1), _at(where, "near"))
-    if not near < far:
-        raise _fail(_at(where, "far"), f"a number > near ({near:g})", t.get("far", 100.0))
+    near = _number(t["near"], _at(where, "near")) if "near" in t else None
+    if near is not None and far is not None and not near < far:
+        raise _fail(_at(where, "far"), f"a number > near ({near:g})", t["far"])
     return _call(
         where, lambda: Camera.orthographic(eye, target, up, height=height, near=near, far=far)
     )
@@ -551,8 +552,11 @@ def camera_to_dict(camera: Camera) -> dict[str, Any]:
         d["fov_y"] = camera.fov_y
     else:
         d["height"] = camera.height
-    d["near"] = camera.near
-    d["far"] = camera.far
+    # Planes left to the renderer to fit (None) are left out, as in a file.
+    if camera.near is not None:
+        d["near"] = camera.near
+    if camera.far is not None:
+        d["far"] = camera.far
     return d
 
 
@@ -794,18 +798,14 @@ class SceneFile:
         return render(self.scene, camera, **{**self.render_options, **overrides})
 
 
-def frame_scene(scene: Scene, fov_y: float = 35.0) -> Camera:
-    """A perspective camera that fits the world-space bounding sphere of every object."""
+def frame_scene(
+    scene: Scene, fov_y: float = 35.0, direction: Any = None, up: Any = (0.0, 1.0, 0.0)
+) -> Camera:
+    """A perspective camera that fits the world-space bounding sphere of every object,
+    from ``direction`` (a view name or x, y, z; see :func:`frame_mesh`) with up axis ``up``."""
     from .demo import frame_mesh
 
-    objects = scene.objects
-    if not objects:
-        raise ValueError("cannot frame a scene without objects; give a camera")
-    pts = [
-        o.mesh.vertices.astype(np.float64) @ o.transform[:3, :3].T + o.transform[:3, 3]
-        for o in objects
-    ]
-    return frame_mesh(np.concatenate(pts), fov_y=fov_y)
+    return frame_mesh(scene, fov_y=fov_y, direction=direction, up=up)
 
 
 def load_scene_dict(d: Any, base_dir: _PathLike | None = None) -> SceneFile:

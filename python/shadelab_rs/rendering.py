@@ -1,0 +1,219 @@
+"""``render`` and ``render_frame``: the compiled renderer plus what a first call needs.
+
+The compiled functions in ``_core`` draw a :class:`Scene` through a :class:`Camera`. These
+wrappers also take a bare mesh (a :class:`Mesh`, trimesh, ``(V, F)`` pair, ...) and no
+camera, add a transparent background (``alpha=True``) and display encoding
+(``encoding="srgb"``), and warn when a render draws nothing because of the camera.
+Near/far planes the camera leaves open and the default light rig are applied by the
+compiled renderer itself (see :meth:`Camera.look_at` and :attr:`Scene.default_lights`).
+"""
+
+from __future__ import annotations
+
+import warnings
+from typing import Any, Literal, TypedDict
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from . import _core
+from ._core import Camera, Scene
+
+Shading = Literal["flat", "gouraud", "phong"]
+Specular = Literal["blinn", "phong", "blinn-normalized"]
+Encoding = Literal["linear", "srgb"]
+
+
+class EmptyRenderWarning(UserWarning):
+    """A render drew no triangle although the scene has some: every triangle is behind
+    the camera, outside its near/far planes or outside the frame (or back-face culled)."""
+
+
+class Frame(TypedDict):
+    """What :func:`render_frame` returns."""
+
+    image: NDArray[Any]
+    depth: NDArray[np.float32] | None
+    stats: dict[str, Any]
+
+
+def _scene_of(scene: Any) -> Scene:
+    if isinstance(scene, Scene):
+        return scene
+    s = Scene()
+    try:
+        s.add(scene)
+    except TypeError as e:
+        raise TypeError(f"scene must be a Scene or a mesh: {e}") from None
+    return s
+
+
+def srgb_encode(linear: ArrayLike) -> NDArray[np.float32]:
+    """The sRGB transfer function (IEC 61966-2-1) of linear values, clamped to [0, 1]
+    first: ``12.92 c`` below 0.0031308, ``1.055 c**(1/2.4) - 0.055`` above."""
+    c = np.clip(np.nan_to_num(np.asarray(linear, dtype=np.float32), nan=0.0), 0.0, 1.0)
+    return np.where(  # type: ignore[no-any-return]
+        c <= 0.0031308, 12.92 * c, 1.055 * np.power(c, 1.0 / 2.4) - 0.055
+    ).astype(np.float32)
+
+
+def _dtype_name(dtype: Any) -> str:
+    if dtype is None:
+        return "uint8"
+    try:
+        name = np.dtype(dtype).name
+    except TypeError:
+        raise TypeError(f"dtype must be 'uint8' or 'float32', got {dtype}") from None
+    if name not in ("uint8", "float32"):
+        raise ValueError(f"dtype must be 'uint8' or 'float32', got '{name}'")
+    return name
+
+
+def render_frame(
+    scene: Any,
+    camera: Camera | None = None,
+    width: int = 800,
+    height: int = 600,
+    shading: Shading = "phong",
+    specular: Specular = "blinn",
+    background: ArrayLike | None = None,
+    dtype: Any = None,
+    return_depth: bool = False,
+    cull_backfaces: bool = False,
+    threads: int | None = None,
+    *,
+    alpha: bool = False,
+    encoding: Encoding = "linear",
+    _stacklevel: int = 2,
+) -> Frame:
+    """Like :func:`render`, returning a dict with "image", "depth" (or None) and "stats".
+
+    Every argument is that of :func:`render`. "stats" holds the triangle counters
+    (``triangles_in``, ``triangles_setup`` (handed to the rasterizer after clipping),
+    ``triangles_clipped``, ``triangles_culled``, ``triangles_dropped``), ``light_sources``
+    (point sources lit per shaded point, the default rig's three included),
+    ``pixels_covered`` (pixels where a triangle was drawn) and per-stage wall times in
+    milliseconds (``vertex_ms``, ``setup_ms``, ``raster_shade_ms``).
+    """
+    s = _scene_of(scene)
+    if camera is None:
+        from .scene_file import frame_scene
+
+        camera = frame_scene(s)
+    if encoding not in ("linear", "srgb"):
+        raise ValueError(f"encoding must be 'linear' or 'srgb', got {encoding!r}")
+    out_dtype = _dtype_name(dtype)
+    core_dtype = "float32" if encoding == "srgb" else dtype
+    frame = _core.render_frame(
+        s,
+        camera,
+        width,
+        height,
+        shading,
+        specular,
+        background,  # type: ignore[arg-type]
+        core_dtype,
+        True,  # the depth gives the coverage (alpha, the empty-render check)
+        cull_backfaces,
+        threads,
+    )
+    depth = frame["depth"]
+    assert depth is not None
+    covered = np.isfinite(depth)
+    n_covered = int(np.count_nonzero(covered))
+    frame["stats"]["pixels_covered"] = n_covered
+    stats = frame["stats"]
+    # Nothing drawn though some triangles survived culling: the camera does not see them.
+    if n_covered == 0 and stats["triangles_culled"] < stats["triangles_in"]:
+        cam = camera.fitted(s)
+        lo, hi = s.bounds() or ((0.0,) * 3, (0.0,) * 3)
+        warnings.warn(
+            f"render drew no triangle: none of the scene's {s.n_triangles} triangles covers "
+            f"a pixel; the camera looks away from the scene or its near/far planes exclude "
+            f"it (eye {_fmt(cam.eye)}, looking at {_fmt(cam.target)}, "
+            f"near {cam.near:g}, far {cam.far:g}; the scene spans {_fmt(lo)} to {_fmt(hi)})",
+            EmptyRenderWarning,
+            stacklevel=_stacklevel,
+        )
+    image = frame["image"]
+    if encoding == "srgb":
+        enc = srgb_encode(image)
+        image = np.floor(enc * 255.0 + 0.5).astype(np.uint8) if out_dtype == "uint8" else enc
+    if alpha:
+        a = covered.astype(image.dtype) * (255 if image.dtype == np.uint8 else 1)
+        image = np.ascontiguousarray(np.concatenate([image, a[:, :, None]], axis=2))
+    return {"image": image, "depth": depth if return_depth else None, "stats": frame["stats"]}
+
+
+def _fmt(v: Any) -> str:
+    return "(" + ", ".join(f"{float(x):.4g}" for x in v) + ")"
+
+
+def render(
+    scene: Any,
+    camera: Camera | None = None,
+    width: int = 800,
+    height: int = 600,
+    shading: Shading = "phong",
+    specular: Specular = "blinn",
+    background: ArrayLike | None = None,
+    dtype: Any = None,
+    return_depth: bool = False,
+    cull_backfaces: bool = False,
+    threads: int | None = None,
+    *,
+    alpha: bool = False,
+    encoding: Encoding = "linear",
+) -> Any:
+    """Renders ``scene`` through ``camera`` into a C-contiguous (height, width, 3) array
+    ((height, width, 4) with ``alpha=True``), or a tuple (image, depth) with
+    ``return_depth=True``. The GIL is released while rendering.
+
+    Parameters:
+
+    - ``scene``: a :class:`Scene`, or anything :meth:`Scene.add` takes (a :class:`Mesh`,
+      ``trimesh.Trimesh`` / ``trimesh.Scene``, ``(vertices, faces)``, PyVista PolyData),
+      drawn in the default material.
+    - ``camera``: a :class:`Camera`; None frames the scene (:func:`frame_scene`). Near/far
+      planes the camera leaves as None are fitted to the scene's bounds for its eye.
+    - ``width``, ``height``: pixels, 1 to ``MAX_IMAGE_SIZE`` (800 x 600).
+    - ``shading``: "flat", "gouraud" or "phong" (default; case-insensitive).
+    - ``specular``: "blinn" (Blinn-Phong, default), "phong" or "blinn-normalized".
+    - ``background``: linear RGB of empty pixels, each in [0, 1] for 8-bit output
+      (default black).
+    - ``dtype``: "uint8" (default, ``round(clamp(c, 0, 1) * 255)``) or "float32" (linear,
+      unclamped unless ``encoding="srgb"``).
+    - ``return_depth``: also return the float32 eye-space depth (distance along the viewing
+      axis, world units), +inf where nothing was drawn.
+    - ``cull_backfaces``: skip triangles facing away from the camera.
+    - ``threads``: worker threads, None for all cores; the image is bit-identical for any.
+    - ``alpha``: add an alpha channel: opaque (255 or 1.0) where a triangle was drawn,
+      0 elsewhere (the colour there is ``background``, straight alpha).
+    - ``encoding``: "linear" (default): the shading's linear values, as OpenGL's classic
+      pipeline writes them. "srgb": encoded for display with the sRGB transfer function
+      (:func:`srgb_encode`), which brightens mid-tones the way viewers expect for an
+      image file; use it for pictures to look at, linear for measurements.
+
+    Lights: a scene without lights is lit by a rig that moves with the camera (see
+    :attr:`Scene.default_lights`). A render that draws no triangle although the scene has
+    some emits an :class:`EmptyRenderWarning` saying where the camera and the scene are.
+    """
+    f = render_frame(
+        scene,
+        camera,
+        width,
+        height,
+        shading,
+        specular,
+        background,
+        dtype,
+        return_depth,
+        cull_backfaces,
+        threads,
+        alpha=alpha,
+        encoding=encoding,
+        _stacklevel=3,
+    )
+    if return_depth:
+        return f["image"], f["depth"]
+    return f["image"]
