@@ -205,3 +205,180 @@ def test_scene_lists_are_read_only_and_the_scene_is_mutable():
     assert (scene.n_objects, scene.n_lights) == (0, 0)
     with pytest.raises(IndexError, match="out of range"):
         scene.remove_object(0)
+
+
+# ---- 6. Outputs ------------------------------------------------------------------------
+
+
+def test_alpha_is_the_coverage_and_srgb_encodes():
+    mesh = sl.Mesh.ico_sphere(2)
+    cam = sl.frame_mesh(mesh)
+    rgba, depth = sl.render(mesh, cam, 48, 40, alpha=True, return_depth=True)
+    assert rgba.shape == (40, 48, 4) and rgba.dtype == np.uint8
+    np.testing.assert_array_equal(rgba[..., 3] == 255, np.isfinite(depth))
+    assert set(np.unique(rgba[..., 3])) == {0, 255}
+    f = sl.render(mesh, cam, 48, 40, dtype="float32", alpha=True)
+    assert f.dtype == np.float32 and set(np.unique(f[..., 3])) == {0.0, 1.0}
+    lin = sl.render(mesh, cam, 48, 40, dtype="float32")
+    srgb = sl.render(mesh, cam, 48, 40, encoding="srgb")
+    np.testing.assert_array_equal(srgb, np.floor(sl.srgb_encode(lin) * 255 + 0.5))
+    assert srgb.mean() > sl.render(mesh, cam, 48, 40).mean()  # mid-tones brighten
+    assert sl.srgb_encode([0.0, 0.0031308, 1.0]) == pytest.approx([0.0, 0.04045, 1.0], abs=1e-5)
+    with pytest.raises(ValueError, match="encoding"):
+        sl.render(mesh, cam, 8, 8, encoding="gamma")  # type: ignore[arg-type]
+
+
+def test_save_image_every_kind(tmp_path):
+    from PIL import Image
+
+    rng = np.random.default_rng(1)
+    grey = rng.integers(0, 256, (5, 7), dtype=np.uint8)
+    rgba = rng.integers(0, 256, (5, 7, 4), dtype=np.uint8)
+    u16 = rng.integers(0, 65536, (5, 7, 3), dtype=np.uint16)
+    f32 = rng.random((5, 7)).astype(np.float32)
+    for name, a in (("g.png", grey), ("a.png", rgba), ("g16.png", u16[..., 0])):
+        sl.save_image(a, tmp_path / name)
+        with Image.open(tmp_path / name) as im:
+            np.testing.assert_array_equal(np.asarray(im), a)
+    sl.save_image(u16, tmp_path / "c16.png")  # 48-bit PNG: Pillow reads it as 8-bit only
+    assert (tmp_path / "c16.png").read_bytes()[24:26] == bytes([16, 2])  # depth 16, RGB
+    sl.save_image(f32, tmp_path / "f.tif")
+    with Image.open(tmp_path / "f.tif") as im:
+        assert im.mode == "F"
+        np.testing.assert_array_equal(np.asarray(im), f32)
+    sl.save_image(u16, tmp_path / "x.npy")
+    np.testing.assert_array_equal(np.load(tmp_path / "x.npy"), u16)
+    with pytest.raises(ValueError, match="float colour"):
+        sl.save_image(rng.random((5, 7, 3)).astype(np.float32), tmp_path / "c.tif")
+    with pytest.raises(ValueError, match="uint16"):
+        sl.save_image(u16, tmp_path / "c.jpg")
+
+
+def test_save_depth_states_its_scale(tmp_path):
+    from PIL import Image
+
+    mesh = sl.Mesh.ico_sphere(2)
+    _, depth = sl.render(mesh, sl.frame_mesh(mesh), 32, 32, return_depth=True)
+    sl.save_depth(depth, tmp_path / "d.png")
+    with Image.open(tmp_path / "d.png") as im:
+        assert im.info["depth_scale"] == "1000.0"
+        q = np.asarray(im).astype(np.int64)
+    drawn = np.isfinite(depth)
+    np.testing.assert_array_equal(q == 0, ~drawn)
+    assert np.abs(q[drawn] - depth[drawn] * 1000).max() <= 0.5
+    with pytest.raises(ValueError, match="scale <="):
+        sl.save_depth(depth, tmp_path / "d.png", scale=1e6)
+    sl.save_depth(depth, tmp_path / "d.tif")
+    with Image.open(tmp_path / "d.tif") as im:
+        np.testing.assert_array_equal(np.asarray(im), depth)
+
+
+# ---- 7. The command line ------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--background", "128,128,128"], "divide by 255"),
+        (["--background=-1,0,0"], "[0, 1]"),
+        (["--view", "0,0,0"], "--view direction must be finite and non-zero"),
+        (["--up", "0,0,0"], "--up direction"),
+    ],
+)
+def test_cli_rejects_values_it_used_to_accept(tmp_path, args, message, capsys):
+    from shadelab_rs import cli
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no NumPy RuntimeWarning leaks
+        code = cli.main(["render", str(CUBE), "-o", str(tmp_path / "x.png"), *args])
+    err = capsys.readouterr().err
+    assert code == 1 and err.startswith("shadelab: error: ") and message in err
+
+
+def test_cli_eye_far_away_draws_and_up_target_are_honoured(tmp_path, capsys):
+    from PIL import Image
+    from shadelab_rs import cli
+
+    def run(*args: str, model=SPOT) -> np.ndarray:
+        out = tmp_path / "o.png"
+        assert cli.main(["render", str(model), "-o", str(out), "--size", "48x36", *args]) == 0
+        with Image.open(out) as im:
+            return np.asarray(im)
+
+    far = run("--eye", "15,15,30", model=CUBE)  # was all black: the framing camera's far plane
+    assert far.max() > 0
+    ups = [run("--up", u) for u in ("0,1,0", "1,0,0", "0,0,1")]
+    assert not np.array_equal(ups[0], ups[1]) and not np.array_equal(ups[0], ups[2])
+    assert not np.array_equal(run("--target", "0.5,0,0"), run())
+    assert run("--view", "top").max() > 0
+    assert run("--two-sided").max() > 0
+    assert "warning" not in capsys.readouterr().err
+
+
+def test_cli_warns_on_stderr_and_writes_png_to_stdout(tmp_path):
+    import subprocess
+    import sys
+
+    r = subprocess.run(
+        [sys.executable, "-m", "shadelab_rs", "render", str(CUBE), "-o", "-", "--size", "8x6"],
+        capture_output=True,
+        check=True,
+    )
+    assert r.stdout.startswith(b"\x89PNG") and b"wrote -" in r.stderr
+    out = str(tmp_path / "x.png")
+    away = ["--size", "8x6", "--eye", "0,0,5", "--target", "0,0,10"]
+    r = subprocess.run(
+        [sys.executable, "-m", "shadelab_rs", "render", str(CUBE), "-o", out, *away],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert "shadelab: warning: render drew no triangle" in r.stderr
+
+
+# ---- 8. Docs at run time and strict mode names ---------------------------------------------
+
+
+@pytest.mark.parametrize("fn", [sl.render, sl.render_frame])
+def test_runtime_docstrings_name_every_option(fn):
+    import inspect
+
+    doc = inspect.getdoc(fn) or ""
+    params = inspect.signature(fn).parameters
+    missing = [p for p in params if not p.startswith("_") and f"``{p}``" not in doc]
+    if fn is sl.render_frame:  # it refers to render for the arguments
+        assert "render" in doc and "stats" in doc
+        missing = [p for p in missing if f"``{p}``" not in (inspect.getdoc(sl.render) or "")]
+    assert not missing
+
+
+def test_mypy_rejects_an_unknown_shading_name(tmp_path):
+    api = pytest.importorskip("mypy.api")
+    src = tmp_path / "user.py"
+    src.write_text(
+        "import shadelab_rs as sl\n"
+        "s = sl.Scene()\n"
+        "c = sl.Camera.look_at((0, 0, 3), (0, 0, 0))\n"
+        "sl.render(s, c, shading='toon')\n"
+        "sl.render(s, c, shading='phong')\n"
+    )
+    out, _, status = api.run([str(src), "--no-incremental", "--follow-imports=silent"])
+    assert status == 1 and "user.py:4:" in out and "user.py:5:" not in out
+
+
+# ---- Every bundled mesh from six views ---------------------------------------------------
+
+
+@pytest.mark.parametrize("path", sorted(sl.data_path("").rglob("*.obj")), ids=lambda p: p.name)
+@pytest.mark.parametrize("view", ["front", "back", "left", "right", "top", "bottom"])
+def test_bundled_meshes_look_right_by_default(path, view):
+    """Defaults only (framing, fitted planes, light rig): the object is lit (mean above
+    60/255 over its pixels) and whole (its silhouette touches no image border)."""
+    scene = sl.Scene()
+    scene.add_obj(path, material="gold")
+    img, depth = sl.render(scene, sl.frame_scene(scene, direction=view), 80, 64, return_depth=True)
+    mean, covered = _object_stats(img, depth)
+    assert covered.mean() > 0.05 and mean > 60
+    assert not (
+        covered[0].any() or covered[-1].any() or covered[:, 0].any() or covered[:, -1].any()
+    )
