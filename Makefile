@@ -88,7 +88,7 @@ docs-images: build  ## render the guides' images -> docs/lighting/*.png, docs/fi
 
 # manylinux2014 (glibc 2.17: Ubuntu 18.04+, RHEL 7+) through zig as the linker, from the
 # ziglang package on PyPI: no Docker. Without --zig the wheel would need this machine's glibc.
-WHEEL_TAG := manylinux_2_17_x86_64.manylinux2014_x86_64
+WHEEL_TAG := manylinux2014_x86_64.manylinux_2_17_x86_64
 
 wheel: $(DEPS)  ## build a release manylinux2014 abi3 wheel into dist/
 	$(PY) -m pip install -q "ziglang<0.14"
