@@ -134,7 +134,6 @@ STATS_COUNTERS = {
     "triangles_culled",
     "triangles_dropped",
     "light_sources",
-    "pixels_covered",
 }
 STATS_TIMINGS = {"vertex_ms", "setup_ms", "raster_shade_ms"}
 

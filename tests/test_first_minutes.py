@@ -382,3 +382,62 @@ def test_bundled_meshes_look_right_by_default(path, view):
     assert not (
         covered[0].any() or covered[-1].any() or covered[:, 0].any() or covered[:, -1].any()
     )
+
+
+# ---- Scene files and Z-up files on the command line ---------------------------------------
+
+SCENE = {
+    "version": 1,
+    "camera": {"eye": [0.5, 0.4, 3.0], "target": [0, 0, 0]},
+    "render": {"width": 40, "height": 30},
+    "objects": [{"mesh": {"primitive": "sphere"}, "material": "gold"}],
+}
+
+
+def _cli_png(args: list[str], out) -> np.ndarray:
+    from PIL import Image
+    from shadelab_rs import cli
+
+    assert cli.main(["render", *args, "-o", str(out)]) == 0
+    with Image.open(out) as im:
+        return np.asarray(im).astype(int)
+
+
+def test_scene_file_without_lights_is_lit_and_can_be_orbited_and_relit(tmp_path):
+    """A scene file without lights rendered a black silhouette; --eye, --view and --light
+    were refused for scene files."""
+    path = tmp_path / "s.toml"
+    path.write_text(sl.to_toml(SCENE))
+    sf = sl.load_scene(path)
+    assert sf.camera.near is None and sf.camera.far is None  # fitted when left out
+    def lit(img: np.ndarray) -> float:  # mean over the object's pixels
+        return float(img[img.max(axis=2) > 0].mean())
+
+    base = _cli_png([str(path)], tmp_path / "a.png")
+    assert lit(base) > 60
+    orbit = _cli_png([str(path), "--eye", "0,3,0.5"], tmp_path / "b.png")
+    top = _cli_png([str(path), "--view", "top"], tmp_path / "c.png")
+    relit = _cli_png([str(path), "--light=0,0,1"], tmp_path / "d.png")  # from behind
+    for other in (orbit, relit):
+        assert not np.array_equal(other, base)
+    assert lit(top) > 60 and relit.mean() < base.mean()
+
+
+def test_stl_is_framed_z_up_on_the_command_line(tmp_path):
+    """A tall box along z saved as STL stands upright in the default CLI picture."""
+    path = tmp_path / "tower.stl"
+    trimesh.creation.box(extents=(1, 1, 4)).export(path)
+    img = _cli_png([str(path), "--size", "64x64", "--view", "front"], tmp_path / "t.png")
+    rows, cols = np.nonzero(img.max(axis=2) > 0)
+    assert np.ptp(rows) > 2 * np.ptp(cols)
+
+
+def test_exr_without_openexr_says_what_to_install(tmp_path):
+    try:
+        import OpenEXR  # noqa: F401
+    except ImportError:
+        with pytest.raises(ImportError, match="pip install OpenEXR"):
+            sl.save_image(np.zeros((2, 2, 3), np.float32), tmp_path / "x.exr")
+    else:
+        sl.save_image(np.zeros((2, 2, 3), np.float32), tmp_path / "x.exr")
+        assert (tmp_path / "x.exr").stat().st_size > 0

@@ -25,8 +25,8 @@ Encoding = Literal["linear", "srgb"]
 
 
 class EmptyRenderWarning(UserWarning):
-    """A render drew no triangle although the scene has some: every triangle is behind
-    the camera, outside its near/far planes or outside the frame (or back-face culled)."""
+    """A render drew no triangle although the scene has some that back-face culling kept:
+    every one is behind the camera, beyond its near/far planes or outside the frame."""
 
 
 class Frame(TypedDict):
@@ -92,7 +92,7 @@ def render_frame(
     (``triangles_in``, ``triangles_setup`` (handed to the rasterizer after clipping),
     ``triangles_clipped``, ``triangles_culled``, ``triangles_dropped``), ``light_sources``
     (point sources lit per shaded point, the default rig's three included),
-    ``pixels_covered`` (pixels where a triangle was drawn) and per-stage wall times in
+    and per-stage wall times in
     milliseconds (``vertex_ms``, ``setup_ms``, ``raster_shade_ms``).
     """
     s = _scene_of(scene)
@@ -104,6 +104,7 @@ def render_frame(
         raise ValueError(f"encoding must be 'linear' or 'srgb', got {encoding!r}")
     out_dtype = _dtype_name(dtype)
     core_dtype = "float32" if encoding == "srgb" else dtype
+    # The depth is the coverage: fetched only when alpha needs it (it costs a copy).
     frame = _core.render_frame(
         s,
         camera,
@@ -113,24 +114,20 @@ def render_frame(
         specular,
         background,  # type: ignore[arg-type]
         core_dtype,
-        True,  # the depth gives the coverage (alpha, the empty-render check)
+        return_depth or alpha,
         cull_backfaces,
         threads,
     )
-    depth = frame["depth"]
-    assert depth is not None
-    covered = np.isfinite(depth)
-    n_covered = int(np.count_nonzero(covered))
-    frame["stats"]["pixels_covered"] = n_covered
     stats = frame["stats"]
-    # Nothing drawn though some triangles survived culling: the camera does not see them.
-    if n_covered == 0 and stats["triangles_culled"] < stats["triangles_in"]:
+    # No triangle reached the rasterizer though some survived culling: every one was
+    # behind the eye, beyond the near/far planes or outside the frame.
+    if stats["triangles_setup"] == 0 and stats["triangles_culled"] < stats["triangles_in"]:
         cam = camera.fitted(s)
         lo, hi = s.bounds() or ((0.0,) * 3, (0.0,) * 3)
         warnings.warn(
-            f"render drew no triangle: none of the scene's {s.n_triangles} triangles covers "
-            f"a pixel; the camera looks away from the scene or its near/far planes exclude "
-            f"it (eye {_fmt(cam.eye)}, looking at {_fmt(cam.target)}, "
+            f"render drew no triangle: all {s.n_triangles} triangles of the scene are "
+            f"outside the camera's view (behind the eye, beyond the near/far planes or "
+            f"outside the frame; eye {_fmt(cam.eye)}, looking at {_fmt(cam.target)}, "
             f"near {cam.near:g}, far {cam.far:g}; the scene spans {_fmt(lo)} to {_fmt(hi)})",
             EmptyRenderWarning,
             stacklevel=_stacklevel,
@@ -139,10 +136,13 @@ def render_frame(
     if encoding == "srgb":
         enc = srgb_encode(image)
         image = np.floor(enc * 255.0 + 0.5).astype(np.uint8) if out_dtype == "uint8" else enc
+    depth = frame["depth"]
     if alpha:
+        assert depth is not None
+        covered = np.isfinite(depth)
         a = covered.astype(image.dtype) * (255 if image.dtype == np.uint8 else 1)
         image = np.ascontiguousarray(np.concatenate([image, a[:, :, None]], axis=2))
-    return {"image": image, "depth": depth if return_depth else None, "stats": frame["stats"]}
+    return {"image": image, "depth": depth if return_depth else None, "stats": stats}
 
 
 def _fmt(v: Any) -> str:
