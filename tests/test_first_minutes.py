@@ -410,6 +410,7 @@ def test_scene_file_without_lights_is_lit_and_can_be_orbited_and_relit(tmp_path)
     path.write_text(sl.to_toml(SCENE))
     sf = sl.load_scene(path)
     assert sf.camera.near is None and sf.camera.far is None  # fitted when left out
+
     def lit(img: np.ndarray) -> float:  # mean over the object's pixels
         return float(img[img.max(axis=2) > 0].mean())
 
@@ -441,3 +442,24 @@ def test_exr_without_openexr_says_what_to_install(tmp_path):
     else:
         sl.save_image(np.zeros((2, 2, 3), np.float32), tmp_path / "x.exr")
         assert (tmp_path / "x.exr").stat().st_size > 0
+
+
+def test_scene_file_reports_every_error_at_once(tmp_path):
+    doc = {
+        "version": 1,
+        "ambient": [2, -1],
+        "camera": {"eye": [0, 0, 3], "target": [0, 0, 3]},
+        "lights": [{"type": "directional", "direction": [0, 0, 0]}, {"type": "laser"}],
+        "objects": [{"mesh": {"primitive": "sphere"}, "material": "unobtainium"}],
+    }
+    path = tmp_path / "bad.toml"
+    path.write_text(sl.to_toml(doc))
+    with pytest.raises(sl.SceneFileError) as info:
+        sl.load_scene(path)
+    e = info.value
+    keys = [e.key] + [m.key for m in e.more]
+    assert keys[0] == "ambient" and len(keys) == 5
+    assert {"camera", "lights[0].direction", "lights[1].type"} <= set(keys)
+    assert any(k.startswith("objects[0]") for k in keys)
+    lines = str(e).splitlines()
+    assert len(lines) == 5 and all(line.startswith(f"{path}: ") for line in lines)

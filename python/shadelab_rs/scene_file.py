@@ -57,12 +57,21 @@ class SceneFileError(ValueError):
     offending value (``"lights[2].cutoff"``, ``""`` for the whole document) and ``path`` the
     scene file (None for a dict); the message starts with both."""
 
-    def __init__(self, message: str, key: str = "", path: str | None = None) -> None:
+    def __init__(
+        self,
+        message: str,
+        key: str = "",
+        path: str | None = None,
+        more: list[SceneFileError] | None = None,
+    ) -> None:
         self.key = key
         self.path = path
         self.detail = message
+        #: The document's other errors (each with its own key), reported on their own
+        #: lines after this one: a file's mistakes are all shown at once.
+        self.more = [SceneFileError(e.detail, e.key, path) for e in more or []]
         prefix = "".join(f"{p}: " for p in (path, key) if p)
-        super().__init__(prefix + message)
+        super().__init__("\n".join([prefix + message, *(str(e) for e in self.more)]))
 
 
 # ---------------------------------------------------------------------------------------
@@ -825,25 +834,48 @@ def load_scene_dict(d: Any, base_dir: _PathLike | None = None) -> SceneFile:
     ):
         raise _fail("version", f"{SCHEMA_VERSION} (the schema version this release reads)", version)
     t = _table(d, "", ("version",), _TOP_KEYS)
-    ambient = _color(t["ambient"], "ambient") if "ambient" in t else None
+    # Every section is checked even after an error, so that all are reported at once.
+    errors: list[SceneFileError] = []
+
+    def checked(fn: Any, default: Any = None) -> Any:
+        try:
+            return fn()
+        except SceneFileError as e:
+            errors.append(e)
+            return default
+
+    ambient = checked(lambda: _color(t["ambient"], "ambient")) if "ambient" in t else None
     scene = Scene(
         ambient=ambient,
-        fog=_fog(t["fog"], "fog") if "fog" in t else None,
-        two_sided=_boolean(t.get("two_sided", False), "two_sided"),
-        local_viewer=_boolean(t.get("local_viewer", True), "local_viewer"),
+        fog=checked(lambda: _fog(t["fog"], "fog")) if "fog" in t else None,
+        two_sided=checked(lambda: _boolean(t.get("two_sided", False), "two_sided"), False),
+        local_viewer=checked(lambda: _boolean(t.get("local_viewer", True), "local_viewer"), True),
     )
-    camera = _camera(t["camera"], "camera") if "camera" in t else None
-    render_options = _render_options(t["render"], "render") if "render" in t else {}
-    named = _named_materials(t["materials"], "materials") if "materials" in t else {}
+    camera = checked(lambda: _camera(t["camera"], "camera")) if "camera" in t else None
+    render_options = (
+        checked(lambda: _render_options(t["render"], "render"), {}) if "render" in t else {}
+    )
+    named = (
+        checked(lambda: _named_materials(t["materials"], "materials"), {})
+        if "materials" in t
+        else {}
+    )
     for key in ("lights", "objects"):
         items = t.get(key, [])
         if not isinstance(items, list):
-            raise _fail(key, "an array of tables", items)
+            errors.append(_fail(key, "an array of tables", items))
+            continue
         for i, item in enumerate(items):
             if key == "lights":
-                scene.add_light(_light(item, _at(key, i)))
+                light = checked(lambda: _light(item, _at(key, i)))  # noqa: B023
+                if light is not None:
+                    scene.add_light(light)
             else:
-                _add_object(scene, item, _at(key, i), named, base)
+                checked(lambda: _add_object(scene, item, _at(key, i), named, base))  # noqa: B023
+    if errors:
+        raise SceneFileError(errors[0].detail, errors[0].key, more=errors[1:]) from errors[
+            0
+        ].__cause__
     return SceneFile(scene, camera, render_options)
 
 
@@ -864,7 +896,7 @@ def load_scene(path: _PathLike) -> SceneFile:
     try:
         sf = load_scene_dict(doc, base_dir=p.resolve().parent)
     except SceneFileError as e:
-        raise SceneFileError(e.detail, e.key, str(p)) from e.__cause__
+        raise SceneFileError(e.detail, e.key, str(p), e.more) from e.__cause__
     sf.path = p
     return sf
 
