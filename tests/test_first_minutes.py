@@ -463,3 +463,26 @@ def test_scene_file_reports_every_error_at_once(tmp_path):
     assert any(k.startswith("objects[0]") for k in keys)
     lines = str(e).splitlines()
     assert len(lines) == 5 and all(line.startswith(f"{path}: ") for line in lines)
+
+
+def test_orbit_moves_the_eye_around_the_target():
+    cam = sl.Camera.look_at((0, 0, 5), (0, 0, 0), fov_y=40)
+    right = sl.orbit(cam, azimuth=90)
+    np.testing.assert_allclose(right.eye, (5, 0, 0), atol=1e-12)
+    assert (right.fov_y, right.near, right.far) == (40, None, None)
+    np.testing.assert_allclose(sl.orbit(cam, azimuth=360).eye, cam.eye, atol=1e-12)
+    above = sl.orbit(cam, elevation=90)  # over the pole: a top view, never an error
+    np.testing.assert_allclose(above.eye, (0, 5, 0), atol=1e-12)
+    ortho = sl.Camera.orthographic((0, 0, 5), (0, 0, 0), height=3, near=1, far=9)
+    o = sl.orbit(ortho, azimuth=-90, elevation=30)
+    assert (o.kind, o.height, o.near, o.far) == ("orthographic", 3, 1, 9)
+    np.testing.assert_allclose(np.linalg.norm(o.eye), 5)
+    assert o.eye[0] < 0 and o.eye[1] == pytest.approx(2.5)
+
+
+def test_glb_is_loaded_y_up(tmp_path):
+    path = tmp_path / "box.glb"
+    trimesh.creation.box(extents=(1, 2, 3)).export(path)
+    mesh = sl.load_mesh(path)
+    assert mesh.n_faces == 12 and sl.file_up_axis(path) == (0, 1, 0)
+    np.testing.assert_allclose(np.ptp(mesh.vertices, axis=0), (1, 2, 3), atol=1e-6)

@@ -28,7 +28,7 @@ from ._core import (
     load_obj,
     load_obj_parts,
 )
-from .demo import VIEWS, data_path, demo_scene, frame_mesh, view_direction
+from .demo import VIEWS, data_path, demo_scene, frame_mesh, orbit, view_direction
 from .io import (
     file_up_axis,
     load_mesh,
@@ -81,6 +81,7 @@ __all__ = [
     "load_scene",
     "load_scene_dict",
     "material_sheet",
+    "orbit",
     "render",
     "render_frame",
     "save_depth",

@@ -128,6 +128,38 @@ def frame_mesh(
     )
 
 
+def _rotate(v: np.ndarray, axis: np.ndarray, degrees: float) -> np.ndarray:
+    """``v`` rotated about the unit ``axis`` by ``degrees`` (right-handed; Rodrigues)."""
+    a = math.radians(degrees)
+    return (
+        v * math.cos(a)
+        + np.cross(axis, v) * math.sin(a)
+        + axis * float(axis @ v) * (1 - math.cos(a))
+    )
+
+
+def orbit(camera: Camera, azimuth: float = 0.0, elevation: float = 0.0, up: Any = None) -> Camera:
+    """``camera`` moved around its target at the same distance: ``azimuth`` degrees about
+    the up axis (positive: to the camera's right) and then ``elevation`` degrees up towards
+    it (negative: down). ``up`` defaults to the camera's own; the projection, field of view
+    or height and the near/far planes (None stays None: fitted) are kept. Passing over the
+    pole is allowed: the camera up then follows :func:`view_direction`'s rule."""
+    u = _unit(camera.up if up is None else up, "up")
+    target = np.asarray(camera.target, dtype=np.float64)
+    d = np.asarray(camera.eye, dtype=np.float64) - target
+    d = _rotate(d, u, azimuth)
+    side = np.cross(d, u)
+    if np.linalg.norm(side) > 1e-12 * np.linalg.norm(d):
+        d = _rotate(d, side / np.linalg.norm(side), elevation)
+    _, cam_up = view_direction(tuple(d.tolist()), u)
+    eye = tuple((target + d).tolist())
+    t, cu = tuple(target.tolist()), tuple(cam_up.tolist())
+    if camera.fov_y is not None:
+        return Camera.look_at(eye, t, cu, fov_y=camera.fov_y, near=camera.near, far=camera.far)
+    assert camera.height is not None
+    return Camera.orthographic(eye, t, cu, height=camera.height, near=camera.near, far=camera.far)
+
+
 def _translate_rotate_y(x: float, z: float, degrees: float) -> np.ndarray:
     c, s = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
     return np.array(
