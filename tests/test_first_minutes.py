@@ -486,3 +486,52 @@ def test_glb_is_loaded_y_up(tmp_path):
     mesh = sl.load_mesh(path)
     assert mesh.n_faces == 12 and sl.file_up_axis(path) == (0, 1, 0)
     np.testing.assert_allclose(np.ptp(mesh.vertices, axis=0), (1, 2, 3), atol=1e-6)
+
+
+def test_intrinsics_and_view_matrix_round_trip():
+    cam = sl.Camera.look_at((1, 2, 5), (0, 0.5, 0), up=(0, 1, 0), fov_y=50)
+    K = sl.intrinsics(cam, 640, 480)
+    assert K[0, 2] == 320 and K[1, 2] == 240 and K[0, 0] == K[1, 1]
+    back = sl.camera_from_intrinsics(K, 640, 480, cam.eye, cam.target)
+    assert back.fov_y == pytest.approx(50)
+    # A small sphere off-centre is drawn where K projects its centre (to half a pixel).
+    centre = np.array([0.8, 1.1, 0.3])
+    scene = sl.Scene()
+    scene.add(sl.Mesh.ico_sphere(3), transform=np.diag([0.05, 0.05, 0.05, 1.0]))
+    scene.set_transform(0, np.block([[np.eye(3) * 0.05, centre[:, None]], [np.zeros((1, 3)), 1]]))
+    _, depth = sl.render(scene, cam, 640, 480, return_depth=True)
+    rows, cols = np.nonzero(np.isfinite(depth))
+    x_eye = (cam.view_matrix() @ np.append(centre, 1.0))[:3]
+    u = K @ np.array([x_eye[0], -x_eye[1], -x_eye[2]])
+    assert cols.mean() + 0.5 == pytest.approx(u[0] / u[2], abs=0.5)
+    assert rows.mean() + 0.5 == pytest.approx(u[1] / u[2], abs=0.5)
+    again = sl.camera_from_matrix(cam.view_matrix(), fov_y=50)
+    np.testing.assert_allclose(again.view_matrix(), cam.view_matrix(), atol=1e-12)
+    with pytest.raises(ValueError, match="principal point"):
+        sl.camera_from_intrinsics(
+            [[500, 0, 300], [0, 500, 240], [0, 0, 1]], 640, 480, (0, 0, 5), (0, 0, 0)
+        )
+    with pytest.raises(ValueError, match="skew"):
+        sl.camera_from_intrinsics(
+            [[500, 3, 320], [0, 500, 240], [0, 0, 1]], 640, 480, (0, 0, 5), (0, 0, 0)
+        )
+    with pytest.raises(ValueError, match="rigid"):
+        sl.camera_from_matrix(np.diag([2.0, 1, 1, 1]))
+
+
+def test_pyvista_polydata_is_accepted_when_present():
+    """PyVista is optional; an object shaped like its PolyData goes the same way."""
+
+    class PolyData:
+        points = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
+        faces = np.array([4, 0, 1, 2, 3])
+
+        def triangulate(self):
+            tri = PolyData()
+            tri.faces = np.array([3, 0, 1, 2, 3, 0, 2, 3])
+            return tri
+
+    PolyData.__module__ = "pyvista.core.pointset"
+    scene = sl.Scene()
+    assert scene.add(PolyData()) == 1
+    assert scene.objects[0].mesh.n_faces == 2

@@ -28,7 +28,17 @@ from ._core import (
     load_obj,
     load_obj_parts,
 )
-from .demo import VIEWS, data_path, demo_scene, frame_mesh, orbit, view_direction
+from .demo import (
+    VIEWS,
+    camera_from_intrinsics,
+    camera_from_matrix,
+    data_path,
+    demo_scene,
+    frame_mesh,
+    intrinsics,
+    orbit,
+    view_direction,
+)
 from .io import (
     file_up_axis,
     load_mesh,
@@ -70,11 +80,14 @@ __all__ = [
     "SceneObject",
     "SpotLight",
     "__version__",
+    "camera_from_intrinsics",
+    "camera_from_matrix",
     "data_path",
     "demo_scene",
     "file_up_axis",
     "frame_mesh",
     "frame_scene",
+    "intrinsics",
     "load_mesh",
     "load_obj",
     "load_obj_parts",

@@ -160,6 +160,84 @@ def orbit(camera: Camera, azimuth: float = 0.0, elevation: float = 0.0, up: Any 
     return Camera.orthographic(eye, t, cu, height=camera.height, near=camera.near, far=camera.far)
 
 
+def intrinsics(camera: Camera, width: int, height: int) -> np.ndarray:
+    """The 3x3 pinhole matrix K of a perspective ``camera`` rendering ``width`` x
+    ``height`` pixels, in the computer-vision convention (x right, y down, pixel centres at
+    half-integers): ``[[f, 0, width/2], [0, f, height/2], [0, 0, 1]]`` with
+    ``f = height / (2 tan(fov_y / 2))``; pixels are square and there is no skew."""
+    if camera.fov_y is None:
+        raise ValueError("an orthographic camera has no pinhole intrinsics")
+    if not (width >= 1 and height >= 1):
+        raise ValueError(f"width and height must be >= 1, got {width}x{height}")
+    f = height / (2.0 * math.tan(math.radians(camera.fov_y) / 2.0))
+    return np.array([[f, 0.0, width / 2.0], [0.0, f, height / 2.0], [0.0, 0.0, 1.0]])
+
+
+def camera_from_intrinsics(
+    K: Any,
+    width: int,
+    height: int,
+    eye: Any,
+    target: Any,
+    up: Any = (0.0, 1.0, 0.0),
+    near: float | None = None,
+    far: float | None = None,
+) -> Camera:
+    """A perspective camera from a 3x3 pinhole matrix ``K`` (fx, fy, cx, cy, skew) for a
+    ``width`` x ``height`` image. The renderer's projection is a symmetric frustum with
+    square pixels, so ``K`` must have ``fx == fy``, the principal point at the image
+    centre and no skew (to 1e-6 relative); anything else is a ``ValueError`` naming the
+    value, never an approximation."""
+    k = np.asarray(K, dtype=np.float64)
+    if k.shape != (3, 3) or not np.all(np.isfinite(k)):
+        raise ValueError(f"K must be a finite 3x3 matrix, got shape {k.shape}")
+    fx, fy, cx, cy, skew = k[0, 0], k[1, 1], k[0, 2], k[1, 2], k[0, 1]
+    tol = 1e-6 * max(abs(fx), abs(fy), width, height)
+    problems = []
+    if not fx > 0 or abs(fx - fy) > tol:
+        problems.append(f"fx == fy > 0 (square pixels), got fx={fx:g}, fy={fy:g}")
+    if abs(cx - width / 2) > tol or abs(cy - height / 2) > tol:
+        problems.append(
+            f"the principal point at the image centre ({width / 2:g}, {height / 2:g}), "
+            f"got ({cx:g}, {cy:g})"
+        )
+    if abs(skew) > tol:
+        problems.append(f"no skew, got {skew:g}")
+    if problems:
+        raise ValueError("K is not supported: the renderer needs " + "; ".join(problems))
+    fov_y = math.degrees(2.0 * math.atan(height / (2.0 * fy)))
+    return Camera.look_at(eye, target, up, fov_y=fov_y, near=near, far=far)
+
+
+def camera_from_matrix(
+    view: Any, fov_y: float = 45.0, near: float | None = None, far: float | None = None
+) -> Camera:
+    """A perspective camera from a 4x4 world-to-eye matrix (OpenGL's: the camera looks
+    down -z, y up; as :meth:`Camera.view_matrix` returns): the eye, a target one unit in
+    front and the up vector are read from it. The matrix must be a rigid motion (rotation
+    and translation, to 1e-6)."""
+    m = np.asarray(view, dtype=np.float64)
+    if m.shape != (4, 4) or not np.all(np.isfinite(m)):
+        raise ValueError(f"view must be a finite 4x4 matrix, got shape {m.shape}")
+    r, t = m[:3, :3], m[:3, 3]
+    if not (
+        np.allclose(r @ r.T, np.eye(3), atol=1e-6)
+        and np.linalg.det(r) > 0
+        and np.allclose(m[3], (0, 0, 0, 1))
+    ):
+        raise ValueError("view must be a rigid motion (a rotation and a translation)")
+    eye = -r.T @ t
+    forward = -r[2]
+    return Camera.look_at(
+        tuple(eye.tolist()),
+        tuple((eye + forward).tolist()),
+        tuple(r[1].tolist()),
+        fov_y=fov_y,
+        near=near,
+        far=far,
+    )
+
+
 def _translate_rotate_y(x: float, z: float, degrees: float) -> np.ndarray:
     c, s = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
     return np.array(
