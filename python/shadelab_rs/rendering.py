@@ -11,7 +11,7 @@ compiled renderer itself (see :meth:`Camera.look_at` and :attr:`Scene.default_li
 from __future__ import annotations
 
 import warnings
-from typing import Any, Literal, TypedDict
+from typing import Any, Literal, TypedDict, overload
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -22,6 +22,8 @@ from ._core import Camera, Scene
 Shading = Literal["flat", "gouraud", "phong"]
 Specular = Literal["blinn", "phong", "blinn-normalized"]
 Encoding = Literal["linear", "srgb"]
+_U8 = Literal["uint8"] | type[np.uint8] | np.dtype[np.uint8]
+_F32 = Literal["float32"] | type[np.float32] | np.dtype[np.float32]
 
 
 class EmptyRenderWarning(UserWarning):
@@ -147,6 +149,101 @@ def render_frame(
 
 def _fmt(v: Any) -> str:
     return "(" + ", ".join(f"{float(x):.4g}" for x in v) + ")"
+
+
+@overload
+def render(
+    scene: Any,
+    camera: Camera | None = None,
+    width: int = 800,
+    height: int = 600,
+    shading: Shading = "phong",
+    specular: Specular = "blinn",
+    background: ArrayLike | None = None,
+    dtype: _U8 | None = None,
+    return_depth: Literal[False] = False,
+    cull_backfaces: bool = False,
+    threads: int | None = None,
+    *,
+    alpha: bool = False,
+    encoding: Encoding = "linear",
+) -> NDArray[np.uint8]: ...
+
+
+@overload
+def render(
+    scene: Any,
+    camera: Camera | None = None,
+    width: int = 800,
+    height: int = 600,
+    shading: Shading = "phong",
+    specular: Specular = "blinn",
+    background: ArrayLike | None = None,
+    *,
+    dtype: _F32,
+    return_depth: Literal[False] = False,
+    cull_backfaces: bool = False,
+    threads: int | None = None,
+    alpha: bool = False,
+    encoding: Encoding = "linear",
+) -> NDArray[np.float32]: ...
+
+
+@overload
+def render(
+    scene: Any,
+    camera: Camera | None = None,
+    width: int = 800,
+    height: int = 600,
+    shading: Shading = "phong",
+    specular: Specular = "blinn",
+    background: ArrayLike | None = None,
+    dtype: _U8 | None = None,
+    *,
+    return_depth: Literal[True],
+    cull_backfaces: bool = False,
+    threads: int | None = None,
+    alpha: bool = False,
+    encoding: Encoding = "linear",
+) -> tuple[NDArray[np.uint8], NDArray[np.float32]]: ...
+
+
+@overload
+def render(
+    scene: Any,
+    camera: Camera | None = None,
+    width: int = 800,
+    height: int = 600,
+    shading: Shading = "phong",
+    specular: Specular = "blinn",
+    background: ArrayLike | None = None,
+    *,
+    dtype: _F32,
+    return_depth: Literal[True],
+    cull_backfaces: bool = False,
+    threads: int | None = None,
+    alpha: bool = False,
+    encoding: Encoding = "linear",
+) -> tuple[NDArray[np.float32], NDArray[np.float32]]: ...
+
+
+@overload
+def render(
+    scene: Any,
+    camera: Camera | None = None,
+    width: int = 800,
+    height: int = 600,
+    shading: Shading = "phong",
+    specular: Specular = "blinn",
+    background: ArrayLike | None = None,
+    dtype: Any = None,
+    return_depth: bool = False,
+    cull_backfaces: bool = False,
+    threads: int | None = None,
+    *,
+    alpha: bool = False,
+    encoding: Encoding = "linear",
+) -> Any: ...
 
 
 def render(
