@@ -252,6 +252,8 @@ def test_save_image_every_kind(tmp_path):
         sl.save_image(rng.random((5, 7, 3)).astype(np.float32), tmp_path / "c.tif")
     with pytest.raises(ValueError, match="uint16"):
         sl.save_image(u16, tmp_path / "c.jpg")
+    with pytest.raises(ValueError, match="JPEG has no alpha"):
+        sl.save_image(rgba, tmp_path / "c.jpg")
 
 
 def test_save_depth_states_its_scale(tmp_path):

@@ -1,4 +1,5 @@
-"""The bundled demo scene and a helper that frames any mesh."""
+"""The bundled demo scene and camera helpers: framing any mesh or scene, named views for
+any up axis, orbiting, and pinhole intrinsics."""
 
 from __future__ import annotations
 

@@ -329,6 +329,8 @@ def save_image(image: np.ndarray, path: str | os.PathLike[str]) -> None:
         return
     if a.dtype == np.uint16:
         raise ValueError(f"uint16 images can be written as .png or .npy, not .{ext}")
+    if ext in ("jpg", "jpeg") and a.ndim == 3 and a.shape[2] in (2, 4):
+        raise ValueError("JPEG has no alpha channel: write .png (or .tif, .npy) for RGBA")
     from PIL import Image
 
     if ext in ("tif", "tiff") and a.dtype.kind == "f":
