@@ -86,17 +86,51 @@ def render_frame(
     *,
     alpha: bool = False,
     encoding: Encoding = "linear",
-    _stacklevel: int = 2,
 ) -> Frame:
     """Like :func:`render`, returning a dict with "image", "depth" (or None) and "stats".
 
     Every argument is that of :func:`render`. "stats" holds the triangle counters
     (``triangles_in``, ``triangles_setup`` (handed to the rasterizer after clipping),
     ``triangles_clipped``, ``triangles_culled``, ``triangles_dropped``), ``light_sources``
-    (point sources lit per shaded point, the default rig's three included),
-    and per-stage wall times in
-    milliseconds (``vertex_ms``, ``setup_ms``, ``raster_shade_ms``).
+    (point sources lit per shaded point, the default rig's three included) and per-stage
+    wall times in milliseconds (``vertex_ms``, ``setup_ms``, ``raster_shade_ms``).
     """
+    return _frame(
+        scene,
+        camera,
+        width,
+        height,
+        shading,
+        specular,
+        background,
+        dtype,
+        return_depth,
+        cull_backfaces,
+        threads,
+        alpha=alpha,
+        encoding=encoding,
+        stacklevel=3,
+    )
+
+
+def _frame(
+    scene: Any,
+    camera: Camera | None = None,
+    width: int = 800,
+    height: int = 600,
+    shading: Shading = "phong",
+    specular: Specular = "blinn",
+    background: ArrayLike | None = None,
+    dtype: Any = None,
+    return_depth: bool = False,
+    cull_backfaces: bool = False,
+    threads: int | None = None,
+    *,
+    alpha: bool = False,
+    encoding: Encoding = "linear",
+    stacklevel: int,
+) -> Frame:
+    """render_frame; ``stacklevel`` points the empty-render warning at the caller."""
     s = _scene_of(scene)
     if camera is None:
         from .scene_file import frame_scene
@@ -132,7 +166,7 @@ def render_frame(
             f"outside the frame; eye {_fmt(cam.eye)}, looking at {_fmt(cam.target)}, "
             f"near {cam.near:g}, far {cam.far:g}; the scene spans {_fmt(lo)} to {_fmt(hi)})",
             EmptyRenderWarning,
-            stacklevel=_stacklevel,
+            stacklevel=stacklevel,
         )
     image = frame["image"]
     if encoding == "srgb":
@@ -295,7 +329,7 @@ def render(
     :attr:`Scene.default_lights`). A render that draws no triangle although the scene has
     some emits an :class:`EmptyRenderWarning` saying where the camera and the scene are.
     """
-    f = render_frame(
+    f = _frame(
         scene,
         camera,
         width,
@@ -309,7 +343,7 @@ def render(
         threads,
         alpha=alpha,
         encoding=encoding,
-        _stacklevel=3,
+        stacklevel=3,
     )
     if return_depth:
         return f["image"], f["depth"]
