@@ -537,3 +537,17 @@ def test_pyvista_polydata_is_accepted_when_present():
     scene = sl.Scene()
     assert scene.add(PolyData()) == 1
     assert scene.objects[0].mesh.n_faces == 2
+
+
+def test_the_wrapper_and_the_binding_take_the_same_options():
+    """sl.render wraps _core.render: same options in the same order, plus its own
+    keyword-only ones, so the two cannot drift apart."""
+    import inspect
+
+    from shadelab_rs import _core
+
+    for public, core in ((sl.render, _core.render), (sl.render_frame, _core.render_frame)):
+        names = list(inspect.signature(public).parameters)
+        core_names = list(inspect.signature(core).parameters)
+        assert names[: len(core_names)] == core_names
+        assert names[len(core_names) :] == ["alpha", "encoding"]
