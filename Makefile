@@ -21,17 +21,27 @@ $(DEPS): pyproject.toml requirements-dev.txt
 	$(PY) -m pip install -q -r requirements-dev.txt
 	touch $@
 
+# The Python package is installed editable, so only the Rust sources (and the build
+# configuration) make the extension stale; this stamp lets `make demo` skip a rebuild.
+BUILT := $(VENV)/.build-stamp
+RUST_SOURCES := $(shell find crates -name '*.rs' -o -name Cargo.toml) Cargo.toml Cargo.lock pyproject.toml
+
+$(BUILT): $(DEPS) $(RUST_SOURCES)
+	$(ENVS) $(PY) -m maturin develop --release -q
+	touch $@
+
 build: $(DEPS)  ## build the extension (release) into .venv
 	$(ENVS) $(PY) -m maturin develop --release -q
+	touch $(BUILT)
 
-demo: build  ## render the built-in demo scene to demo.png
+demo: $(BUILT)  ## render the built-in demo scene to demo.png (builds only when a source changed)
 	$(PY) -m shadelab_rs demo -o demo.png
 
 lint: $(DEPS)  ## rustfmt, clippy (warnings are errors), ruff
 	cargo fmt --all -- --check
 	PYO3_PYTHON=$(abspath $(PY)) cargo clippy --workspace --all-targets --features shadelab-raster/fuzzing -- -D warnings
-	$(VENV)/bin/ruff check python tests bench shadelab_ref docs/lighting
-	$(VENV)/bin/ruff format --check python tests bench shadelab_ref docs/lighting
+	$(VENV)/bin/ruff check python tests bench shadelab_ref docs/lighting docs/first_minutes
+	$(VENV)/bin/ruff format --check python tests bench shadelab_ref docs/lighting docs/first_minutes
 
 test: lint build  ## lint, stub check, cargo test, pytest
 	$(PY) -m mypy.stubtest shadelab_rs._core
@@ -72,19 +82,30 @@ bench: build $(BENCH_DEPS)  ## benchmarks, speed against error, llvmpipe, featur
 	$(BENCH_ENV) $(PY) bench/speed_error_vtk.py --write docs/BENCHMARKS.md
 	$(BENCH_ENV) $(PY) bench/bench_features.py --write docs/FEATURE_COSTS.md $(if $(AGAINST),--against-commit $(AGAINST))
 
-docs-images: build  ## render the lighting guide's images -> docs/lighting/*.png
+docs-images: build  ## render the guides' images -> docs/lighting/*.png, docs/first_minutes/*.png
 	$(PY) docs/lighting/make_images.py
+	$(PY) docs/first_minutes/make_images.py
 
-wheel: $(DEPS)  ## build a release wheel into dist/
-	$(ENVS) $(PY) -m maturin build --release -o dist
+# manylinux2014 (glibc 2.17: Ubuntu 18.04+, RHEL 7+) through zig as the linker, from the
+# ziglang package on PyPI: no Docker. Without --zig the wheel would need this machine's glibc.
+WHEEL_TAG := manylinux2014_x86_64.manylinux_2_17_x86_64
+
+wheel: $(DEPS)  ## build a release manylinux2014 abi3 wheel into dist/
+	$(PY) -m pip install -q "ziglang<0.14"
+	rm -f dist/shadelab_rs-*.whl
+	$(ENVS) $(PY) -m maturin build --release --zig --compatibility manylinux2014 -o dist
 
 clean:  ## remove build products and the venv
 	cargo clean
 	rm -rf $(VENV) dist demo.png
 
-wheel-check: wheel  ## install the built wheel into a fresh venv and render with it
-	rm -rf /tmp/shadelab-wheel-venv
-	$(PYTHON) -m venv /tmp/shadelab-wheel-venv
-	/tmp/shadelab-wheel-venv/bin/pip install -q dist/shadelab_rs-*.whl
-	cd /tmp && /tmp/shadelab-wheel-venv/bin/python -c "import shadelab_rs as sl; s, c = sl.demo_scene(); im = sl.render(s, c, width=160, height=120); assert im.shape == (120, 160, 3) and im.max() > 0; print('wheel OK', sl.__version__, im.mean())"
-	cd /tmp && /tmp/shadelab-wheel-venv/bin/shadelab demo -o /tmp/shadelab-wheel-demo.png --size 160x120
+wheel-check: wheel  ## check the wheel's tag and LICENSE, install it into a fresh venv, render
+	@whl=$$(ls dist/shadelab_rs-*.whl); echo "$$whl"; \
+	case "$$whl" in *-cp39-abi3-$(WHEEL_TAG).whl) ;; \
+	  *) echo "wheel-check: expected an abi3 $(WHEEL_TAG) wheel, got $$whl" >&2; exit 1;; esac; \
+	$(PY) -c "import sys, zipfile; n = zipfile.ZipFile(sys.argv[1]).namelist(); assert any(p.endswith('LICENSE') for p in n), 'no LICENSE in the wheel'" "$$whl"; \
+	tmp=$$(mktemp -d); trap 'rm -rf "$$tmp"' EXIT; \
+	$(PYTHON) -m venv "$$tmp/venv" && \
+	"$$tmp/venv/bin/pip" install -q "$$whl" && \
+	cd "$$tmp" && "$$tmp/venv/bin/python" -c "import shadelab_rs as sl; s, c = sl.demo_scene(); im = sl.render(s, c, width=160, height=120); assert im.shape == (120, 160, 3) and im.max() > 0; print('wheel OK', sl.__version__, im.mean())" && \
+	"$$tmp/venv/bin/shadelab" demo -o "$$tmp/demo.png" --size 160x120

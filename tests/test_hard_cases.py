@@ -16,7 +16,8 @@ MODES = ["flat", "gouraud", "phong"]
 
 
 def _scene(v, f, material=None, lights=None, ambient=(0.2, 0.2, 0.2)):
-    s = sl.Scene(ambient=ambient)
+    # lights=[] means unlit: no default light rig either.
+    s = sl.Scene(ambient=ambient, default_lights=lights != [])
     s.add(sl.Mesh(v, f), material=material or sl.Material.preset("gold"))
     for light in lights if lights is not None else [sl.DirectionalLight((-1, -1, -1))]:
         s.add_light(light)

@@ -57,12 +57,13 @@ def test_camera_getters():
     assert (cam.near, cam.far, cam.fov_y, cam.height) == (0.25, 50.0, 30.0, None)
     assert cam.kind == "perspective"
     default = sl.Camera.look_at((0, 0, 3), (0, 0, 0))
-    assert (default.up, default.fov_y, default.near, default.far) == ((0, 1, 0), 45.0, 0.1, 100)
+    # near/far left out: None, fitted to the scene's bounds when rendering.
+    assert (default.up, default.fov_y, default.near, default.far) == ((0, 1, 0), 45.0, None, None)
     ortho = sl.Camera.orthographic(eye=(0, 0, 3), target=(0, 0, 0), height=3.5, near=0.5, far=9.0)
     assert ortho.kind == "orthographic"
     assert (ortho.height, ortho.fov_y, ortho.near, ortho.far) == (3.5, None, 0.5, 9.0)
     d = sl.Camera.orthographic((0, 0, 3), (0, 0, 0))
-    assert (d.up, d.height, d.near, d.far) == ((0, 1, 0), 2.0, 0.1, 100.0)
+    assert (d.up, d.height, d.near, d.far) == ((0, 1, 0), 2.0, None, None)
     assert repr(cam).startswith("Camera.look_at(") and repr(ortho).startswith("Camera.ortho")
 
 
@@ -110,7 +111,7 @@ def test_light_and_material_extras_round_trip():
 def test_emission_alone_lights_an_unlit_scene():
     """No lights, no ambient: the image is exactly the emission colour where covered."""
     v = np.array([[-5, -5, -3], [5, -5, -3], [5, 5, -3], [-5, 5, -3]], float)
-    s = sl.Scene(ambient=(0, 0, 0))
+    s = sl.Scene(ambient=(0, 0, 0), default_lights=False)
     s.add(sl.Mesh(v, [[0, 1, 2], [0, 2, 3]]), material=sl.Material(emission=(0.25, 0.5, 1.0)))
     img = sl.render(s, sl.Camera.look_at((0, 0, 0), (0, 0, -1)), 16, 12, dtype="float32")
     np.testing.assert_array_equal(img, np.broadcast_to([0.25, 0.5, 1.0], img.shape))

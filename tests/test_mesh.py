@@ -58,7 +58,11 @@ def test_mesh_from_trimesh():
     assert (mesh.n_vertices, mesh.n_faces) == (len(tm.vertices), len(tm.faces))
     np.testing.assert_array_equal(mesh.vertices, np.float32(tm.vertices))
     np.testing.assert_array_equal(mesh.faces, tm.faces)
-    assert not mesh.has_normals and mesh.uvs is None
+    # Normals by the crease-angle rule on welded positions: on a sphere (no crease) they
+    # are the library's own average of the unit face normals.
+    assert mesh.has_normals and mesh.uvs is None
+    plain = sl.Mesh(tm.vertices, tm.faces)
+    np.testing.assert_allclose(mesh.normals, plain.normals, atol=1e-6)
     with_normals = sl.Mesh.from_trimesh(tm, use_normals=True)
     assert with_normals.has_normals
     np.testing.assert_allclose(with_normals.normals, tm.vertex_normals, atol=1e-6)
@@ -68,7 +72,11 @@ def test_mesh_from_trimesh_keeps_uvs():
     tm = trimesh.load(sl.data_path("cube/cube.obj"), process=False)
     mesh = sl.Mesh.from_trimesh(tm)
     assert mesh.uvs is not None
-    np.testing.assert_array_equal(mesh.uvs, np.float32(tm.visual.uv))
+    # Vertices are split at the cube's sharp edges, each keeping its (position, UV) pair.
+    pairs = zip(np.float32(tm.vertices), np.float32(tm.visual.uv))
+    given = {(tuple(p), tuple(t)) for p, t in pairs}
+    got = {(tuple(p), tuple(t)) for p, t in zip(mesh.vertices, mesh.uvs)}
+    assert got == given
 
 
 def test_load_obj_bundled_meshes():
@@ -232,7 +240,7 @@ def test_usemtl_groups_keep_their_materials_and_illum_is_mapped(tmp_path):
     assert glow.ambient == glow.diffuse == glow.specular == (0.0, 0.0, 0.0)
     assert glow.emission == pytest.approx((0.2, 0.2, 0.9))
 
-    scene = sl.Scene(ambient=(0, 0, 0))
+    scene = sl.Scene(ambient=(0, 0, 0), default_lights=False)
     assert scene.add_obj(path) == 4
     assert scene.n_objects == 4
     cam = sl.Camera.orthographic((3.5, 0.5, 5), (3.5, 0.5, 0), height=1.2)

@@ -10,10 +10,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 import shadelab_rs as sl
 from hypothesis import event, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
+
+# Random scenes and cameras often see nothing; the warning that says so is not under test.
+pytestmark = pytest.mark.filterwarnings("ignore::shadelab_rs.EmptyRenderWarning")
 
 SETTINGS = settings(max_examples=25, deadline=None)
 #: Lit colours are sums of products of non-negative terms, so this background marks exactly

@@ -639,6 +639,8 @@ def test_inside_a_sphere_two_sided_lights_back_faces_with_flipped_normals(shadin
 
 
 @pytest.mark.parametrize("shading", SHADINGS)
+# The culled render draws nothing, and warns so.
+@pytest.mark.filterwarnings("ignore::shadelab_rs.EmptyRenderWarning")
 def test_inside_a_sphere_back_faces_match_reference(shading):
     compare(INSIDE, shading, "blinn")
     r = render_ref(INSIDE, shading, "blinn")

@@ -78,7 +78,10 @@ def test_depth_is_eye_space_distance_along_view_axis():
         np.testing.assert_allclose(depth, 5.0, rtol=1e-6)
     # A plane beyond the far plane is not drawn: depth +inf everywhere.
     cam = sl.Camera.look_at(eye=(0, 0, 5), target=(0, 0, 0), near=1.0, far=4.0)
-    img, depth = sl.render(scene, cam, width=8, height=8, return_depth=True, background=(1, 0, 0))
+    with pytest.warns(sl.EmptyRenderWarning, match="near 1, far 4"):
+        img, depth = sl.render(
+            scene, cam, width=8, height=8, return_depth=True, background=(1, 0, 0)
+        )
     assert np.all(np.isposinf(depth))
     assert np.all(img == [255, 0, 0])
 
@@ -213,6 +216,8 @@ def test_shading_modes_differ(sphere_scene, camera):
             assert not np.array_equal(imgs[a], imgs[b]), (a, b)
 
 
+# A one-pixel-wide image may miss the sphere: that render warns that it drew nothing.
+@pytest.mark.filterwarnings("ignore::shadelab_rs.EmptyRenderWarning")
 def test_max_image_size_boundary(sphere_scene, camera):
     assert sl.MAX_IMAGE_SIZE == 16384
     img = sl.render(sphere_scene, camera, width=sl.MAX_IMAGE_SIZE, height=1)

@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 import time
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -13,8 +15,9 @@ from typing import Any
 import numpy as np
 
 from . import _core as core
-from .demo import demo_scene, frame_mesh
-from .io import load_mesh, save_image
+from .demo import VIEWS, demo_scene, view_direction
+from .io import file_up_axis, load_mesh, save_depth, save_image
+from .rendering import EmptyRenderWarning, render
 from .scene_file import frame_scene, load_scene
 from .swatch import material_sheet
 
@@ -37,14 +40,68 @@ def _triple(text: str) -> tuple[float, float, float]:
     return vals  # type: ignore[return-value]
 
 
+def _view(text: str) -> str | tuple[float, float, float]:
+    """A view name or an x,y,z direction."""
+    if text.lower() in VIEWS:
+        return text.lower()
+    try:
+        return _triple(text)
+    except argparse.ArgumentTypeError:
+        raise argparse.ArgumentTypeError(
+            f"expected a view name ({', '.join(VIEWS)}) or a direction x,y,z, got '{text}'"
+        ) from None
+
+
+def _fmt3(v: Sequence[float]) -> str:
+    return ",".join(f"{x:g}" for x in v)
+
+
+def _check_values(args: argparse.Namespace) -> None:
+    """Value checks the parser's types do not make (exit status 1 with one line, like the
+    renderer's own errors): nothing is clamped or ignored silently."""
+    bg = args.background
+    if bg is not None and not all(math.isfinite(c) and 0.0 <= c <= 1.0 for c in bg):
+        hint = " (for 8-bit values divide by 255)" if max(bg) > 1.0 else ""
+        raise ValueError(
+            f"--background components must be in [0, 1] (linear r,g,b), got {_fmt3(bg)}{hint}"
+        )
+    vectors = [("--up", getattr(args, "up", None))]
+    view = getattr(args, "view", None)
+    if view is not None and not isinstance(view, str):
+        vectors.append(("--view", view))
+    vectors += [("--light", d) for d in getattr(args, "light", None) or []]
+    for name, v in vectors:
+        if v is not None and not (all(math.isfinite(c) for c in v) and any(v)):
+            raise ValueError(f"{name} direction must be finite and non-zero, got {_fmt3(v)}")
+
+
 def _render_args(p: argparse.ArgumentParser) -> None:
-    p.add_argument("-o", "--output", default="out.png", help="image file to write (PNG, JPEG)")
+    p.add_argument(
+        "-o",
+        "--output",
+        default="out.png",
+        help="image file to write (PNG, JPEG, TIFF, .npy; '-' writes PNG to stdout)",
+    )
     p.add_argument("--size", type=_size, default=None, help="WIDTHxHEIGHT (800x600)")
     p.add_argument("--shading", choices=core.RenderOptions.shading_names, default=None)
     p.add_argument("--specular", choices=core.RenderOptions.specular_names, default=None)
     p.add_argument("--background", type=_triple, default=None, help="r,g,b in [0,1] (0,0,0)")
     p.add_argument("--threads", type=int, default=None, help="worker threads (default: all)")
     p.add_argument("--cull-backfaces", action="store_true", default=None)
+    p.add_argument("--alpha", action="store_true", help="write RGBA with a transparent background")
+    p.add_argument(
+        "--encoding",
+        choices=["linear", "srgb"],
+        default="linear",
+        help="linear (default, OpenGL's values) or srgb (encoded for display)",
+    )
+    p.add_argument(
+        "--depth",
+        default=None,
+        metavar="FILE",
+        help="also write the depth map (.png: 16-bit millimetres at 1 unit = 1 m, "
+        ".tif/.npy: float)",
+    )
 
 
 def _render(
@@ -54,6 +111,7 @@ def _render(
     file_options: dict[str, Any] | None = None,
 ) -> None:
     """Renders with a scene file's options updated by the flags given."""
+    _check_values(args)
     flags = {k: getattr(args, k) for k in ("shading", "specular", "background", "threads")}
     flags["cull_backfaces"] = args.cull_backfaces
     if args.size is not None:
@@ -61,24 +119,86 @@ def _render(
     given = {k: v for k, v in flags.items() if v is not None}
     opts = core.RenderOptions(**{**(file_options or {}), **given})
     t0 = time.perf_counter()
-    img = core.render(scene, camera, options=opts)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", EmptyRenderWarning)
+        img, depth = render(
+            scene,
+            camera,
+            options=opts,
+            return_depth=True,
+            alpha=args.alpha,
+            encoding=args.encoding,
+        )
+    for warning in caught:
+        print(f"shadelab: warning: {warning.message}", file=sys.stderr)
     dt = (time.perf_counter() - t0) * 1e3
     save_image(img, args.output)
+    if args.depth is not None:
+        save_depth(depth, args.depth)
     w, h = opts.width, opts.height
-    print(f"wrote {args.output} ({w}x{h}, {scene.n_triangles} triangles, {dt:.1f} ms)")
+    # With -o - the image is on stdout: the report goes to stderr.
+    print(
+        f"wrote {args.output} ({w}x{h}, {scene.n_triangles} triangles, {dt:.1f} ms)",
+        file=sys.stderr if args.output == "-" else sys.stdout,
+    )
 
 
 # Options of `render MODEL` that a scene file sets itself.
-_MODEL_ONLY = ("material", "ambient", "fov", "view", "eye", "target", "up", "light")
+_MODEL_ONLY = ("material", "ambient")
+
+
+def _camera(
+    scene: core.Scene,
+    base: core.Camera | None,
+    args: argparse.Namespace,
+    default_up: tuple[float, float, float],
+) -> core.Camera:
+    """The camera of the flags: framed from --view (a name or direction) with --up, looking
+    at --target when given, or placed at --eye; planes fitted to the scene at render time."""
+    up = args.up if args.up is not None else (base.up if base is not None else default_up)
+    fov = args.fov if args.fov is not None else (base.fov_y if base and base.fov_y else 35.0)
+    if base is not None and args.view is None and args.eye is None:
+        if args.target is None and args.up is None and args.fov is None:
+            return base
+        # Keep the file's eye; aim and roll from the flags.
+        target = args.target if args.target is not None else base.target
+        return core.Camera.look_at(eye=base.eye, target=target, up=up, fov_y=fov)
+    framed = frame_scene(scene, fov_y=fov, direction=args.view, up=up)
+    target = args.target if args.target is not None else framed.target
+    if args.eye is not None:
+        d = np.subtract(args.eye, target)
+        if not np.any(d):
+            raise ValueError("eye and target must be distinct points (--eye, --target)")
+        _, cam_up = view_direction(tuple(d), up)
+        return core.Camera.look_at(eye=args.eye, target=target, up=tuple(cam_up), fov_y=fov)
+    if args.target is None:
+        return framed
+    # --target without --eye: the framed eye, moved with the target.
+    offset = np.subtract(framed.eye, framed.target)
+    return core.Camera.look_at(
+        eye=tuple(np.add(target, offset)), target=target, up=framed.up, fov_y=fov
+    )
+
+
+def _lights(scene: core.Scene, args: argparse.Namespace) -> None:
+    """--light replaces the scene's lights with directional lights."""
+    if args.light:
+        scene.clear_lights()
+        for d in args.light:
+            scene.add_light(core.DirectionalLight(direction=d))
 
 
 def cmd_render_scene(args: argparse.Namespace) -> None:
+    _check_values(args)
     given = [k for k in _MODEL_ONLY if getattr(args, k) is not None]
     if given:
         flags = ", ".join("--" + k for k in given)
         raise ValueError(f"{flags} cannot be used with a scene file; set it in the file")
     sf = load_scene(args.model)
-    camera = sf.camera if sf.camera is not None else frame_scene(sf.scene)
+    _lights(sf.scene, args)
+    if args.two_sided:
+        sf.scene.two_sided = True
+    camera = _camera(sf.scene, sf.camera, args, (0.0, 1.0, 0.0))
     _render(sf.scene, camera, args, sf.render_options)
 
 
@@ -102,23 +222,15 @@ def cmd_render(args: argparse.Namespace) -> None:
     if Path(args.model).suffix.lower() == ".toml":
         cmd_render_scene(args)
         return
-    scene = core.Scene(ambient=args.ambient if args.ambient is not None else (0.2, 0.2, 0.2))
-    vertices = _add_model(scene, args.model, args.material)
-    fov = args.fov if args.fov is not None else 35.0
-    view = args.view if args.view is not None else (0.55, 0.35, 1.0)
-    camera = frame_mesh(vertices, fov_y=fov, direction=view)
-    if args.eye is not None:
-        target = args.target if args.target is not None else camera.target
-        camera = core.Camera.look_at(
-            eye=args.eye,
-            target=target,
-            up=args.up if args.up is not None else (0.0, 1.0, 0.0),
-            fov_y=fov,
-            near=camera.near,
-            far=camera.far,
-        )
-    for d in args.light or [(-0.5, -1.0, -0.8)]:
-        scene.add_light(core.DirectionalLight(direction=d))
+    _check_values(args)
+    scene = core.Scene(
+        ambient=args.ambient if args.ambient is not None else (0.2, 0.2, 0.2),
+        two_sided=bool(args.two_sided),
+    )
+    _add_model(scene, args.model, args.material)
+    # No --light: the default rig, which moves with the camera.
+    _lights(scene, args)
+    camera = _camera(scene, None, args, file_up_axis(args.model))
     _render(scene, camera, args)
 
 
@@ -163,18 +275,33 @@ def main(argv: Sequence[str] | None = None) -> int:
     r.add_argument("--fov", type=float, default=None, help="vertical field of view, degrees (35)")
     r.add_argument(
         "--view",
-        type=_triple,
+        type=_view,
         default=None,
-        help="direction from the model's centre to the camera (x,y,z; 0.55,0.35,1)",
+        help=f"{'|'.join(VIEWS)}, or the direction x,y,z from the model's centre to the "
+        "camera (default: front, a little right and above)",
     )
     r.add_argument("--eye", type=_triple, default=None, help="explicit camera position x,y,z")
-    r.add_argument("--target", type=_triple, default=None, help="point looked at (with --eye)")
-    r.add_argument("--up", type=_triple, default=None, help="camera up x,y,z (0,1,0)")
+    r.add_argument(
+        "--target", type=_triple, default=None, help="point looked at (default: the centre)"
+    )
+    r.add_argument(
+        "--up",
+        type=_triple,
+        default=None,
+        help="up axis x,y,z (default: 0,0,1 for STL and 3MF, which are Z-up, else 0,1,0)",
+    )
     r.add_argument(
         "--light",
         type=_triple,
         action="append",
-        help="directional light travel direction x,y,z (repeatable)",
+        help="directional light travel direction x,y,z (repeatable; replaces a scene "
+        "file's lights; default: a light rig that moves with the camera)",
+    )
+    r.add_argument(
+        "--two-sided",
+        action="store_true",
+        default=None,
+        help="light back faces too (open surfaces, single-sided planes)",
     )
     _render_args(r)
     r.set_defaults(func=cmd_render)

@@ -1,9 +1,11 @@
-"""The bundled demo scene and a helper that frames any mesh."""
+"""The bundled demo scene and camera helpers: framing any mesh or scene, named views for
+any up axis, orbiting, and pinhole intrinsics."""
 
 from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -17,28 +19,223 @@ def data_path(name: str) -> Path:
     return _DATA / name
 
 
+#: Named views of :func:`frame_mesh`, each a direction from the model to the camera in the
+#: frame of the up axis (see :func:`view_direction`).
+VIEWS = ("front", "back", "left", "right", "top", "bottom", "iso")
+
+#: The default view: from the front, a little to the right and above (right, up, front).
+DEFAULT_VIEW = (0.55, 0.35, 1.0)
+
+
+def _unit(v: Any, name: str) -> np.ndarray:
+    a = np.asarray(v, dtype=np.float64).reshape(-1)
+    if a.shape != (3,) or not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be three finite numbers, got {v!r}")
+    n = float(np.linalg.norm(a))
+    if n == 0.0:
+        raise ValueError(f"{name} must be non-zero, got {tuple(a.tolist())}")
+    return a / n
+
+
+def view_frame(up: Any = (0.0, 1.0, 0.0)) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The (right, up, front) axes of named views for the up axis ``up``: front is +z for a
+    Y-up world (OpenGL's convention) and -y for a Z-up one (Blender's, CAD's), right is
+    ``up x front``."""
+    u = _unit(up, "up")
+    for c in ((0.0, 0.0, 1.0), (0.0, -1.0, 0.0), (1.0, 0.0, 0.0)):
+        cand = np.asarray(c)
+        if abs(float(cand @ u)) < 0.9:
+            break
+    front = cand - (cand @ u) * u
+    front /= np.linalg.norm(front)
+    return np.cross(u, front), u, front
+
+
+def view_direction(view: Any, up: Any = (0.0, 1.0, 0.0)) -> tuple[np.ndarray, np.ndarray]:
+    """The unit direction from the model to the camera for ``view`` and the camera up
+    vector to use with it. ``view``: a name of :data:`VIEWS` or a direction (x, y, z) in
+    world space. The top and bottom views (and any direction parallel to ``up``) look
+    along the up axis, so their camera up is the model's back (top) or front (bottom):
+    the front of the model is at the bottom of a top view, as in CAD."""
+    right, u, front = view_frame(up)
+    if isinstance(view, str):
+        name = view.lower()
+        table = {
+            "front": front,
+            "back": -front,
+            "right": right,
+            "left": -right,
+            "top": u,
+            "bottom": -u,
+            "iso": right + u + front,
+            "default": DEFAULT_VIEW[0] * right + DEFAULT_VIEW[1] * u + DEFAULT_VIEW[2] * front,
+        }
+        if name not in table:
+            raise ValueError(f"unknown view '{view}'; use one of {', '.join(VIEWS)} or x,y,z")
+        d = table[name] / np.linalg.norm(table[name])
+    else:
+        d = _unit(view, "view direction")
+    along = float(d @ u)
+    cam_up = u if abs(along) < 0.999 else (-front if along > 0 else front)
+    return d, cam_up
+
+
+def _points_of(obj: Any) -> np.ndarray:
+    if isinstance(obj, Mesh):
+        return obj.vertices
+    if isinstance(obj, Scene):
+        b = obj.bounds()
+        if b is None:
+            raise ValueError("cannot frame a scene without objects; give a camera")
+        return np.array(b)
+    if hasattr(obj, "vertices") and not isinstance(obj, np.ndarray):
+        return np.asarray(obj.vertices)
+    if isinstance(obj, tuple) and len(obj) == 2:
+        return np.asarray(obj[0])
+    return np.asarray(obj)
+
+
 def frame_mesh(
-    vertices: np.ndarray,
+    vertices: Any,
     fov_y: float = 35.0,
-    direction: tuple[float, float, float] = (0.55, 0.35, 1.0),
+    direction: Any = None,
+    up: Any = (0.0, 1.0, 0.0),
 ) -> Camera:
-    """A perspective camera that looks at the bounding sphere of ``vertices`` from
-    ``direction`` and fits it in the frame."""
-    v = np.asarray(vertices, dtype=np.float64)
+    """A perspective camera that looks at the bounding sphere of a mesh from ``direction``
+    and fits it in the frame.
+
+    ``vertices``: an (N, 3) array, a :class:`Mesh`, a trimesh, a ``(V, F)`` pair or a
+    :class:`Scene`. ``direction``: from the model to the camera, a view name (see
+    :func:`view_direction`: "front", "top", "iso", ...) or (x, y, z); None is the default
+    view, from the front, a little right and above, for the up axis ``up`` (default +y;
+    ``(0, 0, 1)`` for Z-up models such as STL files). The near/far planes are left to
+    ``render`` to fit to the scene (``near``/``far`` are None)."""
+    v = np.asarray(_points_of(vertices), dtype=np.float64).reshape(-1, 3)
+    if len(v) == 0 or not np.all(np.isfinite(v)):
+        raise ValueError("cannot frame an empty or non-finite set of vertices")
+    if not (0.0 < fov_y < 180.0):
+        raise ValueError(f"fov_y must be in (0, 180) degrees, got {fov_y}")
     lo, hi = v.min(axis=0), v.max(axis=0)
     centre = (lo + hi) / 2
     radius = max(float(np.linalg.norm(hi - lo)) / 2, 1e-6)
-    d = np.asarray(direction, dtype=np.float64)
-    d = d / np.linalg.norm(d)
+    d, cam_up = view_direction("default" if direction is None else direction, up)
     dist = radius / math.sin(math.radians(fov_y) / 2) * 1.05
     eye = centre + d * dist
     return Camera.look_at(
-        eye=tuple(eye),
-        target=tuple(centre),
-        up=(0.0, 1.0, 0.0),
+        eye=tuple(eye.tolist()),
+        target=tuple(centre.tolist()),
+        up=tuple(cam_up.tolist()),
         fov_y=fov_y,
-        near=max(dist - 2 * radius, dist * 1e-3),
-        far=dist + 2 * radius,
+    )
+
+
+def _rotate(v: np.ndarray, axis: np.ndarray, degrees: float) -> np.ndarray:
+    """``v`` rotated about the unit ``axis`` by ``degrees`` (right-handed; Rodrigues)."""
+    a = math.radians(degrees)
+    return (
+        v * math.cos(a)
+        + np.cross(axis, v) * math.sin(a)
+        + axis * float(axis @ v) * (1 - math.cos(a))
+    )
+
+
+def orbit(camera: Camera, azimuth: float = 0.0, elevation: float = 0.0, up: Any = None) -> Camera:
+    """``camera`` moved around its target at the same distance: ``azimuth`` degrees about
+    the up axis (positive: to the camera's right) and then ``elevation`` degrees up towards
+    it (negative: down). ``up`` defaults to the camera's own; the projection, field of view
+    or height and the near/far planes (None stays None: fitted) are kept. Passing over the
+    pole is allowed: the camera up then follows :func:`view_direction`'s rule."""
+    u = _unit(camera.up if up is None else up, "up")
+    target = np.asarray(camera.target, dtype=np.float64)
+    d = np.asarray(camera.eye, dtype=np.float64) - target
+    d = _rotate(d, u, azimuth)
+    side = np.cross(d, u)
+    if np.linalg.norm(side) > 1e-12 * np.linalg.norm(d):
+        d = _rotate(d, side / np.linalg.norm(side), elevation)
+    _, cam_up = view_direction(tuple(d.tolist()), u)
+    eye = tuple((target + d).tolist())
+    t, cu = tuple(target.tolist()), tuple(cam_up.tolist())
+    if camera.fov_y is not None:
+        return Camera.look_at(eye, t, cu, fov_y=camera.fov_y, near=camera.near, far=camera.far)
+    assert camera.height is not None
+    return Camera.orthographic(eye, t, cu, height=camera.height, near=camera.near, far=camera.far)
+
+
+def intrinsics(camera: Camera, width: int, height: int) -> np.ndarray:
+    """The 3x3 pinhole matrix K of a perspective ``camera`` rendering ``width`` x
+    ``height`` pixels, in the computer-vision convention (x right, y down, pixel centres at
+    half-integers): ``[[f, 0, width/2], [0, f, height/2], [0, 0, 1]]`` with
+    ``f = height / (2 tan(fov_y / 2))``; pixels are square and there is no skew."""
+    if camera.fov_y is None:
+        raise ValueError("an orthographic camera has no pinhole intrinsics")
+    if not (width >= 1 and height >= 1):
+        raise ValueError(f"width and height must be >= 1, got {width}x{height}")
+    f = height / (2.0 * math.tan(math.radians(camera.fov_y) / 2.0))
+    return np.array([[f, 0.0, width / 2.0], [0.0, f, height / 2.0], [0.0, 0.0, 1.0]])
+
+
+def camera_from_intrinsics(
+    K: Any,
+    width: int,
+    height: int,
+    eye: Any,
+    target: Any,
+    up: Any = (0.0, 1.0, 0.0),
+    near: float | None = None,
+    far: float | None = None,
+) -> Camera:
+    """A perspective camera from a 3x3 pinhole matrix ``K`` (fx, fy, cx, cy, skew) for a
+    ``width`` x ``height`` image. The renderer's projection is a symmetric frustum with
+    square pixels, so ``K`` must have ``fx == fy``, the principal point at the image
+    centre and no skew (to 1e-6 relative); anything else is a ``ValueError`` naming the
+    value, never an approximation."""
+    k = np.asarray(K, dtype=np.float64)
+    if k.shape != (3, 3) or not np.all(np.isfinite(k)):
+        raise ValueError(f"K must be a finite 3x3 matrix, got shape {k.shape}")
+    fx, fy, cx, cy, skew = k[0, 0], k[1, 1], k[0, 2], k[1, 2], k[0, 1]
+    tol = 1e-6 * max(abs(fx), abs(fy), width, height)
+    problems = []
+    if not fx > 0 or abs(fx - fy) > tol:
+        problems.append(f"fx == fy > 0 (square pixels), got fx={fx:g}, fy={fy:g}")
+    if abs(cx - width / 2) > tol or abs(cy - height / 2) > tol:
+        problems.append(
+            f"the principal point at the image centre ({width / 2:g}, {height / 2:g}), "
+            f"got ({cx:g}, {cy:g})"
+        )
+    if abs(skew) > tol:
+        problems.append(f"no skew, got {skew:g}")
+    if problems:
+        raise ValueError("K is not supported: the renderer needs " + "; ".join(problems))
+    fov_y = math.degrees(2.0 * math.atan(height / (2.0 * fy)))
+    return Camera.look_at(eye, target, up, fov_y=fov_y, near=near, far=far)
+
+
+def camera_from_matrix(
+    view: Any, fov_y: float = 45.0, near: float | None = None, far: float | None = None
+) -> Camera:
+    """A perspective camera from a 4x4 world-to-eye matrix (OpenGL's: the camera looks
+    down -z, y up; as :meth:`Camera.view_matrix` returns): the eye, a target one unit in
+    front and the up vector are read from it. The matrix must be a rigid motion (rotation
+    and translation, to 1e-6)."""
+    m = np.asarray(view, dtype=np.float64)
+    if m.shape != (4, 4) or not np.all(np.isfinite(m)):
+        raise ValueError(f"view must be a finite 4x4 matrix, got shape {m.shape}")
+    r, t = m[:3, :3], m[:3, 3]
+    if not (
+        np.allclose(r @ r.T, np.eye(3), atol=1e-6)
+        and np.linalg.det(r) > 0
+        and np.allclose(m[3], (0, 0, 0, 1))
+    ):
+        raise ValueError("view must be a rigid motion (a rotation and a translation)")
+    eye = -r.T @ t
+    forward = -r[2]
+    return Camera.look_at(
+        tuple(eye.tolist()),
+        tuple((eye + forward).tolist()),
+        tuple(r[1].tolist()),
+        fov_y=fov_y,
+        near=near,
+        far=far,
     )
 
 

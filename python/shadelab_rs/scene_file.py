@@ -56,12 +56,21 @@ class SceneFileError(ValueError):
     offending value (``"lights[2].cutoff"``, ``""`` for the whole document) and ``path`` the
     scene file (None for a dict); the message starts with both."""
 
-    def __init__(self, message: str, key: str = "", path: str | None = None) -> None:
+    def __init__(
+        self,
+        message: str,
+        key: str = "",
+        path: str | None = None,
+        more: list[SceneFileError] | None = None,
+    ) -> None:
         self.key = key
         self.path = path
         self.detail = message
+        #: The document's other errors (each with its own key), reported on their own
+        #: lines after this one: a file's mistakes are all shown at once.
+        self.more = [SceneFileError(e.detail, e.key, path) for e in more or []]
         prefix = "".join(f"{p}: " for p in (path, key) if p)
-        super().__init__(prefix + message)
+        super().__init__("\n".join([prefix + message, *(str(e) for e in self.more)]))
 
 
 # ---------------------------------------------------------------------------------------
@@ -417,8 +426,11 @@ def camera_to_dict(camera: Camera) -> dict[str, Any]:
         d["fov_y"] = camera.fov_y
     else:
         d["height"] = camera.height
-    d["near"] = camera.near
-    d["far"] = camera.far
+    # Planes left to the renderer to fit (None) are left out, as in a file.
+    if camera.near is not None:
+        d["near"] = camera.near
+    if camera.far is not None:
+        d["far"] = camera.far
     return d
 
 
@@ -592,18 +604,14 @@ class SceneFile:
         return render(self.scene, camera, **{**self.render_options, **overrides})
 
 
-def frame_scene(scene: Scene, fov_y: float = 35.0) -> Camera:
-    """A perspective camera that fits the world-space bounding sphere of every object."""
+def frame_scene(
+    scene: Scene, fov_y: float = 35.0, direction: Any = None, up: Any = (0.0, 1.0, 0.0)
+) -> Camera:
+    """A perspective camera that fits the world-space bounding sphere of every object,
+    from ``direction`` (a view name or x, y, z; see :func:`frame_mesh`) with up axis ``up``."""
     from .demo import frame_mesh
 
-    objects = scene.objects
-    if not objects:
-        raise ValueError("cannot frame a scene without objects; give a camera")
-    pts = [
-        o.mesh.vertices.astype(np.float64) @ o.transform[:3, :3].T + o.transform[:3, 3]
-        for o in objects
-    ]
-    return frame_mesh(np.concatenate(pts), fov_y=fov_y)
+    return frame_mesh(scene, fov_y=fov_y, direction=direction, up=up)
 
 
 def load_scene_dict(d: Any, base_dir: _PathLike | None = None) -> SceneFile:
@@ -623,26 +631,55 @@ def load_scene_dict(d: Any, base_dir: _PathLike | None = None) -> SceneFile:
     ):
         raise _fail("version", f"{SCHEMA_VERSION} (the schema version this release reads)", version)
     t = _table(d, "", ("version",), _TOP_KEYS)
-    ambient = _numbers(t["ambient"], "ambient") if "ambient" in t else None
-    fog = _fog(t["fog"], "fog") if "fog" in t else None
-    two_sided = _boolean(t.get("two_sided", False), "two_sided")
-    local_viewer = _boolean(t.get("local_viewer", True), "local_viewer")
-    scene = _call(
-        "",
-        lambda: Scene(ambient=ambient, fog=fog, two_sided=two_sided, local_viewer=local_viewer),
+    # Every section is checked even after an error, so that all are reported at once.
+    errors: list[SceneFileError] = []
+
+    def checked(fn: Any, default: Any = None) -> Any:
+        try:
+            return fn()
+        except SceneFileError as e:
+            errors.append(e)
+            return default
+
+    ambient = checked(lambda: _numbers(t["ambient"], "ambient")) if "ambient" in t else None
+    fog = checked(lambda: _fog(t["fog"], "fog")) if "fog" in t else None
+    two_sided = checked(lambda: _boolean(t.get("two_sided", False), "two_sided"), False)
+    local_viewer = checked(lambda: _boolean(t.get("local_viewer", True), "local_viewer"), True)
+    scene = checked(
+        lambda: _call(
+            "",
+            lambda: Scene(ambient=ambient, fog=fog, two_sided=two_sided, local_viewer=local_viewer),
+        )
     )
-    camera = _camera(t["camera"], "camera") if "camera" in t else None
-    render_options = _render_options(t["render"], "render") if "render" in t else {}
-    named = _named_materials(t["materials"], "materials") if "materials" in t else {}
+    if scene is None:
+        # The core refused the scene's settings (recorded above): the lights and objects
+        # are still checked, into a plain scene that is never returned.
+        scene = Scene()
+    camera = checked(lambda: _camera(t["camera"], "camera")) if "camera" in t else None
+    render_options = (
+        checked(lambda: _render_options(t["render"], "render"), {}) if "render" in t else {}
+    )
+    named = (
+        checked(lambda: _named_materials(t["materials"], "materials"), {})
+        if "materials" in t
+        else {}
+    )
     for key in ("lights", "objects"):
         items = t.get(key, [])
         if not isinstance(items, list):
-            raise _fail(key, "an array of tables", items)
+            errors.append(_fail(key, "an array of tables", items))
+            continue
         for i, item in enumerate(items):
             if key == "lights":
-                scene.add_light(_light(item, _at(key, i)))
+                light = checked(lambda: _light(item, _at(key, i)))  # noqa: B023
+                if light is not None:
+                    scene.add_light(light)
             else:
-                _add_object(scene, item, _at(key, i), named, base)
+                checked(lambda: _add_object(scene, item, _at(key, i), named, base))  # noqa: B023
+    if errors:
+        raise SceneFileError(errors[0].detail, errors[0].key, more=errors[1:]) from errors[
+            0
+        ].__cause__
     return SceneFile(scene, camera, render_options)
 
 
@@ -663,7 +700,7 @@ def load_scene(path: _PathLike) -> SceneFile:
     try:
         sf = load_scene_dict(doc, base_dir=p.resolve().parent)
     except SceneFileError as e:
-        raise SceneFileError(e.detail, e.key, str(p)) from e.__cause__
+        raise SceneFileError(e.detail, e.key, str(p), e.more) from e.__cause__
     sf.path = p
     return sf
 

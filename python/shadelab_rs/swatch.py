@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Literal
 
 import numpy as np
 
@@ -28,7 +29,7 @@ def material_sheet(
     names: Sequence[str] | None = None,
     cell: int = 128,
     columns: int = 6,
-    shading: str = "phong",
+    shading: Literal["flat", "gouraud", "phong"] = "phong",
     labels: bool = True,
 ) -> np.ndarray:
     """An (H, W, 3) uint8 image with one sphere per preset in ``names`` (default: all, in

@@ -10,7 +10,46 @@ use crate::errors::to_py;
 #[pyclass(name = "Camera", module = "shadelab_rs._core", frozen)]
 #[derive(Clone)]
 pub struct PyCamera {
+    /// The camera; when a plane is fitted, `inner` holds a placeholder for it (0.1 or 100,
+    /// moved so that near < far) until `render` fits it to the scene.
     pub inner: core::Camera,
+    /// Whether `render` fits the near plane to the scene's bounds (near=None was given).
+    pub fit_near: bool,
+    /// Whether `render` fits the far plane to the scene's bounds (far=None was given).
+    pub fit_far: bool,
+}
+
+/// Placeholder near/far planes for the ones left to `render` to fit, keeping the given one
+/// valid: a perspective near must stay > 0 and below far.
+fn planes(near: Option<f64>, far: Option<f64>, perspective: bool) -> (f64, f64) {
+    match (near, far) {
+        (Some(n), Some(f)) => (n, f),
+        (Some(n), None) => (
+            n,
+            if n.is_finite() {
+                (n.abs() * 1e3).max(100.0)
+            } else {
+                n
+            },
+        ),
+        (None, Some(f)) if perspective => (
+            if f.is_finite() {
+                (f * 1e-3).min(0.1)
+            } else {
+                0.1
+            },
+            f,
+        ),
+        (None, Some(f)) => (
+            if f.is_finite() {
+                f - 100.0_f64.max(f.abs())
+            } else {
+                0.1
+            },
+            f,
+        ),
+        (None, None) => (0.1, 100.0),
+    }
 }
 
 fn up_or_y(up: Option<&Bound<'_, PyAny>>) -> PyResult<glam::DVec3> {
@@ -20,16 +59,19 @@ fn up_or_y(up: Option<&Bound<'_, PyAny>>) -> PyResult<glam::DVec3> {
 #[pymethods]
 impl PyCamera {
     /// Perspective camera; `fov_y` is the full vertical angle in degrees.
+    /// `near` / `far` None (the default): fitted to the scene's bounds at render time.
     #[staticmethod]
-    #[pyo3(signature = (eye, target, up=None, fov_y=45.0, near=0.1, far=100.0))]
+    #[pyo3(signature = (eye, target, up=None, fov_y=45.0, near=None, far=None))]
     fn look_at(
         eye: &Bound<'_, PyAny>,
         target: &Bound<'_, PyAny>,
         up: Option<&Bound<'_, PyAny>>,
         fov_y: f64,
-        near: f64,
-        far: f64,
+        near: Option<f64>,
+        far: Option<f64>,
     ) -> PyResult<Self> {
+        let (fit_near, fit_far) = (near.is_none(), far.is_none());
+        let (near, far) = planes(near, far, true);
         let inner = core::Camera::look_at(
             convert::dvec3(eye, "eye")?,
             convert::dvec3(target, "target")?,
@@ -39,20 +81,26 @@ impl PyCamera {
             far,
         )
         .map_err(to_py)?;
-        Ok(Self { inner })
+        Ok(Self {
+            inner,
+            fit_near,
+            fit_far,
+        })
     }
 
     /// Orthographic camera; `height` is the view's vertical extent in world units.
     #[staticmethod]
-    #[pyo3(signature = (eye, target, up=None, height=2.0, near=0.1, far=100.0))]
+    #[pyo3(signature = (eye, target, up=None, height=2.0, near=None, far=None))]
     fn orthographic(
         eye: &Bound<'_, PyAny>,
         target: &Bound<'_, PyAny>,
         up: Option<&Bound<'_, PyAny>>,
         height: f64,
-        near: f64,
-        far: f64,
+        near: Option<f64>,
+        far: Option<f64>,
     ) -> PyResult<Self> {
+        let (fit_near, fit_far) = (near.is_none(), far.is_none());
+        let (near, far) = planes(near, far, false);
         let inner = core::Camera::orthographic(
             convert::dvec3(eye, "eye")?,
             convert::dvec3(target, "target")?,
@@ -62,7 +110,11 @@ impl PyCamera {
             far,
         )
         .map_err(to_py)?;
-        Ok(Self { inner })
+        Ok(Self {
+            inner,
+            fit_near,
+            fit_far,
+        })
     }
 
     /// Eye position.
@@ -83,16 +135,49 @@ impl PyCamera {
         self.inner.up().into()
     }
 
-    /// Near plane distance.
+    /// Near plane distance, or None when `render` fits it to the scene.
     #[getter]
-    fn near(&self) -> f64 {
-        self.inner.near()
+    fn near(&self) -> Option<f64> {
+        (!self.fit_near).then(|| self.inner.near())
     }
 
-    /// Far plane distance.
+    /// Far plane distance, or None when `render` fits it to the scene.
     #[getter]
-    fn far(&self) -> f64 {
-        self.inner.far()
+    fn far(&self) -> Option<f64> {
+        (!self.fit_far).then(|| self.inner.far())
+    }
+
+    /// This camera with the near/far planes `render` would use for `scene` (the given ones
+    /// kept, the others fitted to the scene's bounds).
+    fn fitted(&self, scene: &crate::scene::PyScene) -> PyResult<Self> {
+        Ok(Self {
+            inner: crate::defaults::fit_planes(self, &scene.inner)?,
+            fit_near: false,
+            fit_far: false,
+        })
+    }
+
+    /// The 4x4 world-to-eye matrix (OpenGL's gluLookAt), float64.
+    fn view_matrix<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray2<f64>> {
+        crate::defaults::mat_to_numpy(py, self.inner.view_matrix())
+    }
+
+    /// The 4x4 eye-to-clip matrix for `aspect` = width / height (reversed-Z, depth range
+    /// [0, 1]: near maps to 1, far to 0), float64.
+    fn projection_matrix<'py>(
+        &self,
+        py: Python<'py>,
+        aspect: f64,
+    ) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+        if !(aspect.is_finite() && aspect > 0.0) {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "aspect must be finite and > 0, got {aspect}"
+            )));
+        }
+        Ok(crate::defaults::mat_to_numpy(
+            py,
+            self.inner.projection_matrix(aspect),
+        ))
     }
 
     /// "perspective" or "orthographic".
@@ -128,6 +213,13 @@ impl PyCamera {
             core::Projection::Perspective { fov_y } => format!("fov_y={fov_y}"),
             core::Projection::Orthographic { height } => format!("height={height}"),
         };
+        let plane = |fit: bool, v: f64| {
+            if fit {
+                "None".to_string()
+            } else {
+                v.to_string()
+            }
+        };
         format!(
             "Camera.{}(eye={:?}, target={:?}, up={:?}, {proj}, near={}, far={})",
             if self.fov_y().is_some() {
@@ -138,8 +230,8 @@ impl PyCamera {
             c.eye().to_array(),
             c.target().to_array(),
             c.up().to_array(),
-            c.near(),
-            c.far()
+            plane(self.fit_near, c.near()),
+            plane(self.fit_far, c.far())
         )
     }
 }

@@ -4,6 +4,7 @@
 mod area_light;
 mod camera;
 mod convert;
+mod defaults;
 mod errors;
 mod fog;
 mod light;

@@ -280,8 +280,8 @@ fn render_impl<'py>(
         Some(d) => format_of(d)?,
         None => core::ColorFormat::U8,
     };
-    let scene_copy = scene.inner.clone();
-    let cam = camera.inner;
+    // The planes and lights the user left out (defaults.rs).
+    let (scene_copy, cam) = crate::defaults::prepare(scene, camera)?;
     let frame = py
         .detach(|| {
             no_panic("render", || {

@@ -8,7 +8,7 @@ use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyTuple};
 use shadelab_raster as core;
 
 use crate::area_light::PyAreaLight;
@@ -92,17 +92,103 @@ pub struct PyScene {
     /// Per light (parallel to `inner.lights()`), the direction as the user gave it, for
     /// the directional and spot lights that have one: `lights` hands them back unchanged.
     given_directions: Vec<Option<[f64; 3]>>,
+    /// Whether `render` lights a scene without lights with the camera's light rig.
+    pub default_lights: bool,
+}
+
+/// A material argument: a Material, a preset name, or None for the default.
+fn material_arg(m: Option<&Bound<'_, PyAny>>, name: &str) -> PyResult<Option<core::Material>> {
+    let Some(m) = m.filter(|m| !m.is_none()) else {
+        return Ok(None);
+    };
+    if let Ok(m) = m.extract::<PyRef<'_, PyMaterial>>() {
+        return Ok(Some(m.inner));
+    }
+    if let Ok(preset) = m.extract::<String>() {
+        return core::Material::preset(&preset).map(Some).map_err(to_py);
+    }
+    Err(PyTypeError::new_err(format!(
+        "{name} must be a Material or a preset name (str), got {}",
+        m.get_type().name()?
+    )))
+}
+
+/// The (mesh, transform, material) parts of a mesh argument: a Mesh is one part; anything
+/// else (trimesh.Trimesh / Scene, a (vertices, faces) pair, PyVista PolyData) is converted
+/// by `shadelab_rs.io.mesh_parts`, in Python where those libraries live.
+#[allow(clippy::type_complexity)]
+fn mesh_parts(
+    obj: &Bound<'_, PyAny>,
+) -> PyResult<
+    Vec<(
+        std::sync::Arc<core::Mesh>,
+        Option<Mat4>,
+        Option<core::Material>,
+    )>,
+> {
+    if let Ok(m) = obj.extract::<PyRef<'_, PyMesh>>() {
+        return Ok(vec![(m.inner.clone(), None, None)]);
+    }
+    let parts = obj
+        .py()
+        .import("shadelab_rs.io")?
+        .getattr("mesh_parts")?
+        .call1((obj,))?;
+    let mut out = Vec::new();
+    for part in parts.try_iter()? {
+        let (mesh, transform, material): (
+            PyRef<'_, PyMesh>,
+            Option<Bound<'_, PyAny>>,
+            Option<PyRef<'_, PyMaterial>>,
+        ) = part?.extract()?;
+        let transform = transform
+            .map(|t| convert::mat4(&t, "transform"))
+            .transpose()?;
+        out.push((mesh.inner.clone(), transform, material.map(|m| m.inner)));
+    }
+    Ok(out)
+}
+
+/// A Python index into a list of `len` items (negative counts from the end).
+fn index(i: isize, len: usize, what: &str) -> PyResult<usize> {
+    let j = if i < 0 { i + len as isize } else { i };
+    if j < 0 || j as usize >= len {
+        return Err(pyo3::exceptions::PyIndexError::new_err(format!(
+            "{what} index {i} out of range (the scene has {len})"
+        )));
+    }
+    Ok(j as usize)
+}
+
+/// A light argument as the core's light, with the direction as the user gave it for the
+/// directional and spot lights (`Scene.lights` hands it back unchanged).
+fn light_arg(light: &Bound<'_, PyAny>, what: &str) -> PyResult<(core::Light, Option<[f64; 3]>)> {
+    if let Ok(l) = light.extract::<PyRef<'_, PyDirectionalLight>>() {
+        Ok((l.inner.into(), Some(l.given)))
+    } else if let Ok(l) = light.extract::<PyRef<'_, PyPointLight>>() {
+        Ok((l.inner.into(), None))
+    } else if let Ok(l) = light.extract::<PyRef<'_, PySpotLight>>() {
+        Ok((l.inner.into(), Some(l.given)))
+    } else if let Ok(l) = light.extract::<PyRef<'_, PyAreaLight>>() {
+        Ok((l.inner.into(), None))
+    } else {
+        Err(PyTypeError::new_err(format!(
+            "{what} expects a DirectionalLight, PointLight, SpotLight or AreaLight, got {}",
+            light.get_type().name()?
+        )))
+    }
 }
 
 #[pymethods]
 impl PyScene {
     #[new]
-    #[pyo3(signature = (ambient=None, fog=None, two_sided=false, local_viewer=true))]
+    #[pyo3(signature = (ambient=None, fog=None, two_sided=false, local_viewer=true, default_lights=true))]
     fn new(
         ambient: Option<&Bound<'_, PyAny>>,
         fog: Option<PyFog>,
         two_sided: bool,
         local_viewer: bool,
+        default_lights: bool,
     ) -> PyResult<Self> {
         let ambient =
             ambient.map_or(Ok(glam::Vec3::splat(0.2)), |a| convert::vec3(a, "ambient"))?;
@@ -113,6 +199,7 @@ impl PyScene {
         Ok(PyScene {
             inner,
             given_directions: Vec::new(),
+            default_lights,
         })
     }
 
@@ -125,6 +212,18 @@ impl PyScene {
     #[setter]
     fn set_two_sided(&mut self, on: bool) {
         self.inner.set_two_sided(on);
+    }
+
+    /// Whether `render` lights this scene with the camera's light rig while it has no
+    /// lights (default True); assignable.
+    #[getter]
+    fn get_default_lights(&self) -> bool {
+        self.default_lights
+    }
+
+    #[setter]
+    fn set_default_lights(&mut self, on: bool) {
+        self.default_lights = on;
     }
 
     /// Local viewer (True, default) or OpenGL's infinite viewer (False).
@@ -152,21 +251,109 @@ impl PyScene {
     /// Adds `mesh` with `material` (default: grey plastic) placed by the 4x4 model matrix
     /// `transform` (column vectors: p_world = transform @ [x, y, z, 1]); `back_material`
     /// lights its back faces when the scene is two-sided.
+    /// `mesh` may also be a trimesh.Trimesh or trimesh.Scene (its parts with their
+    /// transforms and colours), a (vertices, faces) pair or a PyVista PolyData; materials
+    /// may be preset names. Returns the number of objects added.
     #[pyo3(signature = (mesh, material=None, transform=None, back_material=None))]
     fn add(
         &mut self,
-        mesh: &PyMesh,
-        material: Option<&PyMaterial>,
+        mesh: &Bound<'_, PyAny>,
+        material: Option<&Bound<'_, PyAny>>,
         transform: Option<&Bound<'_, PyAny>>,
-        back_material: Option<&PyMaterial>,
-    ) -> PyResult<()> {
-        let material = material.map_or_else(core::Material::default, |m| m.inner);
-        let transform = transform.map_or(Ok(Mat4::IDENTITY), |t| convert::mat4(t, "transform"))?;
-        let object = core::Object::new(mesh.inner.clone(), material, transform)
-            .map_err(to_py)?
-            .with_back_material(back_material.map(|m| m.inner));
-        self.inner.add_object(object);
+        back_material: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<usize> {
+        let material = material_arg(material, "material")?;
+        let back_material = material_arg(back_material, "back_material")?;
+        let transform = transform
+            .filter(|t| !t.is_none())
+            .map(|t| convert::mat4(t, "transform"))
+            .transpose()?;
+        let mut objects = Vec::new();
+        // Build every object before adding any, so a bad part adds nothing.
+        for (mesh, part_transform, part_material) in mesh_parts(mesh)? {
+            let m = match (transform, part_transform) {
+                (Some(t), Some(p)) => t * p,
+                (t, p) => t.or(p).unwrap_or(Mat4::IDENTITY),
+            };
+            let mat = material.or(part_material).unwrap_or_default();
+            objects.push(
+                core::Object::new(mesh, mat, m)
+                    .map_err(to_py)?
+                    .with_back_material(back_material),
+            );
+        }
+        let n = objects.len();
+        for o in objects {
+            self.inner.add_object(o);
+        }
+        Ok(n)
+    }
+
+    /// Removes the object at `index` (negative counts from the end).
+    fn remove_object(&mut self, index: isize) -> PyResult<()> {
+        let i = self::index(index, self.inner.objects().len(), "object")?;
+        self.inner.objects_mut().remove(i);
         Ok(())
+    }
+
+    /// Removes the light at `index` (negative counts from the end).
+    fn remove_light(&mut self, index: isize) -> PyResult<()> {
+        let i = self::index(index, self.inner.lights().len(), "light")?;
+        self.inner.lights_mut().remove(i);
+        self.given_directions.remove(i);
+        Ok(())
+    }
+
+    /// Replaces the light at `index`.
+    fn set_light(&mut self, index: isize, light: &Bound<'_, PyAny>) -> PyResult<()> {
+        let i = self::index(index, self.inner.lights().len(), "light")?;
+        let (light, given) = light_arg(light, "set_light")?;
+        self.inner.lights_mut()[i] = light;
+        self.given_directions[i] = given;
+        Ok(())
+    }
+
+    /// Removes every object.
+    fn clear_objects(&mut self) {
+        self.inner.objects_mut().clear();
+    }
+
+    /// Removes every light (the scene then renders under the default light rig unless
+    /// `default_lights` is False).
+    fn clear_lights(&mut self) {
+        self.inner.lights_mut().clear();
+        self.given_directions.clear();
+    }
+
+    /// Moves the object at `index`: its model matrix becomes `transform`.
+    fn set_transform(&mut self, index: isize, transform: &Bound<'_, PyAny>) -> PyResult<()> {
+        let i = self::index(index, self.inner.objects().len(), "object")?;
+        let m = convert::mat4(transform, "transform")?;
+        let o = &self.inner.objects()[i];
+        let object = core::Object::new(o.mesh().clone(), *o.material(), m)
+            .map_err(to_py)?
+            .with_back_material(o.back_material().copied());
+        self.inner.objects_mut()[i] = object;
+        Ok(())
+    }
+
+    /// Gives the object at `index` a new material (a Material or a preset name).
+    fn set_material(&mut self, index: isize, material: &Bound<'_, PyAny>) -> PyResult<()> {
+        let i = self::index(index, self.inner.objects().len(), "object")?;
+        let mat = material_arg(Some(material), "material")?.unwrap_or_default();
+        let o = &self.inner.objects()[i];
+        let object = core::Object::new(o.mesh().clone(), mat, o.transform())
+            .map_err(to_py)?
+            .with_back_material(o.back_material().copied());
+        self.inner.objects_mut()[i] = object;
+        Ok(())
+    }
+
+    /// The world-space axis-aligned bounding box of all objects as ((x0, y0, z0),
+    /// (x1, y1, z1)), or None for an empty scene.
+    #[allow(clippy::type_complexity)]
+    fn bounds(&self) -> Option<((f64, f64, f64), (f64, f64, f64))> {
+        crate::defaults::world_bounds(&self.inner).map(|(lo, hi)| (lo.into(), hi.into()))
     }
 
     /// Loads an OBJ file and adds each of its parts (per group and per `usemtl`) as an
@@ -177,68 +364,59 @@ impl PyScene {
         &mut self,
         py: Python<'_>,
         path: std::path::PathBuf,
-        material: Option<&PyMaterial>,
+        material: Option<&Bound<'_, PyAny>>,
         transform: Option<&Bound<'_, PyAny>>,
-        back_material: Option<&PyMaterial>,
+        back_material: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<usize> {
+        let material = material_arg(material, "material")?;
+        let back_material = material_arg(back_material, "back_material")?;
         let transform = transform.map_or(Ok(Mat4::IDENTITY), |t| convert::mat4(t, "transform"))?;
         let parts = py
             .detach(|| crate::errors::no_panic("add_obj", || core::load_obj_parts(&path)))?
             .map_err(to_py)?;
         self.inner
-            .add_obj_parts(
-                parts,
-                material.map(|m| m.inner),
-                back_material.map(|m| m.inner),
-                transform,
-            )
+            .add_obj_parts(parts, material, back_material, transform)
             .map_err(to_py)
     }
 
     /// Adds a DirectionalLight, PointLight, SpotLight or AreaLight.
     fn add_light(&mut self, light: &Bound<'_, PyAny>) -> PyResult<()> {
-        let given = if let Ok(l) = light.extract::<PyRef<'_, PyDirectionalLight>>() {
-            self.inner.add_light(l.inner);
-            Some(l.given)
-        } else if let Ok(l) = light.extract::<PyRef<'_, PyPointLight>>() {
-            self.inner.add_light(l.inner);
-            None
-        } else if let Ok(l) = light.extract::<PyRef<'_, PySpotLight>>() {
-            self.inner.add_light(l.inner);
-            Some(l.given)
-        } else if let Ok(l) = light.extract::<PyRef<'_, PyAreaLight>>() {
-            self.inner.add_light(l.inner);
-            None
-        } else {
-            return Err(PyTypeError::new_err(format!(
-                "add_light expects a DirectionalLight, PointLight, SpotLight or AreaLight, got {}",
-                light.get_type().name()?
-            )));
-        };
+        let (light, given) = light_arg(light, "add_light")?;
+        self.inner.add_light(light);
         self.given_directions.push(given);
         Ok(())
     }
 
-    /// The objects, in the order they were added (snapshots).
+    /// The objects, in the order they were added: a tuple of snapshots (read-only; change
+    /// the scene with remove_object, set_transform, set_material, clear_objects).
     #[getter]
-    fn objects(&self) -> Vec<PySceneObject> {
-        self.inner
+    fn objects<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        let items = self
+            .inner
             .objects()
             .iter()
-            .map(|o| PySceneObject {
-                mesh: o.mesh().clone(),
-                material: *o.material(),
-                back_material: o.back_material().copied(),
-                transform: o.transform(),
+            .map(|o| {
+                Bound::new(
+                    py,
+                    PySceneObject {
+                        mesh: o.mesh().clone(),
+                        material: *o.material(),
+                        back_material: o.back_material().copied(),
+                        transform: o.transform(),
+                    },
+                )
             })
-            .collect()
+            .collect::<PyResult<Vec<_>>>()?;
+        PyTuple::new(py, items)
     }
 
-    /// The lights, in the order they were added, as DirectionalLight, PointLight,
-    /// SpotLight and AreaLight objects.
+    /// The lights, in the order they were added, as a tuple of DirectionalLight,
+    /// PointLight, SpotLight and AreaLight objects (read-only; change the scene with
+    /// add_light, remove_light, set_light, clear_lights).
     #[getter]
-    fn lights<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyAny>>> {
-        self.inner
+    fn lights<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        let items = self
+            .inner
             .lights()
             .iter()
             .zip(&self.given_directions)
@@ -255,7 +433,8 @@ impl PyScene {
                     core::Light::Area(inner) => Bound::new(py, PyAreaLight { inner })?.into_any(),
                 })
             })
-            .collect()
+            .collect::<PyResult<Vec<_>>>()?;
+        PyTuple::new(py, items)
     }
 
     /// The scene of a scene file (TOML); see `shadelab_rs.load_scene` for the camera and

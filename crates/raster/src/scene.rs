@@ -228,6 +228,16 @@ impl Scene {
         &self.lights
     }
 
+    /// The objects, to remove, replace or reorder them (each one was validated when built).
+    pub fn objects_mut(&mut self) -> &mut Vec<Object> {
+        &mut self.objects
+    }
+
+    /// The lights, to remove, replace or reorder them.
+    pub fn lights_mut(&mut self) -> &mut Vec<Light> {
+        &mut self.lights
+    }
+
     /// Point sources each shaded point evaluates: an area light counts its points.
     pub fn light_source_count(&self) -> usize {
         self.lights

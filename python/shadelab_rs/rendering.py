@@ -1,0 +1,306 @@
+"""``render`` and ``render_frame``: the compiled renderer plus what a first call needs.
+
+The compiled functions in ``_core`` draw a :class:`Scene` through a :class:`Camera`. These
+wrappers also take a bare mesh (a :class:`Mesh`, trimesh, ``(V, F)`` pair, ...) and no
+camera, add a transparent background (``alpha=True``) and display encoding
+(``encoding="srgb"``), and warn when a render draws nothing because of the camera.
+Near/far planes the camera leaves open and the default light rig are applied by the
+compiled renderer itself (see :meth:`Camera.look_at` and :attr:`Scene.default_lights`).
+"""
+
+from __future__ import annotations
+
+import warnings
+from typing import TYPE_CHECKING, Any, Literal, TypedDict, overload
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from . import _core
+from ._core import Camera, RenderOptions, Scene
+
+if TYPE_CHECKING:
+    from typing_extensions import Unpack
+
+    from ._core import _RenderOptionsArgs
+
+Encoding = Literal["linear", "srgb"]
+_U8 = Literal["uint8"] | type[np.uint8] | np.dtype[np.uint8]
+_F32 = Literal["float32"] | type[np.float32] | np.dtype[np.float32]
+
+
+class EmptyRenderWarning(UserWarning):
+    """A render drew no triangle although the scene has some that back-face culling kept:
+    every one is behind the camera, beyond its near/far planes or outside the frame."""
+
+
+class Frame(TypedDict):
+    """What :func:`render_frame` returns."""
+
+    image: NDArray[Any]
+    depth: NDArray[np.float32] | None
+    stats: dict[str, Any]
+
+
+def _scene_of(scene: Any) -> Scene:
+    if isinstance(scene, Scene):
+        return scene
+    s = Scene()
+    try:
+        s.add(scene)
+    except TypeError as e:
+        raise TypeError(f"scene must be a Scene or a mesh: {e}") from None
+    return s
+
+
+def srgb_encode(linear: ArrayLike) -> NDArray[np.float32]:
+    """The sRGB transfer function (IEC 61966-2-1) of linear values, clamped to [0, 1]
+    first: ``12.92 c`` below 0.0031308, ``1.055 c**(1/2.4) - 0.055`` above."""
+    c = np.clip(np.nan_to_num(np.asarray(linear, dtype=np.float32), nan=0.0), 0.0, 1.0)
+    return np.where(  # type: ignore[no-any-return]
+        c <= 0.0031308, 12.92 * c, 1.055 * np.power(c, 1.0 / 2.4) - 0.055
+    ).astype(np.float32)
+
+
+def _dtype_name(dtype: Any) -> str:
+    if dtype is None:
+        return "uint8"
+    try:
+        name = np.dtype(dtype).name
+    except TypeError:
+        raise TypeError(f"dtype must be 'uint8' or 'float32', got {dtype}") from None
+    if name not in ("uint8", "float32"):
+        raise ValueError(f"dtype must be 'uint8' or 'float32', got '{name}'")
+    return name
+
+
+def render_frame(
+    scene: Any,
+    camera: Camera | None = None,
+    *args: Any,
+    dtype: Any = None,
+    return_depth: bool = False,
+    options: RenderOptions | None = None,
+    alpha: bool = False,
+    encoding: Encoding = "linear",
+    **kwargs: Unpack[_RenderOptionsArgs],
+) -> Frame:
+    """Like :func:`render`, returning a dict with "image", "depth" (or None) and "stats".
+
+    Every argument is that of :func:`render`. "stats" holds the triangle counters
+    (``triangles_in``, ``triangles_setup`` (handed to the rasterizer after clipping),
+    ``triangles_clipped``, ``triangles_culled``, ``triangles_dropped``), ``light_sources``
+    (point sources lit per shaded point, the default rig's three included) and per-stage
+    wall times in milliseconds (``vertex_ms``, ``setup_ms``, ``raster_shade_ms``).
+    """
+    return _frame(
+        scene,
+        camera,
+        args,
+        kwargs,
+        dtype=dtype,
+        return_depth=return_depth,
+        options=options,
+        alpha=alpha,
+        encoding=encoding,
+        stacklevel=3,
+    )
+
+
+def _frame(
+    scene: Any,
+    camera: Camera | None,
+    args: tuple[Any, ...],
+    kwargs: _RenderOptionsArgs,
+    *,
+    dtype: Any,
+    return_depth: bool,
+    options: RenderOptions | None,
+    alpha: bool,
+    encoding: Encoding,
+    stacklevel: int,
+) -> Frame:
+    """render_frame; ``stacklevel`` points the empty-render warning at the caller. The
+    render options (``args``, ``options``, ``kwargs``) go to the binding untouched: it
+    checks and merges them (:class:`RenderOptions`)."""
+    s = _scene_of(scene)
+    if camera is None:
+        from .scene_file import frame_scene
+
+        camera = frame_scene(s)
+    if encoding not in ("linear", "srgb"):
+        raise ValueError(f"encoding must be 'linear' or 'srgb', got {encoding!r}")
+    out_dtype = _dtype_name(dtype)
+    core_dtype = "float32" if encoding == "srgb" else dtype
+    # The depth is the coverage: fetched only when alpha needs it (it costs a copy).
+    frame = _core.render_frame(
+        s,
+        camera,
+        *args,
+        dtype=core_dtype,
+        return_depth=return_depth or alpha,
+        options=options,
+        **kwargs,
+    )
+    stats = frame["stats"]
+    # No triangle reached the rasterizer though some survived culling: every one was
+    # behind the eye, beyond the near/far planes or outside the frame.
+    if stats["triangles_setup"] == 0 and stats["triangles_culled"] < stats["triangles_in"]:
+        cam = camera.fitted(s)
+        lo, hi = s.bounds() or ((0.0,) * 3, (0.0,) * 3)
+        warnings.warn(
+            f"render drew no triangle: all {s.n_triangles} triangles of the scene are "
+            f"outside the camera's view (behind the eye, beyond the near/far planes or "
+            f"outside the frame; eye {_fmt(cam.eye)}, looking at {_fmt(cam.target)}, "
+            f"near {cam.near:g}, far {cam.far:g}; the scene spans {_fmt(lo)} to {_fmt(hi)})",
+            EmptyRenderWarning,
+            stacklevel=stacklevel,
+        )
+    image = frame["image"]
+    if encoding == "srgb":
+        enc = srgb_encode(image)
+        image = np.floor(enc * 255.0 + 0.5).astype(np.uint8) if out_dtype == "uint8" else enc
+    depth = frame["depth"]
+    if alpha:
+        assert depth is not None
+        covered = np.isfinite(depth)
+        a = covered.astype(image.dtype) * (255 if image.dtype == np.uint8 else 1)
+        image = np.ascontiguousarray(np.concatenate([image, a[:, :, None]], axis=2))
+    return {"image": image, "depth": depth if return_depth else None, "stats": stats}
+
+
+def _fmt(v: Any) -> str:
+    return "(" + ", ".join(f"{float(x):.4g}" for x in v) + ")"
+
+
+@overload
+def render(
+    scene: Any,
+    camera: Camera | None = None,
+    *args: Any,
+    dtype: _U8 | None = None,
+    return_depth: Literal[False] = False,
+    options: RenderOptions | None = None,
+    alpha: bool = False,
+    encoding: Encoding = "linear",
+    **kwargs: Unpack[_RenderOptionsArgs],
+) -> NDArray[np.uint8]: ...
+
+
+@overload
+def render(
+    scene: Any,
+    camera: Camera | None = None,
+    *args: Any,
+    dtype: _F32,
+    return_depth: Literal[False] = False,
+    options: RenderOptions | None = None,
+    alpha: bool = False,
+    encoding: Encoding = "linear",
+    **kwargs: Unpack[_RenderOptionsArgs],
+) -> NDArray[np.float32]: ...
+
+
+@overload
+def render(
+    scene: Any,
+    camera: Camera | None = None,
+    *args: Any,
+    dtype: _U8 | None = None,
+    return_depth: Literal[True],
+    options: RenderOptions | None = None,
+    alpha: bool = False,
+    encoding: Encoding = "linear",
+    **kwargs: Unpack[_RenderOptionsArgs],
+) -> tuple[NDArray[np.uint8], NDArray[np.float32]]: ...
+
+
+@overload
+def render(
+    scene: Any,
+    camera: Camera | None = None,
+    *args: Any,
+    dtype: _F32,
+    return_depth: Literal[True],
+    options: RenderOptions | None = None,
+    alpha: bool = False,
+    encoding: Encoding = "linear",
+    **kwargs: Unpack[_RenderOptionsArgs],
+) -> tuple[NDArray[np.float32], NDArray[np.float32]]: ...
+
+
+@overload
+def render(
+    scene: Any,
+    camera: Camera | None = None,
+    *args: Any,
+    dtype: Any = None,
+    return_depth: bool = False,
+    options: RenderOptions | None = None,
+    alpha: bool = False,
+    encoding: Encoding = "linear",
+    **kwargs: Unpack[_RenderOptionsArgs],
+) -> Any: ...
+
+
+def render(
+    scene: Any,
+    camera: Camera | None = None,
+    *args: Any,
+    dtype: Any = None,
+    return_depth: bool = False,
+    options: RenderOptions | None = None,
+    alpha: bool = False,
+    encoding: Encoding = "linear",
+    **kwargs: Unpack[_RenderOptionsArgs],
+) -> Any:
+    """Renders ``scene`` through ``camera`` into a C-contiguous (height, width, 3) array
+    ((height, width, 4) with ``alpha=True``), or a tuple (image, depth) with
+    ``return_depth=True``. The GIL is released while rendering.
+
+    Parameters:
+
+    - ``scene``: a :class:`Scene`, or anything :meth:`Scene.add` takes (a :class:`Mesh`,
+      ``trimesh.Trimesh`` / ``trimesh.Scene``, ``(vertices, faces)``, PyVista PolyData),
+      drawn in the default material.
+    - ``camera``: a :class:`Camera`; None frames the scene (:func:`frame_scene`). Near/far
+      planes the camera leaves as None are fitted to the scene's bounds for its eye.
+    - The render options, :class:`RenderOptions`' arguments: positionally after the
+      camera (``render(s, c, 640, 480, shading="flat")``) or by keyword, or ``options``
+      (a :class:`RenderOptions`, updated by any keyword given with it). ``width``,
+      ``height``: pixels, 1 to ``MAX_IMAGE_SIZE`` (800 x 600). ``shading``: "flat",
+      "gouraud" or "phong" (default; case-insensitive). ``specular``: "blinn"
+      (Blinn-Phong, default), "phong" or "blinn-normalized". ``background``: linear RGB of
+      empty pixels, each in [0, 1] for 8-bit output (default black). ``cull_backfaces``:
+      skip triangles facing away from the camera. ``threads``: worker threads, None for
+      all cores; the image is bit-identical for any.
+    - ``dtype``: "uint8" (default, ``round(clamp(c, 0, 1) * 255)``) or "float32" (linear,
+      unclamped unless ``encoding="srgb"``).
+    - ``return_depth``: also return the float32 eye-space depth (distance along the viewing
+      axis, world units), +inf where nothing was drawn.
+    - ``alpha``: add an alpha channel: opaque (255 or 1.0) where a triangle was drawn,
+      0 elsewhere (the colour there is ``background``, straight alpha).
+    - ``encoding``: "linear" (default): the shading's linear values, as OpenGL's classic
+      pipeline writes them. "srgb": encoded for display with the sRGB transfer function
+      (:func:`srgb_encode`), which brightens mid-tones the way viewers expect for an
+      image file; use it for pictures to look at, linear for measurements.
+
+    Lights: a scene without lights is lit by a rig that moves with the camera (see
+    :attr:`Scene.default_lights`). A render that draws no triangle although the scene has
+    some emits an :class:`EmptyRenderWarning` saying where the camera and the scene are.
+    """
+    f = _frame(
+        scene,
+        camera,
+        args,
+        kwargs,
+        dtype=dtype,
+        return_depth=return_depth,
+        options=options,
+        alpha=alpha,
+        encoding=encoding,
+        stacklevel=3,
+    )
+    if return_depth:
+        return f["image"], f["depth"]
+    return f["image"]
