@@ -34,10 +34,13 @@ impl Stage {
         match self {
             Stage::Fog => {
                 let Some(fog) = &ctx.fog else { return };
-                for (k, &(j, i)) in f.at.iter().enumerate() {
-                    let c = Vec3::new(f.color[0][k], f.color[1][k], f.color[2][k]);
-                    let c = fog.apply(c, f.origin.0 + i, f.origin.1 + j, f.depth[k]);
-                    (f.color[0][k], f.color[1][k], f.color[2][k]) = (c.x, c.y, c.z);
+                let (x0, y0) = f.origin;
+                let [r, g, b] = &mut f.color;
+                // Zipped with the live lanes, so no lane access needs a bounds check.
+                let lanes = r.iter_mut().zip(g.iter_mut()).zip(b.iter_mut());
+                for (((r, g), b), (&(j, i), &d)) in lanes.zip(f.at.iter().zip(f.depth)) {
+                    let c = fog.apply(Vec3::new(*r, *g, *b), x0 + i, y0 + j, d);
+                    (*r, *g, *b) = (c.x, c.y, c.z);
                 }
             }
         }
