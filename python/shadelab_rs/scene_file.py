@@ -420,12 +420,11 @@ def _camera(v: Any, where: str) -> Camera:
         if k in t:
             integer = kind == "pinhole" and k in ("width", "height")  # pixels
             kw[k] = (_integer if integer else _number)(t[k], _at(where, k))
-    make = {
-        "perspective": Camera.look_at,
-        "pinhole": Camera.from_intrinsics,
-        "orthographic": Camera.orthographic,
-    }[kind]
-    return _call(where, lambda: make(**kw))
+    if kind == "perspective":
+        return _call(where, lambda: Camera.look_at(**kw))
+    if kind == "pinhole":
+        return _call(where, lambda: Camera.from_intrinsics(**kw))
+    return _call(where, lambda: Camera.orthographic(**kw))
 
 
 def camera_to_dict(camera: Camera) -> dict[str, Any]:
