@@ -94,7 +94,8 @@ impl Intrinsics {
         Ok(())
     }
 
-    /// These intrinsics for a `width` × `height` render (scaled by the size ratio).
+    /// These intrinsics for a `width` × `height` render (scaled by the size ratio; the
+    /// sizes are those of a valid render, ≥ 1, and are not checked here).
     pub fn scaled_to(&self, width: u32, height: u32) -> Intrinsics {
         let sx = width as f64 / self.width as f64;
         let sy = height as f64 / self.height as f64;
