@@ -226,6 +226,9 @@ class Camera:
     ``fov_y`` is the full vertical field of view in degrees (perspective).
     ``ortho_height`` is the vertical extent of the orthographic view volume in
     world units.  ``near``/``far`` bound the visible eye depth ``d = -z_eye``.
+    ``intrinsics`` ``(fx, fy, cx, cy, skew, width, height)``, when given, replaces
+    ``fov_y``: a pinhole camera whose K (pixels of a ``width`` x ``height`` image,
+    y down, pixel centres at +0.5) is scaled by the size ratio for other sizes.
     """
 
     eye: Vec3
@@ -235,6 +238,14 @@ class Camera:
     near: float = 0.1
     far: float = 100.0
     ortho_height: float | None = None
+    intrinsics: tuple | None = None
+
+    def k_for(self, width: int, height: int) -> tuple[float, float, float, float, float]:
+        """``(fx, fy, cx, cy, skew)`` of a pinhole camera for a ``width`` x ``height``
+        image."""
+        fx, fy, cx, cy, skew, w0, h0 = self.intrinsics
+        sx, sy = width / w0, height / h0
+        return fx * sx, fy * sy, cx * sx, cy * sy, skew * sx
 
     @property
     def is_ortho(self) -> bool:
@@ -349,6 +360,12 @@ def project_to_screen(p_eye: np.ndarray, camera: Camera, width: int, height: int
         h = float(camera.ortho_height)
         xn = x / (h * aspect / 2.0)
         yn = y / (h / 2.0)
+    elif camera.intrinsics is not None:
+        fx, fy, cx, cy, skew = camera.k_for(width, height)
+        # Computer-vision camera coordinates (x, -y, d): u, v directly in pixels.
+        u = (fx * x - skew * y) / d + cx
+        v = -fy * y / d + cy
+        return np.stack([u, v], axis=-1)
     else:
         g = 1.0 / math.tan(math.radians(camera.fov_y) / 2.0)
         xn = g / aspect * x / d
@@ -377,6 +394,12 @@ def pixel_rays(camera: Camera, width: int, height: int) -> tuple[np.ndarray, np.
         h = float(camera.ortho_height)
         origin[..., 0] = xn * (h * aspect / 2.0)
         origin[..., 1] = yn * (h / 2.0)
+    elif camera.intrinsics is not None:
+        fx, fy, cx, cy, skew = camera.k_for(width, height)
+        u, v = np.meshgrid(np.arange(width) + 0.5, np.arange(height) + 0.5)
+        yc = (v - cy) / fy  # y down
+        direction[..., 0] = (u - cx - skew * yc) / fx
+        direction[..., 1] = -yc
     else:
         t = math.tan(math.radians(camera.fov_y) / 2.0)
         direction[..., 0] = xn * t * aspect

@@ -119,6 +119,10 @@ PERSP_TILTED = ref.Camera(
 ORTHO = ref.Camera(
     eye=(-2.0, 1.0, 2.5), target=(0.0, 0.0, 0.0), up=(0, 1, 0), ortho_height=2.6, near=0.5, far=10.0
 )
+# Off-centre principal point, skew and fx != fy, given for half the rendered size (K scales).
+PINHOLE = dataclasses.replace(
+    PERSP, intrinsics=(62.0, 50.0, 40.5, 27.0, 9.0, 68, 60), eye=(0.4, 0.9, 3.0)
+)
 
 SUN = ref.DirectionalLight(direction=(-1.0, -1.2, -0.8))
 KEY = ref.DirectionalLight(direction=(0.5, -1.0, -0.6), color=(1.0, 0.95, 0.9), intensity=0.9)
@@ -219,6 +223,14 @@ SPHERE_CASES = {
             fog=ref.Fog("linear", start=2.5, end=4.5, color=(0.6, 0.7, 0.8)),
         ),
         Case(
+            "pinhole-linear-fog",
+            "sphere",
+            PINHOLE,
+            (SUN, BULB),
+            "gold",
+            fog=ref.Fog("linear", start=2.2, end=4.2, color=(0.6, 0.7, 0.8)),
+        ),
+        Case(
             "ortho-exp-fog",
             "sphere",
             ORTHO,
@@ -295,6 +307,22 @@ def _mesh_arrays(name):
 
 
 def _sl_camera(cam):
+    if cam.intrinsics is not None:
+        fx, fy, cx, cy, skew, w, h = cam.intrinsics
+        return sl.Camera.from_intrinsics(
+            cam.eye,
+            cam.target,
+            cam.up,
+            fx=fx,
+            fy=fy,
+            cx=cx,
+            cy=cy,
+            skew=skew,
+            width=w,
+            height=h,
+            near=cam.near,
+            far=cam.far,
+        )
     if cam.is_ortho:
         return sl.Camera.orthographic(
             cam.eye, cam.target, up=cam.up, height=cam.ortho_height, near=cam.near, far=cam.far
@@ -443,6 +471,14 @@ def depth_slope(case, r):
         # n . (X, Y, -d) = n . p0 with X, Y linear in the pixel coordinates.
         sx, sy = cam.ortho_height * w / h / w, cam.ortho_height / h
         out[m] = (np.abs(n[t, 0] * sx) + np.abs(n[t, 1] * sy)) / np.abs(n[t, 2])
+    elif cam.intrinsics is not None:
+        # As below with X = x/d, Y = y/d: dX/du = 1/fx, dX/dv = -skew/(fx fy), dY/dv = -1/fy.
+        fx, fy, _, _, skew = cam.k_for(w, h)
+        k = np.sum(n * p0, axis=1)[t]
+        d = r.depth[m]
+        du = np.abs(n[t, 0] / fx)
+        dv = np.abs(n[t, 0] * skew / (fx * fy) + n[t, 1] / fy)
+        out[m] = d * d * (du + dv) / np.abs(k)
     else:
         # 1/d is affine in screen space: 1/d = (nx X + ny Y - nz) / (n . p0), X = x/d, Y = y/d.
         tn = math.tan(math.radians(cam.fov_y) / 2.0)

@@ -574,9 +574,10 @@ class Scene:
 
 @final
 class Camera:
-    """A look-at camera with perspective or orthographic projection (OpenGL conventions:
-    right-handed world, the camera looks down -z in eye space). Build one with
-    :meth:`look_at` or :meth:`orthographic`; there is no constructor."""
+    """A look-at camera with perspective, pinhole (pixel intrinsics) or orthographic
+    projection (OpenGL conventions: right-handed world, the camera looks down -z in eye
+    space). Build one with :meth:`look_at`, :meth:`from_intrinsics` or :meth:`orthographic`;
+    there is no constructor."""
 
     @staticmethod
     def look_at(
@@ -596,6 +597,31 @@ class Camera:
         of the scene's box along the view axis; near at least far / 1e5), so the whole
         scene is drawn whatever its scale. See :meth:`fitted`."""
     @staticmethod
+    def from_intrinsics(
+        eye: _Vec3Like,
+        target: _Vec3Like,
+        up: _Vec3Like | None = None,
+        *,
+        fx: float,
+        fy: float,
+        cx: float,
+        cy: float,
+        width: int,
+        height: int,
+        skew: float = 0.0,
+        near: float | None = None,
+        far: float | None = None,
+    ) -> Camera:
+        """Pinhole camera from pixel intrinsics ``K = [[fx, skew, cx], [0, fy, cy], [0, 0,
+        1]]`` of a ``width`` x ``height`` image, in the computer-vision convention (x right,
+        y down, pixel (x, y) centred at (x + 0.5, y + 0.5)); the optical axis passes through
+        ``target``, which is seen at the principal point (cx, cy). Every value must be
+        finite, ``fx, fy > 0`` and ``width, height >= 1``; planes as for :meth:`look_at`.
+
+        Rendering at another size scales K by the size ratio (``fx``, ``skew``, ``cx`` by
+        ``render_width / width``; ``fy``, ``cy`` by ``render_height / height``), so another
+        aspect ratio stretches the image."""
+    @staticmethod
     def orthographic(
         eye: _Vec3Like,
         target: _Vec3Like,
@@ -614,7 +640,9 @@ class Camera:
     def projection_matrix(self, aspect: float) -> NDArray[np.float64]:
         """The 4x4 eye-to-clip matrix for ``aspect`` = width / height: reversed-Z with a
         [0, 1] depth range (near maps to 1, far to 0). Uses the placeholder planes (0.1,
-        100) for planes left to fit; call it on :meth:`fitted` for the rendered ones."""
+        100) for planes left to fit; call it on :meth:`fitted` for the rendered ones. A
+        pinhole camera's matrix does not depend on ``aspect`` (K scales with the render
+        size)."""
     @property
     def eye(self) -> _Vec3:
         """Eye position."""
@@ -631,14 +659,17 @@ class Camera:
     def far(self) -> float | None:
         """Far plane distance, or None when it is fitted to the scene at render time."""
     @property
-    def kind(self) -> Literal["perspective", "orthographic"]:
-        """``"perspective"`` or ``"orthographic"``."""
+    def kind(self) -> Literal["perspective", "pinhole", "orthographic"]:
+        """``"perspective"``, ``"pinhole"`` or ``"orthographic"``."""
     @property
     def fov_y(self) -> float | None:
-        """Vertical field of view in degrees (None for orthographic)."""
+        """Vertical field of view in degrees (None for pinhole and orthographic)."""
     @property
     def height(self) -> float | None:
-        """Vertical extent (None for perspective)."""
+        """Vertical extent (None for perspective and pinhole)."""
+    @property
+    def intrinsics(self) -> tuple[float, float, float, float, float, int, int] | None:
+        """``(fx, fy, cx, cy, skew, width, height)`` of a pinhole camera, else None."""
 
 def load_obj(path: _Path) -> Mesh:
     """Loads an OBJ file as one mesh (all groups merged; polygons triangulated).

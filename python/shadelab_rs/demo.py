@@ -144,7 +144,8 @@ def orbit(camera: Camera, azimuth: float = 0.0, elevation: float = 0.0, up: Any 
     the up axis (positive: to the camera's right) and then ``elevation`` degrees up towards
     it (negative: down). ``up`` defaults to the camera's own; the projection, field of view
     or height and the near/far planes (None stays None: fitted) are kept. Passing over the
-    pole is allowed: the camera up then follows :func:`view_direction`'s rule."""
+    pole is allowed: the camera up then follows :func:`view_direction`'s rule. A pinhole
+    camera keeps its intrinsics."""
     u = _unit(camera.up if up is None else up, "up")
     target = np.asarray(camera.target, dtype=np.float64)
     d = np.asarray(camera.eye, dtype=np.float64) - target
@@ -157,19 +158,44 @@ def orbit(camera: Camera, azimuth: float = 0.0, elevation: float = 0.0, up: Any 
     t, cu = tuple(target.tolist()), tuple(cam_up.tolist())
     if camera.fov_y is not None:
         return Camera.look_at(eye, t, cu, fov_y=camera.fov_y, near=camera.near, far=camera.far)
+    if camera.intrinsics is not None:
+        fx, fy, cx, cy, skew, w, h = camera.intrinsics
+        return Camera.from_intrinsics(
+            eye,
+            t,
+            cu,
+            fx=fx,
+            fy=fy,
+            cx=cx,
+            cy=cy,
+            skew=skew,
+            width=w,
+            height=h,
+            near=camera.near,
+            far=camera.far,
+        )
     assert camera.height is not None
     return Camera.orthographic(eye, t, cu, height=camera.height, near=camera.near, far=camera.far)
 
 
 def intrinsics(camera: Camera, width: int, height: int) -> np.ndarray:
-    """The 3x3 pinhole matrix K of a perspective ``camera`` rendering ``width`` x
-    ``height`` pixels, in the computer-vision convention (x right, y down, pixel centres at
-    half-integers): ``[[f, 0, width/2], [0, f, height/2], [0, 0, 1]]`` with
-    ``f = height / (2 tan(fov_y / 2))``; pixels are square and there is no skew."""
-    if camera.fov_y is None:
+    """The 3x3 pinhole matrix K of a perspective or pinhole ``camera`` rendering ``width`` x
+    ``height`` pixels, in the computer-vision convention (x right, y down, pixel (x, y)
+    centred at (x + 0.5, y + 0.5)): ``[[fx, skew, cx], [0, fy, cy], [0, 0, 1]]``.
+
+    A pinhole camera (:meth:`Camera.from_intrinsics`) gives its own K scaled by the size
+    ratio to its reference image (exactly its K at that size); a ``look_at`` camera gives
+    ``[[f, 0, width/2], [0, f, height/2], [0, 0, 1]]`` with
+    ``f = height / (2 tan(fov_y / 2))``."""
+    if camera.kind == "orthographic":
         raise ValueError("an orthographic camera has no pinhole intrinsics")
     if not (width >= 1 and height >= 1):
         raise ValueError(f"width and height must be >= 1, got {width}x{height}")
+    if camera.intrinsics is not None:
+        fx, fy, cx, cy, skew, w0, h0 = camera.intrinsics
+        sx, sy = width / w0, height / h0
+        return np.array([[fx * sx, skew * sx, cx * sx], [0.0, fy * sy, cy * sy], [0.0, 0.0, 1.0]])
+    assert camera.fov_y is not None
     f = height / (2.0 * math.tan(math.radians(camera.fov_y) / 2.0))
     return np.array([[f, 0.0, width / 2.0], [0.0, f, height / 2.0], [0.0, 0.0, 1.0]])
 
@@ -184,30 +210,34 @@ def camera_from_intrinsics(
     near: float | None = None,
     far: float | None = None,
 ) -> Camera:
-    """A perspective camera from a 3x3 pinhole matrix ``K`` (fx, fy, cx, cy, skew) for a
-    ``width`` x ``height`` image. The renderer's projection is a symmetric frustum with
-    square pixels, so ``K`` must have ``fx == fy``, the principal point at the image
-    centre and no skew (to 1e-6 relative); anything else is a ``ValueError`` naming the
-    value, never an approximation."""
+    """A pinhole camera (:meth:`Camera.from_intrinsics`) from a 3x3 matrix
+    ``K = [[fx, skew, cx], [0, fy, cy], [0, 0, 1]]`` for a ``width`` x ``height`` image:
+    any focal lengths, principal point and skew, kept exactly (``intrinsics(camera, width,
+    height)`` gives ``K`` back). The optical axis passes through ``target``. ``K`` must be
+    finite and upper triangular with ``K[2] == (0, 0, 1)``, ``fx, fy > 0``; anything else
+    is a ``ValueError`` naming the value."""
     k = np.asarray(K, dtype=np.float64)
     if k.shape != (3, 3) or not np.all(np.isfinite(k)):
         raise ValueError(f"K must be a finite 3x3 matrix, got shape {k.shape}")
-    fx, fy, cx, cy, skew = k[0, 0], k[1, 1], k[0, 2], k[1, 2], k[0, 1]
-    tol = 1e-6 * max(abs(fx), abs(fy), width, height)
-    problems = []
-    if not fx > 0 or abs(fx - fy) > tol:
-        problems.append(f"fx == fy > 0 (square pixels), got fx={fx:g}, fy={fy:g}")
-    if abs(cx - width / 2) > tol or abs(cy - height / 2) > tol:
-        problems.append(
-            f"the principal point at the image centre ({width / 2:g}, {height / 2:g}), "
-            f"got ({cx:g}, {cy:g})"
+    if k[1, 0] != 0.0 or k[2, 0] != 0.0 or k[2, 1] != 0.0 or k[2, 2] != 1.0:
+        raise ValueError(
+            "K must be [[fx, skew, cx], [0, fy, cy], [0, 0, 1]]: got "
+            f"K[1, 0]={k[1, 0]:g}, K[2]=({k[2, 0]:g}, {k[2, 1]:g}, {k[2, 2]:g})"
         )
-    if abs(skew) > tol:
-        problems.append(f"no skew, got {skew:g}")
-    if problems:
-        raise ValueError("K is not supported: the renderer needs " + "; ".join(problems))
-    fov_y = math.degrees(2.0 * math.atan(height / (2.0 * fy)))
-    return Camera.look_at(eye, target, up, fov_y=fov_y, near=near, far=far)
+    return Camera.from_intrinsics(
+        eye,
+        target,
+        up,
+        fx=float(k[0, 0]),
+        fy=float(k[1, 1]),
+        cx=float(k[0, 2]),
+        cy=float(k[1, 2]),
+        skew=float(k[0, 1]),
+        width=width,
+        height=height,
+        near=near,
+        far=far,
+    )
 
 
 def camera_from_matrix(

@@ -399,19 +399,32 @@ def _camera(v: Any, where: str) -> Camera:
     if not isinstance(v, Mapping):
         raise _fail(where, "a table", v)
     kind = _choice(
-        v.get("type", "perspective"), _at(where, "type"), ("perspective", "orthographic")
+        v.get("type", "perspective"),
+        _at(where, "type"),
+        ("perspective", "pinhole", "orthographic"),
     )
-    extra = "fov_y" if kind == "perspective" else "height"
-    t = _table(v, where, ("eye", "target"), ("type", "up", extra, "near", "far"))
+    required: tuple[str, ...] = ("eye", "target")
+    extra: tuple[str, ...] = {
+        "perspective": ("fov_y",),
+        "orthographic": ("height",),
+        "pinhole": ("fx", "fy", "cx", "cy", "width", "height", "skew"),
+    }[kind]
+    if kind == "pinhole":
+        required += extra[:6]
+    t = _table(v, where, required, ("type", "up", *extra, "near", "far"))
     kw: dict[str, Any] = {}
     for k in ("eye", "target", "up"):
         if k in t:
             kw[k] = _numbers(t[k], _at(where, k))
-    for k in (extra, "near", "far"):
+    for k in (*extra, "near", "far"):
         if k in t:
-            kw[k] = _number(t[k], _at(where, k))
-    make = Camera.look_at if kind == "perspective" else Camera.orthographic
-    return _call(where, lambda: make(**kw))
+            integer = kind == "pinhole" and k in ("width", "height")  # pixels
+            kw[k] = (_integer if integer else _number)(t[k], _at(where, k))
+    if kind == "perspective":
+        return _call(where, lambda: Camera.look_at(**kw))
+    if kind == "pinhole":
+        return _call(where, lambda: Camera.from_intrinsics(**kw))
+    return _call(where, lambda: Camera.orthographic(**kw))
 
 
 def camera_to_dict(camera: Camera) -> dict[str, Any]:
@@ -424,6 +437,9 @@ def camera_to_dict(camera: Camera) -> dict[str, Any]:
     d["up"] = list(camera.up)
     if camera.kind == "perspective":
         d["fov_y"] = camera.fov_y
+    elif camera.intrinsics is not None:
+        fx, fy, cx, cy, skew, w, h = camera.intrinsics
+        d.update(fx=fx, fy=fy, cx=cx, cy=cy, skew=skew, width=w, height=h)
     else:
         d["height"] = camera.height
     # Planes left to the renderer to fit (None) are left out, as in a file.

@@ -6,7 +6,8 @@ use shadelab_raster as core;
 use crate::convert;
 use crate::errors::to_py;
 
-/// A look-at camera with perspective or orthographic projection (OpenGL conventions).
+/// A look-at camera with perspective, pinhole (pixel intrinsics) or orthographic projection
+/// (OpenGL conventions).
 #[pyclass(name = "Camera", module = "shadelab_rs._core", frozen)]
 #[derive(Clone)]
 pub struct PyCamera {
@@ -77,6 +78,66 @@ impl PyCamera {
             convert::dvec3(target, "target")?,
             up_or_y(up)?,
             fov_y,
+            near,
+            far,
+        )
+        .map_err(to_py)?;
+        Ok(Self {
+            inner,
+            fit_near,
+            fit_far,
+        })
+    }
+
+    /// Pinhole camera from pixel intrinsics K = [[fx, skew, cx], [0, fy, cy], [0, 0, 1]] of a
+    /// `width` x `height` image (computer-vision convention: x right, y down, pixel centres
+    /// at half-integers); the optical axis passes through `target`.
+    #[staticmethod]
+    #[pyo3(signature = (
+        eye, target, up=None, *, fx, fy, cx, cy, width, height, skew=0.0, near=None, far=None
+    ))]
+    #[allow(clippy::too_many_arguments)]
+    fn from_intrinsics(
+        eye: &Bound<'_, PyAny>,
+        target: &Bound<'_, PyAny>,
+        up: Option<&Bound<'_, PyAny>>,
+        fx: f64,
+        fy: f64,
+        cx: f64,
+        cy: f64,
+        width: i64,
+        height: i64,
+        skew: f64,
+        near: Option<f64>,
+        far: Option<f64>,
+    ) -> PyResult<Self> {
+        let size = |name: &str, v: i64| {
+            u32::try_from(v).ok().filter(|&v| v >= 1).ok_or_else(|| {
+                crate::errors::value_error(
+                    name,
+                    format!(
+                        "{name} (the intrinsics' reference image size) must be an integer in \
+                         [1, 2^32), got {v}"
+                    ),
+                )
+            })
+        };
+        let k = core::Intrinsics {
+            fx,
+            fy,
+            cx,
+            cy,
+            skew,
+            width: size("width", width)?,
+            height: size("height", height)?,
+        };
+        let (fit_near, fit_far) = (near.is_none(), far.is_none());
+        let (near, far) = planes(near, far, true);
+        let inner = core::Camera::from_intrinsics(
+            convert::dvec3(eye, "eye")?,
+            convert::dvec3(target, "target")?,
+            up_or_y(up)?,
+            k,
             near,
             far,
         )
@@ -163,7 +224,8 @@ impl PyCamera {
     }
 
     /// The 4x4 eye-to-clip matrix for `aspect` = width / height (reversed-Z, depth range
-    /// [0, 1]: near maps to 1, far to 0), float64.
+    /// [0, 1]: near maps to 1, far to 0), float64. A pinhole camera's does not depend on
+    /// `aspect` (its intrinsics scale with the render size).
     fn projection_matrix<'py>(
         &self,
         py: Python<'py>,
@@ -180,38 +242,60 @@ impl PyCamera {
         ))
     }
 
-    /// "perspective" or "orthographic".
+    /// "perspective", "pinhole" or "orthographic".
     #[getter]
     fn kind(&self) -> &'static str {
         match self.inner.projection() {
             core::Projection::Perspective { .. } => "perspective",
+            core::Projection::Pinhole(_) => "pinhole",
             core::Projection::Orthographic { .. } => "orthographic",
         }
     }
 
-    /// Vertical field of view in degrees (None for orthographic).
+    /// Vertical field of view in degrees (None for pinhole and orthographic).
     #[getter]
     fn fov_y(&self) -> Option<f64> {
         match self.inner.projection() {
             core::Projection::Perspective { fov_y } => Some(fov_y),
-            core::Projection::Orthographic { .. } => None,
+            _ => None,
         }
     }
 
-    /// Vertical extent (None for perspective).
+    /// Vertical extent (None for perspective and pinhole).
     #[getter]
     fn height(&self) -> Option<f64> {
         match self.inner.projection() {
             core::Projection::Orthographic { height } => Some(height),
-            core::Projection::Perspective { .. } => None,
+            _ => None,
+        }
+    }
+
+    /// (fx, fy, cx, cy, skew, width, height) of a pinhole camera, else None.
+    #[getter]
+    #[allow(clippy::type_complexity)]
+    fn intrinsics(&self) -> Option<(f64, f64, f64, f64, f64, u32, u32)> {
+        match self.inner.projection() {
+            core::Projection::Pinhole(k) => {
+                Some((k.fx, k.fy, k.cx, k.cy, k.skew, k.width, k.height))
+            }
+            _ => None,
         }
     }
 
     fn __repr__(&self) -> String {
         let c = &self.inner;
-        let proj = match c.projection() {
-            core::Projection::Perspective { fov_y } => format!("fov_y={fov_y}"),
-            core::Projection::Orthographic { height } => format!("height={height}"),
+        let (make, proj) = match c.projection() {
+            core::Projection::Perspective { fov_y } => ("look_at", format!("fov_y={fov_y}")),
+            core::Projection::Orthographic { height } => {
+                ("orthographic", format!("height={height}"))
+            }
+            core::Projection::Pinhole(k) => (
+                "from_intrinsics",
+                format!(
+                    "fx={}, fy={}, cx={}, cy={}, width={}, height={}, skew={}",
+                    k.fx, k.fy, k.cx, k.cy, k.width, k.height, k.skew
+                ),
+            ),
         };
         let plane = |fit: bool, v: f64| {
             if fit {
@@ -221,12 +305,7 @@ impl PyCamera {
             }
         };
         format!(
-            "Camera.{}(eye={:?}, target={:?}, up={:?}, {proj}, near={}, far={})",
-            if self.fov_y().is_some() {
-                "look_at"
-            } else {
-                "orthographic"
-            },
+            "Camera.{make}(eye={:?}, target={:?}, up={:?}, {proj}, near={}, far={})",
             c.eye().to_array(),
             c.target().to_array(),
             c.up().to_array(),

@@ -79,7 +79,7 @@ pub fn fit_planes(camera: &PyCamera, scene: &core::Scene) -> PyResult<core::Came
     let pad = 0.01 * (zmax - zmin) + 1e-6 * (zmax.abs() + zmin.abs()) + 1e-9;
     let (mut near, mut far) = (c.near(), c.far());
     match c.projection() {
-        core::Projection::Perspective { fov_y } => {
+        core::Projection::Perspective { .. } | core::Projection::Pinhole(_) => {
             if camera.fit_far {
                 if zmax + pad <= 0.0 {
                     return Ok(c); // all behind the eye: nothing to fit
@@ -97,9 +97,9 @@ pub fn fit_planes(camera: &PyCamera, scene: &core::Scene) -> PyResult<core::Came
                     far = near * 2.0;
                 }
             }
-            core::Camera::look_at(c.eye(), c.target(), c.up(), fov_y, near, far).map_err(to_py)
+            c.with_planes(near, far).map_err(to_py)
         }
-        core::Projection::Orthographic { height } => {
+        core::Projection::Orthographic { .. } => {
             if camera.fit_far {
                 far = zmax + pad;
             }
@@ -114,8 +114,7 @@ pub fn fit_planes(camera: &PyCamera, scene: &core::Scene) -> PyResult<core::Came
                     far = near + gap;
                 }
             }
-            core::Camera::orthographic(c.eye(), c.target(), c.up(), height, near, far)
-                .map_err(to_py)
+            c.with_planes(near, far).map_err(to_py)
         }
     }
 }

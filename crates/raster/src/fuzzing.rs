@@ -403,7 +403,7 @@ pub fn check_render(scene: &Scene, camera: &Camera, options: &RenderOptions) -> 
     let depth = frame.depth.expect("asked for depth");
     let counts = coverage_counts(scene, camera, options).expect("coverage of a valid scene");
     let bg = options.background;
-    let perspective = matches!(camera.projection(), Projection::Perspective { .. });
+    let perspective = !matches!(camera.projection(), Projection::Orthographic { .. });
     for (i, (&d, &n)) in depth.iter().zip(&counts).enumerate() {
         let c = Vec3::from_slice(&color[3 * i..3 * i + 3]);
         assert!(!d.is_nan(), "NaN depth at pixel {i}");

@@ -41,7 +41,7 @@ pub mod primitives;
 mod render;
 mod scene;
 
-pub use camera::{Camera, Projection};
+pub use camera::{Camera, Intrinsics, Projection};
 pub use effects::{Fog, FogMode};
 pub use error::{RasterError, Result};
 pub use frame::{ColorBuffer, ColorFormat, Frame, RenderStats, StageTimings};
