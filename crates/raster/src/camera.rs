@@ -432,10 +432,34 @@ impl EyeDistance {
     /// Distance from the eye to the point seen at pixel (x, y) at eye depth `depth`.
     #[inline]
     pub fn at(&self, x: usize, y: usize, depth: f32) -> f32 {
+        if self.centred() {
+            self.at_with::<false>(x, y, depth)
+        } else {
+            self.at_with::<true>(x, y, depth)
+        }
+    }
+
+    /// Whether the rays are those of a centred, unskewed frustum (kx = ox = oy = 0), whose
+    /// distances need no off-centre terms: [`EyeDistance::at_with::<false>`] then equals
+    /// `at_with::<true>` bit for bit and costs three fewer operations per pixel.
+    #[inline(always)]
+    pub fn centred(&self) -> bool {
+        self.kx == 0.0 && self.ox == 0.0 && self.oy == 0.0
+    }
+
+    /// [`EyeDistance::at`] with (`OFF_CENTRE`) or without the off-centre terms.
+    #[inline(always)]
+    pub fn at_with<const OFF_CENTRE: bool>(&self, x: usize, y: usize, depth: f32) -> f32 {
         let nx = (x as f32 + 0.5) * self.inv_w - 1.0;
         let ny = 1.0 - (y as f32 + 0.5) * self.inv_h;
-        let rx = nx * self.sx + ny * self.kx + self.ox;
-        let ry = ny * self.sy + self.oy;
+        let (rx, ry) = if OFF_CENTRE {
+            (
+                nx * self.sx + ny * self.kx + self.ox,
+                ny * self.sy + self.oy,
+            )
+        } else {
+            (nx * self.sx, ny * self.sy)
+        };
         let (ex, ey) = if self.ortho {
             (rx, ry)
         } else {

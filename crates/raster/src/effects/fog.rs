@@ -122,6 +122,26 @@ impl FogEffect {
     pub fn apply(&self, c: Vec3, x: usize, y: usize, depth: f32) -> Vec3 {
         self.fog.apply(c, self.distance.at(x, y, depth))
     }
+
+    /// Whether the camera's rays are centred (see [`EyeDistance::centred`]), so a batch can
+    /// pick [`FogEffect::apply_with`] once instead of testing per pixel.
+    #[inline(always)]
+    pub fn centred(&self) -> bool {
+        self.distance.centred()
+    }
+
+    /// [`FogEffect::apply`] with or without the off-centre ray terms.
+    #[inline(always)]
+    pub fn apply_with<const OFF_CENTRE: bool>(
+        &self,
+        c: Vec3,
+        x: usize,
+        y: usize,
+        depth: f32,
+    ) -> Vec3 {
+        self.fog
+            .apply(c, self.distance.at_with::<OFF_CENTRE>(x, y, depth))
+    }
 }
 
 #[cfg(test)]

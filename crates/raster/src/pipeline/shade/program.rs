@@ -7,6 +7,7 @@
 use glam::Vec3;
 
 use super::ShadeContext;
+use crate::effects::FogEffect;
 use crate::lighting::Lanes;
 
 /// Lit fragments of one batch (at most [`LANES`](crate::lighting::LANES)), in flight through the program.
@@ -34,16 +35,26 @@ impl Stage {
         match self {
             Stage::Fog => {
                 let Some(fog) = &ctx.fog else { return };
-                let (x0, y0) = f.origin;
-                let [r, g, b] = &mut f.color;
-                // Zipped with the live lanes, so no lane access needs a bounds check.
-                let lanes = r.iter_mut().zip(g.iter_mut()).zip(b.iter_mut());
-                for (((r, g), b), (&(j, i), &d)) in lanes.zip(f.at.iter().zip(f.depth)) {
-                    let c = fog.apply(Vec3::new(*r, *g, *b), x0 + i, y0 + j, d);
-                    (*r, *g, *b) = (c.x, c.y, c.z);
+                if fog.centred() {
+                    fog_lanes::<false>(fog, f);
+                } else {
+                    fog_lanes::<true>(fog, f);
                 }
             }
         }
+    }
+}
+
+/// Fog over the live lanes of a batch.
+#[inline(always)]
+fn fog_lanes<const OFF_CENTRE: bool>(fog: &FogEffect, f: &mut Fragments<'_>) {
+    let (x0, y0) = f.origin;
+    let [r, g, b] = &mut f.color;
+    // Zipped with the live lanes, so no lane access needs a bounds check.
+    let lanes = r.iter_mut().zip(g.iter_mut()).zip(b.iter_mut());
+    for (((r, g), b), (&(j, i), &d)) in lanes.zip(f.at.iter().zip(f.depth)) {
+        let c = fog.apply_with::<OFF_CENTRE>(Vec3::new(*r, *g, *b), x0 + i, y0 + j, d);
+        (*r, *g, *b) = (c.x, c.y, c.z);
     }
 }
 
