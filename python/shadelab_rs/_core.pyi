@@ -77,6 +77,10 @@ class Mesh:
     float32 and indices in ``[0, N)``; the mesh needs at least one triangle.
     """
 
+    def __copy__(self) -> Mesh: ...
+    def __deepcopy__(self, _memo: Any) -> Mesh:
+        """Pickling and copying keep every value exactly (see the user guide, "Many views")."""
+
     def __new__(
         cls,
         vertices: ArrayLike,
@@ -132,6 +136,10 @@ class Material:
     arguments take the default grey plastic's values. Materials compare equal when all their
     values are equal (and are not hashable)."""
 
+    def __copy__(self) -> Material: ...
+    def __deepcopy__(self, _memo: Any) -> Material:
+        """Pickling and copying keep every value exactly (see the user guide, "Many views")."""
+
     def __new__(
         cls,
         ambient: _Vec3Like | None = None,
@@ -177,6 +185,10 @@ class DirectionalLight:
     specular colour (OpenGL's GL_DIFFUSE / GL_SPECULAR of a light) in place of ``color``;
     both are scaled by ``intensity``. No attenuation."""
 
+    def __copy__(self) -> DirectionalLight: ...
+    def __deepcopy__(self, _memo: Any) -> DirectionalLight:
+        """Pickling and copying keep every value exactly (see the user guide, "Many views")."""
+
     def __new__(
         cls,
         direction: _Vec3Like,
@@ -213,6 +225,10 @@ class PointLight:
     >= 0, not all zero; the divisor is at least 1e-6). ``ambient`` is the light's own ambient
     colour (default black), attenuated like the rest. ``diffuse`` / ``specular`` override
     ``color`` for their term, as for DirectionalLight."""
+
+    def __copy__(self) -> PointLight: ...
+    def __deepcopy__(self, _memo: Any) -> PointLight:
+        """Pickling and copying keep every value exactly (see the user guide, "Many views")."""
 
     def __new__(
         cls,
@@ -254,6 +270,10 @@ class SpotLight:
     ``cutoff`` is in degrees, in (0, 90] or exactly 180 (no cone). ``inner`` (degrees,
     < cutoff) fades the edge with a smoothstep from the cutoff in to ``inner``. The other
     arguments are those of PointLight; ambient is scaled by the spot factor too."""
+
+    def __copy__(self) -> SpotLight: ...
+    def __deepcopy__(self, _memo: Any) -> SpotLight:
+        """Pickling and copying keep every value exactly (see the user guide, "Many views")."""
 
     def __new__(
         cls,
@@ -316,6 +336,10 @@ class AreaLight:
     equal-area radii. Each point is a point light with this light's ``attenuation``;
     ``one_sided=True`` makes each a Lambertian emitter (a spot light with cutoff 90 and
     exponent 1 along ``normal = u x v / |u x v|``), dark behind the light."""
+
+    def __copy__(self) -> AreaLight: ...
+    def __deepcopy__(self, _memo: Any) -> AreaLight:
+        """Pickling and copying keep every value exactly (see the user guide, "Many views")."""
 
     def __new__(
         cls,
@@ -385,6 +409,10 @@ class Fog:
     "exp2" ``exp(-(density*d)**2)`` (density >= 0). Applied per pixel in every shading
     mode; the background is not fogged."""
 
+    def __copy__(self) -> Fog: ...
+    def __deepcopy__(self, _memo: Any) -> Fog:
+        """Pickling and copying keep every value exactly (see the user guide, "Many views")."""
+
     def __new__(
         cls,
         mode: Literal["linear", "exp", "exp2"] = "linear",
@@ -416,6 +444,10 @@ class SceneObject:
     """One object of a scene as read back by :attr:`Scene.objects`: a snapshot, so changing
     it does not change the scene. There is no constructor."""
 
+    def __copy__(self) -> SceneObject: ...
+    def __deepcopy__(self, _memo: Any) -> SceneObject:
+        """Pickling and copying keep every value exactly (see the user guide, "Many views")."""
+
     @property
     def mesh(self) -> Mesh:
         """The mesh (shared with the scene, not copied)."""
@@ -434,6 +466,10 @@ class SceneObject:
 class Scene:
     """Objects, lights, the global ambient light (default ``(0.2, 0.2, 0.2)``) and an
     optional fog."""
+
+    def __copy__(self) -> Scene: ...
+    def __deepcopy__(self, _memo: Any) -> Scene:
+        """Pickling and copying keep every value exactly (see the user guide, "Many views")."""
 
     def __new__(
         cls,
@@ -525,6 +561,10 @@ class Camera:
     """A look-at camera with perspective or orthographic projection (OpenGL conventions:
     right-handed world, the camera looks down -z in eye space). Build one with
     :meth:`look_at` or :meth:`orthographic`; there is no constructor."""
+
+    def __copy__(self) -> Camera: ...
+    def __deepcopy__(self, _memo: Any) -> Camera:
+        """Pickling and copying keep every value exactly (see the user guide, "Many views")."""
 
     @staticmethod
     def look_at(
@@ -691,6 +731,10 @@ def render_frame(
     ``triangles_culled``, ``triangles_dropped``), ``light_sources`` (point sources lit per
     shaded point; an area light counts its ``n_points``) and per-stage wall times in
     milliseconds (keys ending in ``_ms``)."""
+
+def _restore(kind: str, state: Any) -> Any:
+    """Pickle's reconstructor: rebuilds the ``kind`` object from the state its
+    ``__reduce__`` gave, through the validating constructors (``ValueError`` when corrupt)."""
 
 def _panic_for_tests() -> None:
     """Test hook: panics inside Rust behind the guard every entry point uses, so the test

@@ -19,6 +19,18 @@ fn up_or_y(up: Option<&Bound<'_, PyAny>>) -> PyResult<glam::DVec3> {
 
 #[pymethods]
 impl PyCamera {
+    /// Pickle support: `_core._restore("Camera", state)` rebuilds this value exactly.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        crate::pickle::reduce(py, "Camera", crate::pickle::camera_state(&self.inner))
+    }
+
+    fn __copy__(&self) -> Self {
+        self.clone()
+    }
+
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
+        self.clone()
+    }
     /// Perspective camera; `fov_y` is the full vertical angle in degrees.
     #[staticmethod]
     #[pyo3(signature = (eye, target, up=None, fov_y=45.0, near=0.1, far=100.0))]

@@ -9,6 +9,7 @@ mod fog;
 mod light;
 mod material;
 mod mesh;
+mod pickle;
 mod render;
 mod scene;
 
@@ -35,6 +36,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(mesh::load_obj_parts, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(render::render_frame, m)?)?;
+    // Pickle's reconstructor and the test hooks are set as attributes, out of `__all__`.
+    m.setattr("_restore", wrap_pyfunction!(pickle::_restore, m)?)?;
     // A test hook: set as an attribute, so it stays out of `__all__`.
     m.setattr(
         "_panic_for_tests",

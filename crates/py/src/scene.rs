@@ -29,8 +29,52 @@ pub struct PySceneObject {
     transform: Mat4,
 }
 
+impl PySceneObject {
+    /// The snapshot of a scene's object.
+    pub fn from_object(o: &core::Object) -> Self {
+        PySceneObject {
+            mesh: o.mesh().clone(),
+            material: *o.material(),
+            back_material: o.back_material().copied(),
+            transform: o.transform(),
+        }
+    }
+}
+
 #[pymethods]
 impl PySceneObject {
+    /// Pickle support: `_core._restore("SceneObject", state)` rebuilds this value exactly.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        crate::pickle::reduce(
+            py,
+            "SceneObject",
+            crate::pickle::scene_object_state(
+                py,
+                &self.mesh,
+                &self.material,
+                self.back_material.as_ref(),
+                &self.transform,
+            )?,
+        )
+    }
+
+    fn __copy__(&self) -> Self {
+        PySceneObject {
+            mesh: self.mesh.clone(),
+            material: self.material,
+            back_material: self.back_material,
+            transform: self.transform,
+        }
+    }
+
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
+        PySceneObject {
+            mesh: self.mesh.clone(),
+            material: self.material,
+            back_material: self.back_material,
+            transform: self.transform,
+        }
+    }
     /// The mesh (shared with the scene, not copied).
     #[getter]
     fn mesh(&self) -> PyMesh {
@@ -93,6 +137,24 @@ pub struct PyScene {
 
 #[pymethods]
 impl PyScene {
+    /// Pickle support: `_core._restore("Scene", state)` rebuilds this value exactly.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        crate::pickle::reduce(py, "Scene", crate::pickle::scene_state(py, &self.inner)?)
+    }
+
+    fn __copy__(&self) -> Self {
+        // Meshes are immutable and stay shared; everything else is copied.
+        PyScene {
+            inner: self.inner.clone(),
+        }
+    }
+
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
+        // Meshes are immutable and stay shared; everything else is copied.
+        PyScene {
+            inner: self.inner.clone(),
+        }
+    }
     #[new]
     #[pyo3(signature = (ambient=None, fog=None, two_sided=false, local_viewer=true))]
     fn new(
@@ -214,12 +276,7 @@ impl PyScene {
         self.inner
             .objects()
             .iter()
-            .map(|o| PySceneObject {
-                mesh: o.mesh().clone(),
-                material: *o.material(),
-                back_material: o.back_material().copied(),
-                transform: o.transform(),
-            })
+            .map(PySceneObject::from_object)
             .collect()
     }
 

@@ -52,6 +52,8 @@ pub use obj::{load_obj, load_obj_parts, parse_obj_parts, ObjPart};
 pub use pipeline::shade::Pixel;
 pub use pipeline::MAX_RADIANCE;
 pub use pool::{default_threads, MAX_THREADS};
+#[doc(hidden)]
+pub use pool::{max_in_flight, set_rendezvous};
 pub use render::{
     coverage_counts, render, render_into, ColorBuffer, ColorFormat, Frame, RenderOptions,
     RenderStats, StageTimings, MAX_IMAGE_SIZE,

@@ -167,6 +167,13 @@ impl SpotLight {
         self.direction
     }
 
+    /// The same spot pointing along `unit`, stored as given; see
+    /// [`DirectionalLight::with_unit_direction`].
+    pub fn with_unit_direction(mut self, unit: Vec3) -> Result<Self> {
+        self.direction = check_unit(unit)?;
+        Ok(self)
+    }
+
     /// Cone half-angle in degrees (180: no cone).
     pub fn cutoff(&self) -> f32 {
         self.cutoff
@@ -263,6 +270,25 @@ impl DirectionalLight {
     /// The unit direction the light travels.
     pub fn direction(&self) -> Vec3 {
         self.direction
+    }
+
+    /// The same light travelling along `unit`, stored as given (not renormalised: that can
+    /// move the last bit), so a light rebuilt from [`DirectionalLight::direction`] (e.g.
+    /// when unpickled) is bit-identical. `unit` must be finite with length 1 ± 1e-5.
+    pub fn with_unit_direction(mut self, unit: Vec3) -> Result<Self> {
+        self.direction = check_unit(unit)?;
+        Ok(self)
+    }
+}
+
+fn check_unit(unit: Vec3) -> Result<Vec3> {
+    if unit.is_finite() && (unit.length() - 1.0).abs() <= 1e-5 {
+        Ok(unit)
+    } else {
+        Err(RasterError::invalid(format!(
+            "a stored light direction must be a finite unit vector, got {:?}",
+            unit.to_array()
+        )))
     }
 }
 

@@ -258,8 +258,9 @@ fn run_checked<P: Pixel>(
             )));
         }
     }
-    let pool = pool::pool(options.threads)?;
-    pool.install(|| pipeline::run(scene, camera, options, color, depth))
+    pool::run(options.threads, || {
+        pipeline::run(scene, camera, options, color, depth)
+    })?
 }
 
 /// Test hook: per-pixel count of covering triangles (no depth test), row-major
@@ -271,6 +272,7 @@ pub fn coverage_counts(
     options: &RenderOptions,
 ) -> Result<Vec<u32>> {
     options.validate()?;
-    let pool = pool::pool(options.threads)?;
-    pool.install(|| pipeline::coverage_counts(scene, camera, options))
+    pool::run(options.threads, || {
+        pipeline::coverage_counts(scene, camera, options)
+    })?
 }
