@@ -30,6 +30,7 @@ from ._core import (
     render,
     render_frame,
 )
+from .batch import iter_render, render_batch
 from .demo import data_path, demo_scene, frame_mesh
 from .io import load_mesh, save_image, to_uint8
 from .scene_file import (
@@ -66,6 +67,7 @@ __all__ = [
     "demo_scene",
     "frame_mesh",
     "frame_scene",
+    "iter_render",
     "load_mesh",
     "load_obj",
     "load_obj_parts",
@@ -73,6 +75,7 @@ __all__ = [
     "load_scene_dict",
     "material_sheet",
     "render",
+    "render_batch",
     "render_frame",
     "save_image",
     "save_scene",

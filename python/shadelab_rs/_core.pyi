@@ -9,7 +9,7 @@ Errors: ``ValueError`` (bad values, with the offending element named, e.g.
 """
 
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, Final, Literal, TypedDict, final, overload
 
 import numpy as np
@@ -35,6 +35,7 @@ __all__ = [
     "load_obj",
     "load_obj_parts",
     "render",
+    "render_batch",
     "render_frame",
 ]
 
@@ -731,6 +732,35 @@ def render_frame(
     ``triangles_culled``, ``triangles_dropped``), ``light_sources`` (point sources lit per
     shaded point; an area light counts its ``n_points``) and per-stage wall times in
     milliseconds (keys ending in ``_ms``)."""
+
+def render_batch(
+    scene: Scene | Sequence[Scene],
+    cameras: Camera | Sequence[Camera],
+    width: int = 800,
+    height: int = 600,
+    shading: _Shading = "phong",
+    specular: _Specular = "blinn",
+    background: _Vec3Like | None = None,
+    dtype: Any = None,
+    return_depth: bool = False,
+    cull_backfaces: bool = False,
+    threads: int | None = None,
+    callback: Callable[..., object] | None = None,
+    progress: Callable[[int], object] | None = None,
+    index_base: int = 0,
+) -> Any:
+    """The loop of :func:`shadelab_rs.render_batch` (which adds the progress bar): one scene
+    or camera is used for every view, two sequences are paired. Returns ``(N, H, W, 3)``
+    (plus ``(N, H, W)`` depth with ``return_depth``), or None with ``callback``, which is
+    called as ``callback(i, image[, depth])`` after each frame; ``progress(done)`` after
+    each frame. ``index_base`` is added to the view indices in errors and callbacks."""
+
+def _set_rendezvous(renders: int, timeout: float) -> None:
+    """Test hook: every render waits on its workers (up to ``timeout`` seconds) until
+    ``renders`` renders are in flight together; resets :func:`_max_in_flight`."""
+
+def _max_in_flight() -> int:
+    """Test hook: the most renders seen running at once since :func:`_set_rendezvous`."""
 
 def _restore(kind: str, state: Any) -> Any:
     """Pickle's reconstructor: rebuilds the ``kind`` object from the state its

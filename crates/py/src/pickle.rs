@@ -125,14 +125,16 @@ pub fn mesh_state<'py>(py: Python<'py>, m: &core::Mesh) -> PyResult<Bound<'py, P
     )
 }
 
+type Arrays<'py> = (
+    Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
+    Option<Bound<'py, PyAny>>,
+    Option<Bound<'py, PyAny>>,
+    Option<Bound<'py, PyAny>>,
+);
+
 fn restore_mesh(state: &Bound<'_, PyAny>) -> PyResult<PyMesh> {
-    let (vertices, faces, given, loader, uvs): (
-        Bound<'_, PyAny>,
-        Bound<'_, PyAny>,
-        Option<Bound<'_, PyAny>>,
-        Option<Bound<'_, PyAny>>,
-        Option<Bound<'_, PyAny>>,
-    ) = state.extract()?;
+    let (vertices, faces, given, loader, uvs): Arrays<'_> = state.extract()?;
     let positions = read_vec3s(&vertices, "vertices")?;
     let indices = match faces.extract::<PyReadonlyArray2<u32>>() {
         Ok(a) if a.shape()[1] == 3 && a.as_slice().is_ok() => a

@@ -73,6 +73,36 @@ fn format_of(dtype: &Bound<'_, PyAny>) -> PyResult<core::ColorFormat> {
     }
 }
 
+/// The arguments every render entry point shares.
+pub struct RenderArgs<'a, 'py> {
+    pub width: Option<&'a Bound<'py, PyAny>>,
+    pub height: Option<&'a Bound<'py, PyAny>>,
+    pub shading: &'a str,
+    pub specular: &'a str,
+    pub background: Option<&'a Bound<'py, PyAny>>,
+    pub dtype: Option<&'a Bound<'py, PyAny>>,
+    pub cull_backfaces: bool,
+    pub threads: Option<&'a Bound<'py, PyAny>>,
+}
+
+/// Checked render options and colour format.
+pub fn options_from(a: RenderArgs<'_, '_>) -> PyResult<(core::RenderOptions, core::ColorFormat)> {
+    let mut options =
+        core::RenderOptions::new(size(a.width, 800, "width")?, size(a.height, 600, "height")?);
+    options.shading = a.shading.parse().map_err(to_py)?;
+    options.specular = a.specular.parse().map_err(to_py)?;
+    if let Some(bg) = a.background {
+        options.background = convert::vec3(bg, "background")?;
+    }
+    options.cull_backfaces = a.cull_backfaces;
+    options.threads = threads_arg(a.threads)?;
+    let format = match a.dtype {
+        Some(d) => format_of(d)?,
+        None => core::ColorFormat::U8,
+    };
+    Ok((options, format))
+}
+
 struct Rendered<'py> {
     image: Bound<'py, PyAny>,
     depth: Option<Bound<'py, PyAny>>,
@@ -94,19 +124,16 @@ fn render_impl<'py>(
     cull_backfaces: bool,
     threads: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Rendered<'py>> {
-    let mut options =
-        core::RenderOptions::new(size(width, 800, "width")?, size(height, 600, "height")?);
-    options.shading = shading.parse().map_err(to_py)?;
-    options.specular = specular.parse().map_err(to_py)?;
-    if let Some(bg) = background {
-        options.background = convert::vec3(bg, "background")?;
-    }
-    options.cull_backfaces = cull_backfaces;
-    options.threads = threads_arg(threads)?;
-    let format = match dtype {
-        Some(d) => format_of(d)?,
-        None => core::ColorFormat::U8,
-    };
+    let (options, format) = options_from(RenderArgs {
+        width,
+        height,
+        shading,
+        specular,
+        background,
+        dtype,
+        cull_backfaces,
+        threads,
+    })?;
     let scene_copy = scene.inner.clone();
     let cam = camera.inner;
     let frame = py

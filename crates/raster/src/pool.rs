@@ -110,10 +110,13 @@ impl InFlight {
         let (want, timeout) = *guard;
         if want > 1 {
             ARRIVED.notify_all();
-            // Waits until `want` renders are in flight together, or gives up after the
-            // timeout (the renders then simply ran one after the other).
+            // Waits until `want` renders have been in flight together (the high-water mark,
+            // so a render that finished first does not strand the others), or gives up after
+            // the timeout (the renders then simply ran one after the other).
             let _unused = ARRIVED
-                .wait_timeout_while(guard, timeout, |_| IN_FLIGHT.load(Ordering::SeqCst) < want)
+                .wait_timeout_while(guard, timeout, |_| {
+                    MAX_IN_FLIGHT.load(Ordering::SeqCst) < want
+                })
                 .unwrap_or_else(|e| e.into_inner());
         }
         InFlight
