@@ -9,6 +9,7 @@ this package adds file helpers, the bundled demo scene and the command line.
 (48, 64, 3)
 """
 
+from . import distributed
 from ._core import (
     MAX_AREA_SAMPLES,
     MAX_IMAGE_SIZE,
@@ -65,6 +66,7 @@ __all__ = [
     "__version__",
     "data_path",
     "demo_scene",
+    "distributed",
     "frame_mesh",
     "frame_scene",
     "iter_render",

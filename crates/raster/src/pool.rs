@@ -22,7 +22,8 @@ pub const MAX_THREADS: usize = 256;
 /// are dropped (their threads exit) when the render ends.
 const MAX_IDLE_PER_SIZE: usize = 8;
 
-static IDLE: Mutex<Vec<(usize, ThreadPool)>> = Mutex::new(Vec::new());
+/// Idle pools: (thread count, the id of the process that started the pool, pool).
+static IDLE: Mutex<Vec<(usize, u32, ThreadPool)>> = Mutex::new(Vec::new());
 
 /// Validates a requested thread count.
 pub(crate) fn check_threads(threads: Option<usize>) -> Result<()> {
@@ -52,8 +53,8 @@ impl Drop for Lease {
     fn drop(&mut self) {
         if let Some(pool) = self.pool.take() {
             let mut idle = IDLE.lock().unwrap_or_else(|e| e.into_inner());
-            if idle.iter().filter(|(k, _)| *k == self.n).count() < MAX_IDLE_PER_SIZE {
-                idle.push((self.n, pool));
+            if idle.iter().filter(|(k, _, _)| *k == self.n).count() < MAX_IDLE_PER_SIZE {
+                idle.push((self.n, std::process::id(), pool));
             }
         }
     }
@@ -62,11 +63,24 @@ impl Drop for Lease {
 fn lease(threads: Option<usize>) -> Result<Lease> {
     check_threads(threads)?;
     let n = threads.unwrap_or_else(default_threads);
+    let pid = std::process::id();
     let idle = {
         let mut idle = IDLE.lock().unwrap_or_else(|e| e.into_inner());
+        // A forked child inherits the list but not the pools' threads: a job sent to such a
+        // pool would wait forever (a ProcessPoolExecutor forked after a render hung). Those
+        // pools are forgotten, never dropped: dropping would signal threads that are not
+        // there.
+        let mut i = 0;
+        while i < idle.len() {
+            if idle[i].1 == pid {
+                i += 1;
+            } else {
+                std::mem::forget(idle.swap_remove(i).2);
+            }
+        }
         idle.iter()
-            .position(|(k, _)| *k == n)
-            .map(|i| idle.swap_remove(i).1)
+            .position(|(k, _, _)| *k == n)
+            .map(|i| idle.swap_remove(i).2)
     };
     let pool = match idle {
         Some(p) => p,
