@@ -34,6 +34,7 @@ from ._core import (
 from .batch import iter_render, render_batch
 from .demo import data_path, demo_scene, frame_mesh
 from .io import load_mesh, save_image, to_uint8
+from .preview import RenderedImage, preview
 from .scene_file import (
     SceneFile,
     SceneFileError,
@@ -58,6 +59,7 @@ __all__ = [
     "Mesh",
     "ObjParseError",
     "PointLight",
+    "RenderedImage",
     "Scene",
     "SceneFile",
     "SceneFileError",
@@ -76,6 +78,7 @@ __all__ = [
     "load_scene",
     "load_scene_dict",
     "material_sheet",
+    "preview",
     "render",
     "render_batch",
     "render_frame",
