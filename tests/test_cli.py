@@ -259,3 +259,32 @@ def test_render_obj_uses_its_mtl_materials_unless_a_preset_is_given(tmp_path):
     assert r.returncode == 0, r.stderr
     img = read_png(tmp_path / "b.png")
     assert (img[..., 0] == img[..., 2]).all()  # chrome everywhere: grey
+
+
+def test_turntable_views_write_numbered_images(tmp_path):
+    out = tmp_path / "turn.png"
+    r = run("demo", "--views", 4, "--size", "48x36", "-o", out)
+    assert r.returncode == 0, r.stderr
+    assert "wrote 4 views" in r.stdout
+    names = sorted(p.name for p in tmp_path.iterdir())
+    assert names == [f"turn_{i:04d}.png" for i in range(4)]
+    scene, camera = sl.demo_scene()
+    cams = cli.turntable(camera, 4)
+    # View 0 is the camera itself; view 2 looks from the opposite side.
+    assert np.allclose(cams[0].eye, camera.eye)
+    tgt = np.array(camera.target)
+    assert np.allclose(np.array(cams[2].eye) - tgt, (np.array(camera.eye) - tgt) * [-1, 1, -1])
+    for i, cam in enumerate(cams):
+        want = sl.render(scene, cam, width=48, height=36)
+        assert read_png(tmp_path / f"turn_{i:04d}.png").tobytes() == want.tobytes(), i
+    assert len({read_png(tmp_path / n).tobytes() for n in names}) == 4
+
+
+def test_turntable_pattern_and_errors(tmp_path):
+    r = run("render", CUBE, "--views", 3, "--size", "16x12", "-o", tmp_path / "f" / "{:03d}.png")
+    assert r.returncode == 0, r.stderr
+    assert sorted(p.name for p in (tmp_path / "f").iterdir()) == ["000.png", "001.png", "002.png"]
+    r = run("demo", "--views", 0, "-o", tmp_path / "x.png")
+    assert r.returncode == 1 and "--views must be >= 1" in r.stderr
+    r = run("demo", "--views", 2, "-o", tmp_path / "same{{}}.png")
+    assert r.returncode == 1 and "same name" in r.stderr

@@ -58,6 +58,13 @@ def _render_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--background", type=_triple, default=None, help="r,g,b in [0,1] (0,0,0)")
     p.add_argument("--threads", type=int, default=None, help="worker threads (default: all)")
     p.add_argument("--cull-backfaces", action="store_true", default=None)
+    p.add_argument(
+        "--views",
+        type=int,
+        default=None,
+        help="turntable: N views around the up axis through the target, written as numbered "
+        "images (OUTPUT with a {:04d} field, or OUTPUT_0000.png ...)",
+    )
 
 
 def _render(
@@ -73,12 +80,81 @@ def _render(
     for k in ("shading", "specular", "background", "cull_backfaces", "threads"):
         if getattr(args, k) is not None:
             opts[k] = getattr(args, k)
+    w, h = opts["width"], opts["height"]
+    if args.views is not None:
+        _render_turntable(scene, camera, args.views, args.output, opts)
+        return
     t0 = time.perf_counter()
     img = core.render(scene, camera, **opts)
     dt = (time.perf_counter() - t0) * 1e3
     save_image(img, args.output)
-    w, h = opts["width"], opts["height"]
     print(f"wrote {args.output} ({w}x{h}, {scene.n_triangles} triangles, {dt:.1f} ms)")
+
+
+def turntable(camera: core.Camera, views: int) -> list[core.Camera]:
+    """``views`` cameras evenly spaced on the circle the eye of ``camera`` describes about
+    the axis through its target along its up vector (view 0 is ``camera`` itself)."""
+    target = np.asarray(camera.target, np.float64)
+    axis = np.asarray(camera.up, np.float64)
+    axis = axis / np.linalg.norm(axis)
+    r = np.asarray(camera.eye, np.float64) - target
+    cams = []
+    for k in range(views):
+        a = 2.0 * np.pi * k / views
+        # Rodrigues' rotation of r about the axis by a.
+        rk = r * np.cos(a) + np.cross(axis, r) * np.sin(a) + axis * (axis @ r) * (1 - np.cos(a))
+        eye = tuple(target + rk)
+        if camera.kind == "perspective":
+            cam = core.Camera.look_at(
+                eye, camera.target, camera.up, camera.fov_y or 45.0, camera.near, camera.far
+            )
+        else:
+            cam = core.Camera.orthographic(
+                eye, camera.target, camera.up, camera.height or 2.0, camera.near, camera.far
+            )
+        cams.append(cam)
+    return cams
+
+
+def _numbered(output: str) -> str:
+    """``output`` as a format pattern for a frame number: kept when it holds a ``{}``
+    field, else ``name_{:04d}.ext``."""
+    if "{" in output:
+        return output
+    p = Path(output)
+    return str(p.with_name(f"{p.stem}_{{:04d}}{p.suffix}"))
+
+
+def _render_turntable(
+    scene: core.Scene, camera: core.Camera, views: int, output: str, opts: dict[str, Any]
+) -> None:
+    from .batch import render_batch
+
+    if views < 1:
+        raise ValueError(f"--views must be >= 1, got {views}")
+    pattern = _numbered(output)
+    try:
+        names = [pattern.format(i) for i in range(views)]
+    except (IndexError, KeyError, ValueError) as e:
+        raise ValueError(
+            f"output pattern {output!r} is not a valid frame-number pattern: {e}"
+        ) from None
+    if len(set(names)) != views:
+        raise ValueError(f"output pattern {output!r} gives several frames the same name")
+    Path(names[0]).parent.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    render_batch(
+        scene,
+        turntable(camera, views),
+        callback=lambda i, img: save_image(img, names[i]),
+        **opts,
+    )
+    dt = time.perf_counter() - t0
+    w, h = opts["width"], opts["height"]
+    print(
+        f"wrote {views} views {names[0]} ... {names[-1]} ({w}x{h}, {scene.n_triangles} "
+        f"triangles, {dt * 1e3 / views:.1f} ms per view)"
+    )
 
 
 # Options of `render MODEL` that a scene file sets itself.
