@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 
@@ -288,3 +289,33 @@ def test_turntable_pattern_and_errors(tmp_path):
     assert r.returncode == 1 and "--views must be >= 1" in r.stderr
     r = run("demo", "--views", 2, "-o", tmp_path / "same{{}}.png")
     assert r.returncode == 1 and "same name" in r.stderr
+
+
+def test_cameras_file_renders_numbered_images(tmp_path):
+    scene, camera = sl.demo_scene()
+    cams = cli.turntable(camera, 3)
+    toml = tmp_path / "cams.toml"
+    lines = []
+    for c in cams:
+        lines += ["[[cameras]]", f"eye = {list(c.eye)}", f"target = {list(c.target)}"]
+        lines += [f"fov_y = {c.fov_y}", f"near = {c.near}", f"far = {c.far}", ""]
+    lines += ["[[cameras]]", 'type = "orthographic"', "eye = [0, 5, 0.1]", "target = [0, 0, 0]"]
+    toml.write_text("\n".join(lines))
+    r = run("demo", "--cameras", toml, "--size", "40x30", "-o", tmp_path / "v{:02d}.png")
+    assert r.returncode == 0, r.stderr
+    want = sl.render_batch(
+        scene, [*cams, sl.Camera.orthographic((0, 5, 0.1), (0, 0, 0))], width=40, height=30
+    )
+    for i in range(4):
+        assert read_png(tmp_path / f"v{i:02d}.png").tobytes() == want[i].tobytes(), i
+    js = tmp_path / "cams.json"
+    good = {"eye": [0, 0, 3], "target": [0, 0, 0]}
+    js.write_text(json.dumps([good, {**good, "fov_y": 500}]))
+    r = run("demo", "--cameras", js, "-o", tmp_path / "j.png")
+    assert r.returncode == 1 and "cams.json: cameras[1].fov_y" in r.stderr
+    r = run("render", CUBE, "--cameras", js, "--eye", "1,2,3", "-o", tmp_path / "k.png")
+    assert r.returncode == 1 and "--eye cannot be used with --cameras" in r.stderr
+    r = run("demo", "--cameras", js, "--views", 3, "-o", tmp_path / "k.png")
+    assert r.returncode == 1 and "cannot be used together" in r.stderr
+    r = run("demo", "--cameras", tmp_path / "missing.toml", "-o", tmp_path / "k.png")
+    assert r.returncode == 1 and "missing.toml" in r.stderr

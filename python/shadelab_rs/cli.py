@@ -59,6 +59,13 @@ def _render_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--threads", type=int, default=None, help="worker threads (default: all)")
     p.add_argument("--cull-backfaces", action="store_true", default=None)
     p.add_argument(
+        "--cameras",
+        default=None,
+        metavar="FILE",
+        help="render every camera of FILE (TOML [[cameras]] or JSON list, scene-file camera "
+        "schema) into numbered images, as --views",
+    )
+    p.add_argument(
         "--views",
         type=int,
         default=None,
@@ -81,8 +88,15 @@ def _render(
         if getattr(args, k) is not None:
             opts[k] = getattr(args, k)
     w, h = opts["width"], opts["height"]
+    if args.views is not None and args.cameras is not None:
+        raise ValueError("--views and --cameras cannot be used together")
     if args.views is not None:
-        _render_turntable(scene, camera, args.views, args.output, opts)
+        if args.views < 1:
+            raise ValueError(f"--views must be >= 1, got {args.views}")
+        _render_many(scene, turntable(camera, args.views), args.output, opts)
+        return
+    if args.cameras is not None:
+        _render_many(scene, load_cameras(args.cameras), args.output, opts)
         return
     t0 = time.perf_counter()
     img = core.render(scene, camera, **opts)
@@ -125,13 +139,40 @@ def _numbered(output: str) -> str:
     return str(p.with_name(f"{p.stem}_{{:04d}}{p.suffix}"))
 
 
-def _render_turntable(
-    scene: core.Scene, camera: core.Camera, views: int, output: str, opts: dict[str, Any]
+def load_cameras(path: str | os.PathLike[str]) -> list[core.Camera]:
+    """The cameras of a file: TOML with an array of tables ``[[cameras]]``, or JSON (a list,
+    or an object with a ``"cameras"`` list), each camera in the scene-file schema (``type``,
+    ``eye``, ``target``, ``up``, ``fov_y`` or ``height``, ``near``, ``far``). Errors name the
+    file and the key path (``cameras[3].fov_y``)."""
+    import json
+
+    from .scene_file import SceneFileError, _camera, tomllib
+
+    p = Path(path)
+    where = str(p)
+    try:
+        if p.suffix.lower() == ".json":
+            doc: Any = json.loads(p.read_text())
+        else:
+            with p.open("rb") as f:
+                doc = tomllib.load(f)
+    except (json.JSONDecodeError, tomllib.TOMLDecodeError) as e:
+        raise SceneFileError(f"cannot parse: {e}", "", where) from None
+    cams = doc.get("cameras") if isinstance(doc, dict) else doc
+    if not isinstance(cams, list) or not cams:
+        raise SceneFileError("expected a non-empty list of cameras", "cameras", where)
+    try:
+        return [_camera(c, f"cameras[{i}]") for i, c in enumerate(cams)]
+    except SceneFileError as e:
+        raise SceneFileError(e.detail, e.key, where) from None
+
+
+def _render_many(
+    scene: core.Scene, cameras: list[core.Camera], output: str, opts: dict[str, Any]
 ) -> None:
     from .batch import render_batch
 
-    if views < 1:
-        raise ValueError(f"--views must be >= 1, got {views}")
+    views = len(cameras)
     pattern = _numbered(output)
     try:
         names = [pattern.format(i) for i in range(views)]
@@ -145,7 +186,7 @@ def _render_turntable(
     t0 = time.perf_counter()
     render_batch(
         scene,
-        turntable(camera, views),
+        cameras,
         callback=lambda i, img: save_image(img, names[i]),
         **opts,
     )
@@ -191,6 +232,11 @@ def cmd_render(args: argparse.Namespace) -> None:
     if Path(args.model).suffix.lower() == ".toml":
         cmd_render_scene(args)
         return
+    if args.cameras is not None:
+        given = [k for k in ("fov", "view", "eye", "target", "up") if getattr(args, k) is not None]
+        if given:
+            flags = ", ".join("--" + k for k in given)
+            raise ValueError(f"{flags} cannot be used with --cameras: the file sets the cameras")
     scene = core.Scene(ambient=args.ambient if args.ambient is not None else (0.2, 0.2, 0.2))
     vertices = _add_model(scene, args.model, args.material)
     fov = args.fov if args.fov is not None else 35.0
