@@ -30,8 +30,8 @@ demo: build  ## render the built-in demo scene to demo.png
 lint: $(DEPS)  ## rustfmt, clippy (warnings are errors), ruff
 	cargo fmt --all -- --check
 	PYO3_PYTHON=$(abspath $(PY)) cargo clippy --workspace --all-targets -- -D warnings
-	$(VENV)/bin/ruff check python tests bench docs/lighting
-	$(VENV)/bin/ruff format --check python tests bench docs/lighting
+	$(VENV)/bin/ruff check python tests bench docs/lighting examples
+	$(VENV)/bin/ruff format --check python tests bench docs/lighting examples
 
 test: lint build  ## lint, stub check, cargo test, pytest
 	$(PY) -m mypy.stubtest shadelab_rs._core

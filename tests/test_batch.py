@@ -268,3 +268,24 @@ def test_streaming_batch_larger_than_its_array_keeps_memory_flat():
     n, varied, grown_mb = int(out[0]), out[1] == "True", int(out[2])
     assert n == 400 and varied
     assert grown_mb < 60, grown_mb  # the array would be 315 MB
+
+
+def test_many_views_example_runs(tmp_path):
+    """examples/many_views.py (the guide's section as a script) runs and writes its frames."""
+    import subprocess
+    from pathlib import Path
+
+    script = Path(__file__).resolve().parent.parent / "examples" / "many_views.py"
+    r = subprocess.run(
+        [sys.executable, str(script), str(tmp_path), "--views", "6", "--size", "32"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    assert r.returncode == 0, r.stderr
+    assert "render_batch: (6, 32, 32, 3) uint8 (6, 32, 32)" in r.stdout
+    assert sorted(p.name for p in tmp_path.glob("frame_*.png")) == [
+        f"frame_{i:04d}.png" for i in range(6)
+    ]
+    assert (tmp_path / "preview.png").read_bytes()[:4] == b"\x89PNG"
