@@ -4,8 +4,11 @@ interrupts; renders from several threads run in parallel (the pool fix)."""
 from __future__ import annotations
 
 import _thread
+import os
+import signal
 import sys
 import threading
+import time
 import types
 
 import numpy as np
@@ -289,3 +292,26 @@ def test_many_views_example_runs(tmp_path):
         f"frame_{i:04d}.png" for i in range(6)
     ]
     assert (tmp_path / "preview.png").read_bytes()[:4] == b"\x89PNG"
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="needs os.fork")
+def test_render_in_a_forked_child_after_renders_in_the_parent(scene_cams):
+    """The child of a fork inherits the parent's idle worker pools but not their threads; it
+    must start its own instead of waiting forever on the inherited ones."""
+    scene, cams = scene_cams
+    want = sl.render(scene, cams[0], threads=2, **KW)  # leaves an idle 2-worker pool behind
+    pid = os.fork()
+    if pid == 0:  # pragma: no cover - the child
+        ok = sl.render(scene, cams[0], threads=2, **KW).tobytes() == want.tobytes()
+        os._exit(0 if ok else 3)
+    deadline = time.monotonic() + 60
+    while True:
+        done, status = os.waitpid(pid, os.WNOHANG)
+        if done:
+            break
+        if time.monotonic() > deadline:
+            os.kill(pid, signal.SIGKILL)
+            os.waitpid(pid, 0)
+            pytest.fail("the forked child hung on the parent's worker pool")
+        time.sleep(0.05)
+    assert os.waitstatus_to_exitcode(status) == 0
