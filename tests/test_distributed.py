@@ -144,3 +144,33 @@ def test_bad_arguments(scene_cams, pool):
         render_many([scene], cams, pool)
     with pytest.raises(ValueError, match="same file name"):
         render_many(scene, cams, pool, output_dir="unused", pattern="frame.png")
+
+
+def test_progress_bar_when_tqdm_is_installed(scene_cams, monkeypatch):
+    import sys
+    import types
+
+    scene, cams = scene_cams
+    updates: list[int] = []
+
+    class FakeBar:
+        def __init__(self, total, **kw):
+            self.total, self.n = total, 0
+
+        def update(self, k):
+            self.n += k
+            updates.append(self.n)
+
+        def close(self):
+            updates.append(-1)
+
+    fake = types.ModuleType("tqdm.auto")
+    fake.tqdm = FakeBar  # type: ignore[attr-defined]
+    monkeypatch.setitem(sys.modules, "tqdm.auto", fake)
+    monkeypatch.setitem(sys.modules, "tqdm", types.ModuleType("tqdm"))
+    with ThreadPoolExecutor(2) as ex:
+        render_many(scene, cams, ex, chunk_size=5, progress=True, **KW)
+        assert updates[-2:] == [13, -1] and updates == sorted(updates[:-1]) + [-1]
+        updates.clear()
+        render_many(scene, cams, ex, chunk_size=5, **KW)  # 13 views: short, no bar
+    assert updates == []

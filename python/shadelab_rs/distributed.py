@@ -38,6 +38,7 @@ from typing import Any
 import numpy as np
 
 from ._core import Camera, Scene
+from .batch import Progress, _progress
 
 __all__ = ["WorkersLost", "render_many"]
 
@@ -128,7 +129,7 @@ def render_many(
     output_dir: str | os.PathLike[str] | None = None,
     pattern: str = "{:05d}.png",
     resume: bool = True,
-    progress: Callable[[int, int], object] | None = None,
+    progress: Progress = None,
     **render_options: Any,
 ) -> Any:
     """Renders ``scene`` through every camera on ``executor`` (a
@@ -141,8 +142,10 @@ def render_many(
     ``resume`` (default) views whose file already exists are skipped.
 
     ``chunk_size``: views per task (default: about four tasks per worker, at most 64 views).
-    ``retries``: how many times a chunk that raised is tried again. ``progress(done,
-    total)`` is called in this process as chunks finish. Give each worker process a share
+    ``retries``: how many times a chunk that raised is tried again. ``progress`` as for
+    :func:`shadelab_rs.render_batch` (a tqdm bar in this process for long batches when tqdm
+    is installed, False for none, or a callable ``progress(done, total)``), updated as
+    chunks finish. Give each worker process a share
     of the cores with ``threads=`` (e.g. ``threads=cores // processes``). The other options
     are those of :func:`shadelab_rs.render`.
     """
@@ -193,9 +196,10 @@ def render_many(
             if i not in results:  # a chunk is stored once, whatever happened
                 results[i] = None if value is None else _pick(value, j)
         done_views = n - len(todo) + len(results)
-        if progress is not None:
-            progress(done_views, n)
+        if report is not None:
+            report(done_views)
 
+    report, bar = _progress(progress, n)
     try:
         if dask:
             _run_dask(executor, scene, token, chunks, cameras, options, output, retries, finished)
@@ -211,6 +215,9 @@ def render_many(
             e.missing = [i for i in e.missing if not paths[i].exists()]
             e.args = (f"{e.args[0]}; {len(e.missing)} views have no file",)
         raise
+    finally:
+        if bar is not None:
+            bar.close()
     if output_dir is not None:
         _remove_stray_temporaries(Path(output_dir))
         return paths
