@@ -170,7 +170,7 @@ def test_progress_bar_when_tqdm_is_installed(scene_cams, monkeypatch):
     monkeypatch.setitem(sys.modules, "tqdm", types.ModuleType("tqdm"))
     with ThreadPoolExecutor(2) as ex:
         render_many(scene, cams, ex, chunk_size=5, progress=True, **KW)
-        assert updates[-2:] == [13, -1] and updates == sorted(updates[:-1]) + [-1]
+        assert updates[-2:] == [13, -1] and updates == [*sorted(updates[:-1]), -1]
         updates.clear()
         render_many(scene, cams, ex, chunk_size=5, **KW)  # 13 views: short, no bar
     assert updates == []
