@@ -315,3 +315,9 @@ def test_render_in_a_forked_child_after_renders_in_the_parent(scene_cams):
             pytest.fail("the forked child hung on the parent's worker pool")
         time.sleep(0.05)
     assert os.waitstatus_to_exitcode(status) == 0
+
+
+def test_a_batch_too_large_for_memory_is_an_error_not_a_crash(scene_cams):
+    scene, cams = scene_cams
+    with pytest.raises((MemoryError, ValueError)):
+        sl.render_batch(scene, [cams[0]] * 10**6, width=16384, height=16384, progress=False)

@@ -63,6 +63,12 @@ fn frame_error(py: Python<'_>, i: usize, e: PyErr) -> PyErr {
     err
 }
 
+/// `numpy.zeros(shape, dtype)`: too large a batch is numpy's MemoryError or ValueError
+/// (rust-numpy's own constructor panics when the allocation fails).
+fn zeros<'py>(py: Python<'py>, shape: Vec<usize>, dtype: &str) -> PyResult<Bound<'py, PyAny>> {
+    py.import("numpy")?.call_method1("zeros", (shape, dtype))
+}
+
 /// Renders frame after frame into slices of `color` / `depth`.
 #[allow(clippy::too_many_arguments)]
 fn fill<P: core::Pixel + Element + Send>(
@@ -205,7 +211,7 @@ pub fn render_batch<'py>(
     }
 
     let depth = if return_depth {
-        Some(PyArray3::<f32>::zeros(py, [n, h, w], false))
+        Some(zeros(py, vec![n, h, w], "float32")?.cast_into::<PyArray3<f32>>()?)
     } else {
         None
     };
@@ -215,7 +221,7 @@ pub fn render_batch<'py>(
         .map(|d| d.as_slice_mut().expect("new arrays are contiguous"));
     let image = match format {
         core::ColorFormat::U8 => {
-            let a = PyArray4::<u8>::zeros(py, [n, h, w, 3], false);
+            let a = zeros(py, vec![n, h, w, 3], "uint8")?.cast_into::<PyArray4<u8>>()?;
             fill(
                 py,
                 &views,
@@ -230,7 +236,7 @@ pub fn render_batch<'py>(
             a.into_any()
         }
         core::ColorFormat::F32 => {
-            let a = PyArray4::<f32>::zeros(py, [n, h, w, 3], false);
+            let a = zeros(py, vec![n, h, w, 3], "float32")?.cast_into::<PyArray4<f32>>()?;
             fill(
                 py,
                 &views,
