@@ -295,6 +295,7 @@ def test_many_views_example_runs(tmp_path):
 
 
 @pytest.mark.skipif(not hasattr(os, "fork"), reason="needs os.fork")
+@pytest.mark.filterwarnings("ignore:This process .* is multi-threaded:DeprecationWarning")
 def test_render_in_a_forked_child_after_renders_in_the_parent(scene_cams):
     """The child of a fork inherits the parent's idle worker pools but not their threads; it
     must start its own instead of waiting forever on the inherited ones."""

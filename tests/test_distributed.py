@@ -17,6 +17,12 @@ from shadelab_rs.distributed import WorkersLost, render_many
 
 KW = dict(width=48, height=36, threads=1)
 
+# Python 3.12+ warns when a process with threads (our idle worker pools) forks; the pools
+# are fork-safe (a child starts its own), which is what these tests check.
+pytestmark = pytest.mark.filterwarnings(
+    "ignore:This process .* is multi-threaded, use of fork:DeprecationWarning"
+)
+
 
 @pytest.fixture(scope="module")
 def scene_cams() -> tuple[sl.Scene, list[sl.Camera]]:
