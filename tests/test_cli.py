@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 
@@ -259,3 +260,113 @@ def test_render_obj_uses_its_mtl_materials_unless_a_preset_is_given(tmp_path):
     assert r.returncode == 0, r.stderr
     img = read_png(tmp_path / "b.png")
     assert (img[..., 0] == img[..., 2]).all()  # chrome everywhere: grey
+
+
+def test_turntable_views_write_numbered_images(tmp_path):
+    out = tmp_path / "turn.png"
+    r = run("demo", "--views", 4, "--size", "48x36", "-o", out)
+    assert r.returncode == 0, r.stderr
+    assert "wrote 4 views" in r.stdout
+    names = sorted(p.name for p in tmp_path.iterdir())
+    assert names == [f"turn_{i:04d}.png" for i in range(4)]
+    scene, camera = sl.demo_scene()
+    cams = cli.turntable(camera, 4)
+    # View 0 is the camera itself; view 2 looks from the opposite side.
+    assert np.allclose(cams[0].eye, camera.eye)
+    tgt = np.array(camera.target)
+    assert np.allclose(np.array(cams[2].eye) - tgt, (np.array(camera.eye) - tgt) * [-1, 1, -1])
+    for i, cam in enumerate(cams):
+        want = sl.render(scene, cam, width=48, height=36)
+        assert read_png(tmp_path / f"turn_{i:04d}.png").tobytes() == want.tobytes(), i
+    assert len({read_png(tmp_path / n).tobytes() for n in names}) == 4
+
+
+def test_turntable_pattern_and_errors(tmp_path):
+    r = run("render", CUBE, "--views", 3, "--size", "16x12", "-o", tmp_path / "f" / "{:03d}.png")
+    assert r.returncode == 0, r.stderr
+    assert sorted(p.name for p in (tmp_path / "f").iterdir()) == ["000.png", "001.png", "002.png"]
+    r = run("demo", "--views", 0, "-o", tmp_path / "x.png")
+    assert r.returncode == 1 and "--views must be >= 1" in r.stderr
+    r = run("demo", "--views", 2, "-o", tmp_path / "same{{}}.png")
+    assert r.returncode == 1 and "same name" in r.stderr
+
+
+def test_cameras_file_renders_numbered_images(tmp_path):
+    scene, camera = sl.demo_scene()
+    cams = cli.turntable(camera, 3)
+    toml = tmp_path / "cams.toml"
+    lines = []
+    for c in cams:
+        lines += ["[[cameras]]", f"eye = {list(c.eye)}", f"target = {list(c.target)}"]
+        lines += [f"fov_y = {c.fov_y}", f"near = {c.near}", f"far = {c.far}", ""]
+    lines += ["[[cameras]]", 'type = "orthographic"', "eye = [0, 5, 0.1]", "target = [0, 0, 0]"]
+    toml.write_text("\n".join(lines))
+    r = run("demo", "--cameras", toml, "--size", "40x30", "-o", tmp_path / "v{:02d}.png")
+    assert r.returncode == 0, r.stderr
+    want = sl.render_batch(
+        scene, [*cams, sl.Camera.orthographic((0, 5, 0.1), (0, 0, 0))], width=40, height=30
+    )
+    for i in range(4):
+        assert read_png(tmp_path / f"v{i:02d}.png").tobytes() == want[i].tobytes(), i
+    js = tmp_path / "cams.json"
+    good = {"eye": [0, 0, 3], "target": [0, 0, 0]}
+    js.write_text(json.dumps([good, {**good, "fov_y": 500}]))
+    r = run("demo", "--cameras", js, "-o", tmp_path / "j.png")
+    assert r.returncode == 1 and "cams.json: cameras[1].fov_y" in r.stderr
+    r = run("render", CUBE, "--cameras", js, "--eye", "1,2,3", "-o", tmp_path / "k.png")
+    assert r.returncode == 1 and "--eye cannot be used with --cameras" in r.stderr
+    r = run("demo", "--cameras", js, "--views", 3, "-o", tmp_path / "k.png")
+    assert r.returncode == 1 and "cannot be used together" in r.stderr
+    r = run("demo", "--cameras", tmp_path / "missing.toml", "-o", tmp_path / "k.png")
+    assert r.returncode == 1 and "missing.toml" in r.stderr
+
+
+def test_views_take_the_single_render_flags(tmp_path):
+    """--alpha, --encoding and --depth apply to every view of --views as to one render."""
+    r = run(
+        "demo",
+        "--views",
+        2,
+        "--size",
+        "32x24",
+        "--alpha",
+        "--encoding",
+        "srgb",
+        "--shading",
+        "gouraud",
+        "--depth",
+        tmp_path / "d.npy",
+        "-o",
+        tmp_path / "v.png",
+    )
+    assert r.returncode == 0, r.stderr
+    scene, camera = sl.demo_scene()
+    for i, cam in enumerate(cli.turntable(camera, 2)):
+        want, depth = sl.render(
+            scene,
+            cam,
+            width=32,
+            height=24,
+            shading="gouraud",
+            alpha=True,
+            encoding="srgb",
+            return_depth=True,
+        )
+        with Image.open(tmp_path / f"v_{i:04d}.png") as im:
+            assert im.mode == "RGBA"
+            assert np.asarray(im).tobytes() == want.tobytes(), i
+        assert np.load(tmp_path / f"d_{i:04d}.npy").tobytes() == depth.tobytes(), i
+    r = run("demo", "--views", 2, "-o", "-")
+    assert r.returncode == 1 and "stdout" in r.stderr
+
+
+def test_cameras_file_with_a_scene_file_rejects_camera_flags(tmp_path):
+    js = tmp_path / "cams.json"
+    js.write_text(json.dumps([{"eye": [0, 0, 3], "target": [0, 0, 0]}]))
+    scene_file = tmp_path / "s.toml"
+    sl.save_scene(scene_file, *sl.demo_scene())
+    r = run("render", scene_file, "--cameras", js, "--fov", 30, "-o", tmp_path / "k.png")
+    assert r.returncode == 1 and "--fov cannot be used with --cameras" in r.stderr
+    r = run("render", scene_file, "--cameras", js, "--size", "16x12", "-o", tmp_path / "k.png")
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "k_0000.png").exists()

@@ -9,6 +9,7 @@ this package adds file helpers, the bundled demo scene and the command line.
 (48, 64, 3)
 """
 
+from . import distributed
 from ._core import (
     MAX_AREA_SAMPLES,
     MAX_IMAGE_SIZE,
@@ -29,6 +30,7 @@ from ._core import (
     load_obj,
     load_obj_parts,
 )
+from .batch import iter_render, render_batch
 from .demo import (
     VIEWS,
     camera_from_intrinsics,
@@ -48,6 +50,7 @@ from .io import (
     smooth_normals,
     to_uint8,
 )
+from .preview import RenderedImage, preview
 from .rendering import EmptyRenderWarning, render, render_frame, srgb_encode
 from .scene_file import (
     SceneFile,
@@ -76,6 +79,7 @@ __all__ = [
     "ObjParseError",
     "PointLight",
     "RenderOptions",
+    "RenderedImage",
     "Scene",
     "SceneFile",
     "SceneFileError",
@@ -86,10 +90,12 @@ __all__ = [
     "camera_from_matrix",
     "data_path",
     "demo_scene",
+    "distributed",
     "file_up_axis",
     "frame_mesh",
     "frame_scene",
     "intrinsics",
+    "iter_render",
     "load_mesh",
     "load_obj",
     "load_obj_parts",
@@ -97,7 +103,9 @@ __all__ = [
     "load_scene_dict",
     "material_sheet",
     "orbit",
+    "preview",
     "render",
+    "render_batch",
     "render_frame",
     "save_depth",
     "save_image",

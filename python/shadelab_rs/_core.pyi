@@ -9,7 +9,7 @@ Errors: ``ValueError`` (bad values, with the offending element named, e.g.
 """
 
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, ClassVar, Final, Literal, TypedDict, final, overload
 
 import numpy as np
@@ -36,6 +36,7 @@ __all__ = [
     "load_obj",
     "load_obj_parts",
     "render",
+    "render_batch",
     "render_frame",
 ]
 
@@ -83,6 +84,10 @@ class Mesh:
     its faces); ``uvs``: optional (N, 2) texture coordinates. Values must be finite in
     float32 and indices in ``[0, N)``; the mesh needs at least one triangle.
     """
+
+    def __copy__(self) -> Mesh: ...
+    def __deepcopy__(self, _memo: Any) -> Mesh:
+        """Pickling and copying keep every value exactly (see the user guide, "Many views")."""
 
     def __new__(
         cls,
@@ -144,6 +149,10 @@ class Material:
     arguments take the default grey plastic's values. Materials compare equal when all their
     values are equal (and are not hashable)."""
 
+    def __copy__(self) -> Material: ...
+    def __deepcopy__(self, _memo: Any) -> Material:
+        """Pickling and copying keep every value exactly (see the user guide, "Many views")."""
+
     def __new__(
         cls,
         ambient: _Vec3Like | None = None,
@@ -189,6 +198,10 @@ class DirectionalLight:
     specular colour (OpenGL's GL_DIFFUSE / GL_SPECULAR of a light) in place of ``color``;
     both are scaled by ``intensity``. No attenuation."""
 
+    def __copy__(self) -> DirectionalLight: ...
+    def __deepcopy__(self, _memo: Any) -> DirectionalLight:
+        """Pickling and copying keep every value exactly (see the user guide, "Many views")."""
+
     def __new__(
         cls,
         direction: _Vec3Like,
@@ -226,6 +239,10 @@ class PointLight:
     >= 0, not all zero; the divisor is at least 1e-6). ``ambient`` is the light's own ambient
     colour (default black), attenuated like the rest. ``diffuse`` / ``specular`` override
     ``color`` for their term, as for DirectionalLight."""
+
+    def __copy__(self) -> PointLight: ...
+    def __deepcopy__(self, _memo: Any) -> PointLight:
+        """Pickling and copying keep every value exactly (see the user guide, "Many views")."""
 
     def __new__(
         cls,
@@ -267,6 +284,10 @@ class SpotLight:
     ``cutoff`` is in degrees, in (0, 90] or exactly 180 (no cone). ``inner`` (degrees,
     < cutoff) fades the edge with a smoothstep from the cutoff in to ``inner``. The other
     arguments are those of PointLight; ambient is scaled by the spot factor too."""
+
+    def __copy__(self) -> SpotLight: ...
+    def __deepcopy__(self, _memo: Any) -> SpotLight:
+        """Pickling and copying keep every value exactly (see the user guide, "Many views")."""
 
     def __new__(
         cls,
@@ -330,6 +351,10 @@ class AreaLight:
     equal-area radii. Each point is a point light with this light's ``attenuation``;
     ``one_sided=True`` makes each a Lambertian emitter (a spot light with cutoff 90 and
     exponent 1 along ``normal = u x v / |u x v|``), dark behind the light."""
+
+    def __copy__(self) -> AreaLight: ...
+    def __deepcopy__(self, _memo: Any) -> AreaLight:
+        """Pickling and copying keep every value exactly (see the user guide, "Many views")."""
 
     def __new__(
         cls,
@@ -399,6 +424,10 @@ class Fog:
     "exp2" ``exp(-(density*d)**2)`` (density >= 0). Applied per pixel in every shading
     mode; the background is not fogged."""
 
+    def __copy__(self) -> Fog: ...
+    def __deepcopy__(self, _memo: Any) -> Fog:
+        """Pickling and copying keep every value exactly (see the user guide, "Many views")."""
+
     def __new__(
         cls,
         mode: Literal["linear", "exp", "exp2"] = "linear",
@@ -430,6 +459,10 @@ class SceneObject:
     """One object of a scene as read back by :attr:`Scene.objects`: a snapshot, so changing
     it does not change the scene. There is no constructor."""
 
+    def __copy__(self) -> SceneObject: ...
+    def __deepcopy__(self, _memo: Any) -> SceneObject:
+        """Pickling and copying keep every value exactly (see the user guide, "Many views")."""
+
     @property
     def mesh(self) -> Mesh:
         """The mesh (shared with the scene, not copied)."""
@@ -448,6 +481,10 @@ class SceneObject:
 class Scene:
     """Objects, lights, the global ambient light (default ``(0.2, 0.2, 0.2)``) and an
     optional fog."""
+
+    def __copy__(self) -> Scene: ...
+    def __deepcopy__(self, _memo: Any) -> Scene:
+        """Pickling and copying keep every value exactly (see the user guide, "Many views")."""
 
     def __new__(
         cls,
@@ -579,6 +616,10 @@ class Camera:
     space). Build one with :meth:`look_at`, :meth:`from_intrinsics` or :meth:`orthographic`;
     there is no constructor."""
 
+    def __copy__(self) -> Camera: ...
+    def __deepcopy__(self, _memo: Any) -> Camera:
+        """Pickling and copying keep every value exactly (see the user guide, "Many views")."""
+
     @staticmethod
     def look_at(
         eye: _Vec3Like,
@@ -708,6 +749,9 @@ class RenderOptions:
         cull_backfaces: bool = False,
         threads: int | None = None,
     ) -> RenderOptions: ...
+    def __copy__(self) -> RenderOptions: ...
+    def __deepcopy__(self, _memo: Any) -> RenderOptions:
+        """Pickling and copying keep every value exactly (see the user guide, "Many views")."""
     shading_names: ClassVar[tuple[str, str, str]]
     """The names ``shading`` takes (in any case)."""
     specular_names: ClassVar[tuple[str, str, str]]
@@ -825,6 +869,37 @@ def render_frame(
     ``triangles_culled``, ``triangles_dropped``), ``light_sources`` (point sources lit per
     shaded point; an area light counts its ``n_points``) and per-stage wall times in
     milliseconds (keys ending in ``_ms``)."""
+
+def render_batch(
+    scene: Scene | Sequence[Scene],
+    cameras: Camera | Sequence[Camera],
+    *args: Any,
+    dtype: Any = None,
+    return_depth: bool = False,
+    options: RenderOptions | None = None,
+    callback: Callable[..., object] | None = None,
+    progress: Callable[[int], object] | None = None,
+    index_base: int = 0,
+    **kwargs: Unpack[_RenderOptionsArgs],
+) -> Any:
+    """The loop of :func:`shadelab_rs.render_batch` (which adds the progress bar): one scene
+    or camera is used for every view, two sequences are paired. Returns ``(N, H, W, 3)``
+    (plus ``(N, H, W)`` depth with ``return_depth``), or None with ``callback``, which is
+    called as ``callback(i, image[, depth])`` after each frame; ``progress(done)`` after
+    each frame. ``index_base`` is added to the view indices in errors and callbacks. The
+    render options are :func:`render`'s, and each view is prepared as :func:`render`
+    prepares it (fitted near/far planes, the default light rig)."""
+
+def _set_rendezvous(renders: int, timeout: float) -> None:
+    """Test hook: every render waits on its workers (up to ``timeout`` seconds) until
+    ``renders`` renders are in flight together; resets :func:`_max_in_flight`."""
+
+def _max_in_flight() -> int:
+    """Test hook: the most renders seen running at once since :func:`_set_rendezvous`."""
+
+def _restore(kind: str, state: Any) -> Any:
+    """Pickle's reconstructor: rebuilds the ``kind`` object from the state its
+    ``__reduce__`` gave, through the validating constructors (``ValueError`` when corrupt)."""
 
 def _panic_for_tests() -> None:
     """Test hook: panics inside Rust behind the guard every entry point uses, so the test

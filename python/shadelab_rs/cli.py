@@ -17,7 +17,7 @@ import numpy as np
 from . import _core as core
 from .demo import VIEWS, demo_scene, view_direction
 from .io import file_up_axis, load_mesh, save_depth, save_image
-from .rendering import EmptyRenderWarning, render
+from .rendering import EmptyRenderWarning, _finish, render
 from .scene_file import frame_scene, load_scene
 from .swatch import material_sheet
 
@@ -102,6 +102,20 @@ def _render_args(p: argparse.ArgumentParser) -> None:
         help="also write the depth map (.png: 16-bit millimetres at 1 unit = 1 m, "
         ".tif/.npy: float)",
     )
+    p.add_argument(
+        "--cameras",
+        default=None,
+        metavar="FILE",
+        help="render every camera of FILE (TOML [[cameras]] or JSON list, scene-file camera "
+        "schema) into numbered images, as --views",
+    )
+    p.add_argument(
+        "--views",
+        type=int,
+        default=None,
+        help="turntable: N views around the up axis through the target, written as numbered "
+        "images (OUTPUT with a {:04d} field, or OUTPUT_0000.png ...; --depth FILE likewise)",
+    )
 
 
 def _render(
@@ -118,6 +132,16 @@ def _render(
         flags["width"], flags["height"] = args.size
     given = {k: v for k, v in flags.items() if v is not None}
     opts = core.RenderOptions(**{**(file_options or {}), **given})
+    if args.views is not None and args.cameras is not None:
+        raise ValueError("--views and --cameras cannot be used together")
+    if args.views is not None:
+        if args.views < 1:
+            raise ValueError(f"--views must be >= 1, got {args.views}")
+        _render_many(scene, turntable(camera, args.views), args, opts)
+        return
+    if args.cameras is not None:
+        _render_many(scene, load_cameras(args.cameras), args, opts)
+        return
     t0 = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", EmptyRenderWarning)
@@ -140,6 +164,125 @@ def _render(
     print(
         f"wrote {args.output} ({w}x{h}, {scene.n_triangles} triangles, {dt:.1f} ms)",
         file=sys.stderr if args.output == "-" else sys.stdout,
+    )
+
+
+def turntable(camera: core.Camera, views: int) -> list[core.Camera]:
+    """``views`` cameras evenly spaced on the circle the eye of ``camera`` describes about
+    the axis through its target along its up vector (view 0 is ``camera`` itself)."""
+    target = np.asarray(camera.target, np.float64)
+    axis = np.asarray(camera.up, np.float64)
+    axis = axis / np.linalg.norm(axis)
+    r = np.asarray(camera.eye, np.float64) - target
+    cams = []
+    for k in range(views):
+        a = 2.0 * np.pi * k / views
+        # Rodrigues' rotation of r about the axis by a.
+        rk = r * np.cos(a) + np.cross(axis, r) * np.sin(a) + axis * (axis @ r) * (1 - np.cos(a))
+        eye = tuple(target + rk)
+        if camera.kind == "perspective":
+            cam = core.Camera.look_at(
+                eye, camera.target, camera.up, camera.fov_y or 45.0, camera.near, camera.far
+            )
+        else:
+            cam = core.Camera.orthographic(
+                eye, camera.target, camera.up, camera.height or 2.0, camera.near, camera.far
+            )
+        cams.append(cam)
+    return cams
+
+
+def _numbered(output: str) -> str:
+    """``output`` as a format pattern for a frame number: kept when it holds a ``{}``
+    field, else ``name_{:04d}.ext``."""
+    if "{" in output:
+        return output
+    p = Path(output)
+    return str(p.with_name(f"{p.stem}_{{:04d}}{p.suffix}"))
+
+
+def load_cameras(path: str | os.PathLike[str]) -> list[core.Camera]:
+    """The cameras of a file: TOML with an array of tables ``[[cameras]]``, or JSON (a list,
+    or an object with a ``"cameras"`` list), each camera in the scene-file schema (``type``,
+    ``eye``, ``target``, ``up``, ``fov_y`` or ``height``, ``near``, ``far``). Errors name the
+    file and the key path (``cameras[3].fov_y``)."""
+    import json
+
+    from .scene_file import SceneFileError, _camera, tomllib
+
+    p = Path(path)
+    where = str(p)
+    try:
+        if p.suffix.lower() == ".json":
+            doc: Any = json.loads(p.read_text())
+        else:
+            with p.open("rb") as f:
+                doc = tomllib.load(f)
+    except (json.JSONDecodeError, tomllib.TOMLDecodeError) as e:
+        raise SceneFileError(f"cannot parse: {e}", "", where) from None
+    cams = doc.get("cameras") if isinstance(doc, dict) else doc
+    if not isinstance(cams, list) or not cams:
+        raise SceneFileError("expected a non-empty list of cameras", "cameras", where)
+    try:
+        return [_camera(c, f"cameras[{i}]") for i, c in enumerate(cams)]
+    except SceneFileError as e:
+        raise SceneFileError(e.detail, e.key, where) from None
+
+
+def _frame_names(output: str, views: int) -> list[str]:
+    """One file name per view from ``output`` (see :func:`_numbered`)."""
+    if output == "-":
+        raise ValueError("several views cannot be written to stdout: give -o a file pattern")
+    pattern = _numbered(output)
+    try:
+        names = [pattern.format(i) for i in range(views)]
+    except (IndexError, KeyError, ValueError) as e:
+        raise ValueError(
+            f"output pattern {output!r} is not a valid frame-number pattern: {e}"
+        ) from None
+    if len(set(names)) != views:
+        raise ValueError(f"output pattern {output!r} gives several frames the same name")
+    Path(names[0]).parent.mkdir(parents=True, exist_ok=True)
+    return names
+
+
+def _render_many(
+    scene: core.Scene,
+    cameras: list[core.Camera],
+    args: argparse.Namespace,
+    opts: core.RenderOptions,
+) -> None:
+    """Every camera in one :func:`render_batch` call, each image (and depth map with
+    --depth) written as soon as it is rendered, as a single render would write it (--alpha
+    and --encoding applied the same way)."""
+    from .batch import render_batch
+
+    views = len(cameras)
+    names = _frame_names(args.output, views)
+    depth_names = _frame_names(args.depth, views) if args.depth is not None else None
+
+    def save(i: int, img: np.ndarray, depth: np.ndarray | None = None) -> None:
+        img = _finish(img, depth, out_dtype="uint8", alpha=args.alpha, encoding=args.encoding)
+        save_image(img, names[i])
+        if depth_names is not None:
+            assert depth is not None
+            save_depth(depth, depth_names[i])
+
+    t0 = time.perf_counter()
+    render_batch(
+        scene,
+        cameras,
+        options=opts,
+        # As `render`: sRGB is encoded from the float image, alpha read from the depth.
+        dtype="float32" if args.encoding == "srgb" else None,
+        return_depth=args.alpha or depth_names is not None,
+        callback=save,
+    )
+    dt = time.perf_counter() - t0
+    w, h = opts.width, opts.height
+    print(
+        f"wrote {views} views {names[0]} ... {names[-1]} ({w}x{h}, {scene.n_triangles} "
+        f"triangles, {dt * 1e3 / views:.1f} ms per view)"
     )
 
 
@@ -188,8 +331,21 @@ def _lights(scene: core.Scene, args: argparse.Namespace) -> None:
             scene.add_light(core.DirectionalLight(direction=d))
 
 
+def _check_cameras_flags(args: argparse.Namespace) -> None:
+    """--cameras sets every camera: the camera flags next to it are errors, not ignored."""
+    if getattr(args, "cameras", None) is None:
+        return
+    given = [
+        k for k in ("fov", "view", "eye", "target", "up") if getattr(args, k, None) is not None
+    ]
+    if given:
+        flags = ", ".join("--" + k for k in given)
+        raise ValueError(f"{flags} cannot be used with --cameras: the file sets the cameras")
+
+
 def cmd_render_scene(args: argparse.Namespace) -> None:
     _check_values(args)
+    _check_cameras_flags(args)
     given = [k for k in _MODEL_ONLY if getattr(args, k) is not None]
     if given:
         flags = ", ".join("--" + k for k in given)
@@ -223,6 +379,7 @@ def cmd_render(args: argparse.Namespace) -> None:
         cmd_render_scene(args)
         return
     _check_values(args)
+    _check_cameras_flags(args)
     scene = core.Scene(
         ambient=args.ambient if args.ambient is not None else (0.2, 0.2, 0.2),
         two_sided=bool(args.two_sided),

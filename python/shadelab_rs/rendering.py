@@ -156,17 +156,31 @@ def _frame(
             EmptyRenderWarning,
             stacklevel=stacklevel,
         )
-    image = frame["image"]
+    depth = frame["depth"]
+    image = _finish(frame["image"], depth, out_dtype=out_dtype, alpha=alpha, encoding=encoding)
+    return {"image": image, "depth": depth if return_depth else None, "stats": stats}
+
+
+def _finish(
+    image: NDArray[Any],
+    depth: NDArray[np.float32] | None,
+    *,
+    out_dtype: str,
+    alpha: bool,
+    encoding: Encoding,
+) -> NDArray[Any]:
+    """The renderer's image (float32 when ``encoding="srgb"``) encoded and with its alpha
+    channel (from ``depth``, the coverage) as ``render`` returns it; the command line's
+    many-view renders use it too."""
     if encoding == "srgb":
         enc = srgb_encode(image)
         image = np.floor(enc * 255.0 + 0.5).astype(np.uint8) if out_dtype == "uint8" else enc
-    depth = frame["depth"]
     if alpha:
         assert depth is not None
         covered = np.isfinite(depth)
         a = covered.astype(image.dtype) * (255 if image.dtype == np.uint8 else 1)
         image = np.ascontiguousarray(np.concatenate([image, a[:, :, None]], axis=2))
-    return {"image": image, "depth": depth if return_depth else None, "stats": stats}
+    return image
 
 
 def _fmt(v: Any) -> str:

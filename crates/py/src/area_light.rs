@@ -56,6 +56,18 @@ fn samples_arg(obj: &Bound<'_, PyAny>) -> PyResult<u32> {
 
 #[pymethods]
 impl PyAreaLight {
+    /// Pickle support: `_core._restore("AreaLight", state)` rebuilds this value exactly.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        crate::pickle::reduce(py, "AreaLight", crate::pickle::area_state(&self.inner))
+    }
+
+    fn __copy__(&self) -> Self {
+        self.clone()
+    }
+
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
+        self.clone()
+    }
     #[new]
     #[pyo3(signature = (position, u, v, shape="rectangle", samples=None, color=None,
                         intensity=1.0, attenuation=None, ambient=None, one_sided=false,

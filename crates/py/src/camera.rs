@@ -22,7 +22,7 @@ pub struct PyCamera {
 
 /// Placeholder near/far planes for the ones left to `render` to fit, keeping the given one
 /// valid: a perspective near must stay > 0 and below far.
-fn planes(near: Option<f64>, far: Option<f64>, perspective: bool) -> (f64, f64) {
+pub(crate) fn planes(near: Option<f64>, far: Option<f64>, perspective: bool) -> (f64, f64) {
     match (near, far) {
         (Some(n), Some(f)) => (n, f),
         (Some(n), None) => (
@@ -59,6 +59,18 @@ fn up_or_y(up: Option<&Bound<'_, PyAny>>) -> PyResult<glam::DVec3> {
 
 #[pymethods]
 impl PyCamera {
+    /// Pickle support: `_core._restore("Camera", state)` rebuilds this value exactly.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        crate::pickle::reduce(py, "Camera", crate::pickle::camera_state(self))
+    }
+
+    fn __copy__(&self) -> Self {
+        self.clone()
+    }
+
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
+        self.clone()
+    }
     /// Perspective camera; `fov_y` is the full vertical angle in degrees.
     /// `near` / `far` None (the default): fitted to the scene's bounds at render time.
     #[staticmethod]

@@ -3,6 +3,8 @@
 //! without lights. Both are pure functions of the scene and camera, applied to the render's
 //! own copy of the scene, so the user's objects are never changed.
 
+use std::borrow::Cow;
+
 use glam::{DMat4, DVec3, Vec3};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2};
@@ -144,18 +146,32 @@ pub fn light_rig(camera: &core::Camera) -> Vec<core::DirectionalLight> {
         .collect()
 }
 
+/// `scene` as `render` lights it through `camera`: a copy with the light rig added when the
+/// scene has no lights and asks for the rig (`default_lights`), else the scene itself.
+pub fn lit_scene<'a>(
+    scene: &'a core::Scene,
+    default_lights: bool,
+    camera: &core::Camera,
+) -> Cow<'a, core::Scene> {
+    if default_lights && scene.lights().is_empty() {
+        let mut copy = scene.clone();
+        for light in light_rig(camera) {
+            copy.add_light(light);
+        }
+        Cow::Owned(copy)
+    } else {
+        Cow::Borrowed(scene)
+    }
+}
+
 /// The scene and camera `render` draws: the camera's planes fitted, and the light rig added
-/// to the copy of a scene that has no lights and asks for the rig.
+/// to the copy of a scene that has no lights and asks for the rig. `render_batch` applies
+/// the same two steps per view (`fit_planes`, then `lit_scene`).
 pub fn prepare(
     scene: &crate::scene::PyScene,
     camera: &PyCamera,
 ) -> PyResult<(core::Scene, core::Camera)> {
     let cam = fit_planes(camera, &scene.inner)?;
-    let mut copy = scene.inner.clone();
-    if scene.default_lights && copy.lights().is_empty() {
-        for light in light_rig(&cam) {
-            copy.add_light(light);
-        }
-    }
+    let copy = lit_scene(&scene.inner, scene.default_lights, &cam).into_owned();
     Ok((copy, cam))
 }

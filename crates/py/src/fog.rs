@@ -15,6 +15,18 @@ pub struct PyFog {
 
 #[pymethods]
 impl PyFog {
+    /// Pickle support: `_core._restore("Fog", state)` rebuilds this value exactly.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        crate::pickle::reduce(py, "Fog", crate::pickle::fog_state(&self.inner))
+    }
+
+    fn __copy__(&self) -> Self {
+        self.clone()
+    }
+
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
+        self.clone()
+    }
     #[new]
     #[pyo3(signature = (mode="linear", start=0.0, end=1.0, density=1.0, color=None))]
     fn new(

@@ -2,6 +2,7 @@
 //! rendering lives in the `shadelab-raster` crate.
 
 mod area_light;
+mod batch;
 mod camera;
 mod convert;
 mod defaults;
@@ -10,6 +11,7 @@ mod fog;
 mod light;
 mod material;
 mod mesh;
+mod pickle;
 mod render;
 mod scene;
 
@@ -37,6 +39,17 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<render::PyRenderOptions>()?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(render::render_frame, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::render_batch, m)?)?;
+    // Pickle's reconstructor and the test hooks are set as attributes, out of `__all__`.
+    m.setattr("_restore", wrap_pyfunction!(pickle::_restore, m)?)?;
+    m.setattr(
+        "_set_rendezvous",
+        wrap_pyfunction!(batch::_set_rendezvous, m)?,
+    )?;
+    m.setattr(
+        "_max_in_flight",
+        wrap_pyfunction!(batch::_max_in_flight, m)?,
+    )?;
     // A test hook: set as an attribute, so it stays out of `__all__`.
     m.setattr(
         "_panic_for_tests",

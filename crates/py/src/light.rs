@@ -33,6 +33,22 @@ pub struct PyDirectionalLight {
 
 #[pymethods]
 impl PyDirectionalLight {
+    /// Pickle support: `_core._restore("DirectionalLight", state)` rebuilds this value exactly.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        crate::pickle::reduce(
+            py,
+            "DirectionalLight",
+            crate::pickle::directional_state(self),
+        )
+    }
+
+    fn __copy__(&self) -> Self {
+        self.clone()
+    }
+
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
+        self.clone()
+    }
     #[new]
     #[pyo3(signature = (direction, color=None, intensity=1.0, ambient=None, diffuse=None,
                         specular=None))]
@@ -111,6 +127,18 @@ pub struct PyPointLight {
 
 #[pymethods]
 impl PyPointLight {
+    /// Pickle support: `_core._restore("PointLight", state)` rebuilds this value exactly.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        crate::pickle::reduce(py, "PointLight", crate::pickle::point_state(&self.inner))
+    }
+
+    fn __copy__(&self) -> Self {
+        self.clone()
+    }
+
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
+        self.clone()
+    }
     #[new]
     #[pyo3(signature = (position, color=None, intensity=1.0, attenuation=None, ambient=None,
                         diffuse=None, specular=None))]
@@ -200,6 +228,18 @@ pub struct PySpotLight {
 
 #[pymethods]
 impl PySpotLight {
+    /// Pickle support: `_core._restore("SpotLight", state)` rebuilds this value exactly.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        crate::pickle::reduce(py, "SpotLight", crate::pickle::spot_state(self))
+    }
+
+    fn __copy__(&self) -> Self {
+        self.clone()
+    }
+
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
+        self.clone()
+    }
     #[new]
     #[pyo3(signature = (position, direction, cutoff=30.0, exponent=0.0, color=None, intensity=1.0,
                         attenuation=None, ambient=None, inner=None, diffuse=None, specular=None))]

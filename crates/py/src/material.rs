@@ -15,6 +15,18 @@ pub struct PyMaterial {
 
 #[pymethods]
 impl PyMaterial {
+    /// Pickle support: `_core._restore("Material", state)` rebuilds this value exactly.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        crate::pickle::reduce(py, "Material", crate::pickle::material_state(&self.inner))
+    }
+
+    fn __copy__(&self) -> Self {
+        self.clone()
+    }
+
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
+        self.clone()
+    }
     #[new]
     #[pyo3(signature = (ambient=None, diffuse=None, specular=None, shininess=None, emission=None))]
     fn new(

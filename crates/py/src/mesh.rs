@@ -28,6 +28,24 @@ fn rows3<'py>(py: Python<'py>, v: &[glam::Vec3]) -> Bound<'py, PyArray2<f32>> {
 
 #[pymethods]
 impl PyMesh {
+    /// Pickle support: `_core._restore("Mesh", state)` rebuilds this value exactly.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        crate::pickle::reduce(py, "Mesh", crate::pickle::mesh_state(py, &self.inner)?)
+    }
+
+    fn __copy__(&self) -> Self {
+        // Immutable: a copy may share the buffers.
+        PyMesh {
+            inner: self.inner.clone(),
+        }
+    }
+
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
+        // Immutable: a copy may share the buffers.
+        PyMesh {
+            inner: self.inner.clone(),
+        }
+    }
     #[new]
     #[pyo3(signature = (vertices, faces, normals=None, uvs=None))]
     fn new(

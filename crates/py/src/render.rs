@@ -89,6 +89,20 @@ pub struct PyRenderOptions {
 
 #[pymethods]
 impl PyRenderOptions {
+    /// Pickle support: `_core._restore("RenderOptions", state)` rebuilds this value; the
+    /// state is `to_dict()`, checked again by the constructor.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        crate::pickle::reduce(py, "RenderOptions", self.to_dict(py)?)
+    }
+
+    fn __copy__(&self) -> Self {
+        self.clone()
+    }
+
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
+        self.clone()
+    }
+
     #[new]
     #[pyo3(signature = (width=None, height=None, shading="phong", specular="blinn",
                         background=None, cull_backfaces=false, threads=None),
@@ -223,7 +237,7 @@ impl PyRenderOptions {
 
 /// The options of a `render` call: `options`, updated by the arguments of `RenderOptions`
 /// given positionally (`args`) or by keyword.
-fn options_of(
+pub(crate) fn options_of(
     py: Python<'_>,
     options: Option<&PyRenderOptions>,
     args: &Bound<'_, PyTuple>,
@@ -244,7 +258,7 @@ fn options_of(
     Ok(built.extract::<PyRenderOptions>()?.inner)
 }
 
-fn format_of(dtype: &Bound<'_, PyAny>) -> PyResult<core::ColorFormat> {
+pub(crate) fn format_of(dtype: &Bound<'_, PyAny>) -> PyResult<core::ColorFormat> {
     let np = dtype.py().import("numpy")?;
     let name: String = np
         .call_method1("dtype", (dtype,))

@@ -29,8 +29,52 @@ pub struct PySceneObject {
     transform: Mat4,
 }
 
+impl PySceneObject {
+    /// The snapshot of a scene's object.
+    pub fn from_object(o: &core::Object) -> Self {
+        PySceneObject {
+            mesh: o.mesh().clone(),
+            material: *o.material(),
+            back_material: o.back_material().copied(),
+            transform: o.transform(),
+        }
+    }
+}
+
 #[pymethods]
 impl PySceneObject {
+    /// Pickle support: `_core._restore("SceneObject", state)` rebuilds this value exactly.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        crate::pickle::reduce(
+            py,
+            "SceneObject",
+            crate::pickle::scene_object_state(
+                py,
+                &self.mesh,
+                &self.material,
+                self.back_material.as_ref(),
+                &self.transform,
+            )?,
+        )
+    }
+
+    fn __copy__(&self) -> Self {
+        PySceneObject {
+            mesh: self.mesh.clone(),
+            material: self.material,
+            back_material: self.back_material,
+            transform: self.transform,
+        }
+    }
+
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
+        PySceneObject {
+            mesh: self.mesh.clone(),
+            material: self.material,
+            back_material: self.back_material,
+            transform: self.transform,
+        }
+    }
     /// The mesh (shared with the scene, not copied).
     #[getter]
     fn mesh(&self) -> PyMesh {
@@ -91,7 +135,7 @@ pub struct PyScene {
     pub inner: core::Scene,
     /// Per light (parallel to `inner.lights()`), the direction as the user gave it, for
     /// the directional and spot lights that have one: `lights` hands them back unchanged.
-    given_directions: Vec<Option<[f64; 3]>>,
+    pub(crate) given_directions: Vec<Option<[f64; 3]>>,
     /// Whether `render` lights a scene without lights with the camera's light rig.
     pub default_lights: bool,
 }
@@ -162,7 +206,10 @@ fn index(i: isize, len: usize, what: &str) -> PyResult<usize> {
 
 /// A light argument as the core's light, with the direction as the user gave it for the
 /// directional and spot lights (`Scene.lights` hands it back unchanged).
-fn light_arg(light: &Bound<'_, PyAny>, what: &str) -> PyResult<(core::Light, Option<[f64; 3]>)> {
+pub(crate) fn light_arg(
+    light: &Bound<'_, PyAny>,
+    what: &str,
+) -> PyResult<(core::Light, Option<[f64; 3]>)> {
     if let Ok(l) = light.extract::<PyRef<'_, PyDirectionalLight>>() {
         Ok((l.inner.into(), Some(l.given)))
     } else if let Ok(l) = light.extract::<PyRef<'_, PyPointLight>>() {
@@ -179,8 +226,34 @@ fn light_arg(light: &Bound<'_, PyAny>, what: &str) -> PyResult<(core::Light, Opt
     }
 }
 
+impl PyScene {
+    /// A copy sharing the (immutable) meshes.
+    fn copied(&self) -> Self {
+        PyScene {
+            inner: self.inner.clone(),
+            given_directions: self.given_directions.clone(),
+            default_lights: self.default_lights,
+        }
+    }
+}
+
 #[pymethods]
 impl PyScene {
+    /// Pickle support: `_core._restore("Scene", state)` rebuilds this value exactly.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        crate::pickle::reduce(py, "Scene", crate::pickle::scene_state(py, self)?)
+    }
+
+    fn __copy__(&self) -> Self {
+        // Meshes are immutable and stay shared; everything else is copied.
+        self.copied()
+    }
+
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
+        // Meshes are immutable and stay shared; everything else is copied.
+        self.copied()
+    }
+
     #[new]
     #[pyo3(signature = (ambient=None, fog=None, two_sided=false, local_viewer=true, default_lights=true))]
     fn new(
@@ -395,17 +468,7 @@ impl PyScene {
             .inner
             .objects()
             .iter()
-            .map(|o| {
-                Bound::new(
-                    py,
-                    PySceneObject {
-                        mesh: o.mesh().clone(),
-                        material: *o.material(),
-                        back_material: o.back_material().copied(),
-                        transform: o.transform(),
-                    },
-                )
-            })
+            .map(|o| Bound::new(py, PySceneObject::from_object(o)))
             .collect::<PyResult<Vec<_>>>()?;
         PyTuple::new(py, items)
     }

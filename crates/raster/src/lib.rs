@@ -56,5 +56,7 @@ pub use options::{RenderOptions, ShadingMode, SpecularModel, MAX_IMAGE_SIZE};
 pub use pipeline::shade::Pixel;
 pub use pipeline::MAX_RADIANCE;
 pub use pool::{default_threads, MAX_THREADS};
+#[doc(hidden)]
+pub use pool::{max_in_flight, set_rendezvous};
 pub use render::{coverage_counts, render, render_depth_map, render_into};
 pub use scene::{Object, Scene};

@@ -126,8 +126,9 @@ fn run_checked<P: Pixel>(
             )));
         }
     }
-    let pool = pool::pool(options.threads)?;
-    pool.install(|| pipeline::color_pass(scene, camera, options, color, depth))
+    pool::run(options.threads, || {
+        pipeline::color_pass(scene, camera, options, color, depth)
+    })?
 }
 
 /// The window depth of every pixel, row-major `height·width`, from the visibility pass alone
@@ -142,10 +143,9 @@ pub fn render_depth_map(
     options.validate()?;
     let n = options.pixel_count();
     let mut depth = reserve::<f32>(n)?;
-    let pool = pool::pool(options.threads)?;
-    let stats = pool.install(|| {
+    let stats = pool::run(options.threads, || {
         pipeline::depth_pass(scene, camera, options, &mut depth.spare_capacity_mut()[..n])
-    })?;
+    })??;
     // SAFETY: the pass succeeded, so it wrote all `n` depths (every tile writes every pixel
     // of its rows); the vector has that capacity.
     unsafe { depth.set_len(n) };
@@ -161,6 +161,7 @@ pub fn coverage_counts(
     options: &RenderOptions,
 ) -> Result<Vec<u32>> {
     options.validate()?;
-    let pool = pool::pool(options.threads)?;
-    pool.install(|| pipeline::coverage_counts(scene, camera, options))
+    pool::run(options.threads, || {
+        pipeline::coverage_counts(scene, camera, options)
+    })?
 }

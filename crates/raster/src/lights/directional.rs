@@ -67,4 +67,27 @@ impl DirectionalLight {
     pub fn direction(&self) -> Vec3 {
         self.direction
     }
+
+    /// The same light travelling along `unit`, stored as given (not renormalised: that can
+    /// move the last bit), so a light rebuilt from [`DirectionalLight::direction`] (e.g.
+    /// when unpickled) is bit-identical. `unit` must be finite with length 1 ± 1e-5.
+    pub fn with_unit_direction(mut self, unit: Vec3) -> Result<Self> {
+        self.direction = check_unit_direction(unit)?;
+        Ok(self)
+    }
+}
+
+/// `unit` if it is finite with length 1 ± 1e-5 (a direction stored as given).
+pub(super) fn check_unit_direction(unit: Vec3) -> Result<Vec3> {
+    if unit.is_finite() && (unit.length() - 1.0).abs() <= 1e-5 {
+        Ok(unit)
+    } else {
+        Err(RasterError::invalid_field(
+            "direction",
+            format!(
+                "a stored light direction must be a finite unit vector, got {:?}",
+                unit.to_array()
+            ),
+        ))
+    }
 }

@@ -4,6 +4,7 @@ use glam::Vec3;
 
 use crate::error::{RasterError, Result};
 
+use super::directional::check_unit_direction;
 use super::point::PointLight;
 
 /// A point light restricted to a cone, with OpenGL's `GL_SPOT_CUTOFF` / `GL_SPOT_EXPONENT`
@@ -78,6 +79,13 @@ impl SpotLight {
     /// Unit direction the cone points.
     pub fn direction(&self) -> Vec3 {
         self.direction
+    }
+
+    /// The same spot pointing along `unit`, stored as given; see
+    /// [`DirectionalLight::with_unit_direction`](super::DirectionalLight::with_unit_direction).
+    pub fn with_unit_direction(mut self, unit: Vec3) -> Result<Self> {
+        self.direction = check_unit_direction(unit)?;
+        Ok(self)
     }
 
     /// Cone half-angle in degrees (180: no cone).
