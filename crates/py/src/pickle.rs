@@ -208,15 +208,31 @@ fn fog(s: FogState) -> PyResult<core::Fog> {
 }
 
 type D3 = (f64, f64, f64);
-/// (kind, eye, target, up, fov_y or height, near, far); a plane left to `render` to fit is
-/// None, as it was given.
-type CameraState = (String, D3, D3, D3, f64, Option<f64>, Option<f64>);
+/// A pinhole camera's (fx, fy, cx, cy, skew, width, height).
+type IntrinsicsState = (f64, f64, f64, f64, f64, u32, u32);
+/// (kind, eye, target, up, fov_y or height (0 for a pinhole), near, far, intrinsics of a
+/// pinhole); a plane left to `render` to fit is None, as it was given.
+type CameraState = (
+    String,
+    D3,
+    D3,
+    D3,
+    f64,
+    Option<f64>,
+    Option<f64>,
+    Option<IntrinsicsState>,
+);
 
 pub fn camera_state(cam: &PyCamera) -> CameraState {
     let c = &cam.inner;
-    let (kind, p) = match c.projection() {
-        core::Projection::Perspective { fov_y } => ("perspective", fov_y),
-        core::Projection::Orthographic { height } => ("orthographic", height),
+    let (kind, p, k) = match c.projection() {
+        core::Projection::Perspective { fov_y } => ("perspective", fov_y, None),
+        core::Projection::Orthographic { height } => ("orthographic", height, None),
+        core::Projection::Pinhole(k) => (
+            "pinhole",
+            0.0,
+            Some((k.fx, k.fy, k.cx, k.cy, k.skew, k.width, k.height)),
+        ),
     };
     (
         kind.into(),
@@ -226,6 +242,7 @@ pub fn camera_state(cam: &PyCamera) -> CameraState {
         p,
         (!cam.fit_near).then_some(c.near()),
         (!cam.fit_far).then_some(c.far()),
+        k,
     )
 }
 
@@ -233,6 +250,29 @@ pub fn camera_state(cam: &PyCamera) -> CameraState {
 /// (placeholder planes for the fitted ones).
 fn camera(s: CameraState) -> PyResult<PyCamera> {
     let d = |v: D3| glam::DVec3::new(v.0, v.1, v.2);
+    if s.0 == "pinhole" {
+        let Some((fx, fy, cx, cy, skew, width, height)) = s.7 else {
+            return Err(PyValueError::new_err(
+                "a pinhole camera's state has no intrinsics",
+            ));
+        };
+        let k = core::Intrinsics {
+            fx,
+            fy,
+            cx,
+            cy,
+            skew,
+            width,
+            height,
+        };
+        let (near, far) = crate::camera::planes(s.5, s.6, true);
+        return Ok(PyCamera {
+            inner: core::Camera::from_intrinsics(d(s.1), d(s.2), d(s.3), k, near, far)
+                .map_err(to_py)?,
+            fit_near: s.5.is_none(),
+            fit_far: s.6.is_none(),
+        });
+    }
     let (make, perspective): (fn(_, _, _, _, _, _) -> _, bool) = match s.0.as_str() {
         "perspective" => (core::Camera::look_at, true),
         "orthographic" => (core::Camera::orthographic, false),
