@@ -655,10 +655,15 @@ def markdown(
     ]
     if cmp:
         out += [
-            "## The baseline against the build before the lighting work",
+            f"## The baseline against an earlier build ({meta['before'][:7]})",
             "",
-            f"Before = `{meta['before']}` (“{meta['before_subject']}”), the parent of the first "
-            "lighting commit of issue 3 (9d219f3). Both builds rendered the baseline scene in "
+            f"Before = `{meta['before']}` (“{meta['before_subject']}”)"
+            + (
+                ", the parent of the first lighting commit of issue 3 (9d219f3)"
+                if meta["before"].startswith(DEFAULT_BEFORE)
+                else ""
+            )
+            + ". Both builds rendered the baseline scene in "
             "their own worker process (this script with `--worker`, under each build's venv), "
             "one frame each in alternation, the first of each pair alternating too. Ratio = "
             "median over pairs of now / before in CPU time (below 1: now is faster); the wall-time "
@@ -686,7 +691,7 @@ def markdown(
         ]
     else:
         out += [
-            "## The baseline against the build before the lighting work",
+            "## The baseline against an earlier build",
             "",
             f"Not measured in this run (it needs a second build): add `--against-commit "
             f"{DEFAULT_BEFORE}`.",
@@ -716,8 +721,7 @@ def reading(rs: list[dict[str, Any]], cmp: list[dict[str, Any]] | None) -> list[
     lines = []
     if cmp:
         lines.append(
-            "- The baseline against the build before the lighting work, now / before in CPU "
-            "time: "
+            "- The baseline against the earlier build, now / before in CPU time: "
             + ", ".join(
                 f"{c['mode']} {c['ratio']:.3f} [{c['ratio_q1']:.3f}, {c['ratio_q3']:.3f}]"
                 for c in cmp
