@@ -32,6 +32,7 @@ from ._core import (
     render_frame,
 )
 from .demo import data_path, demo_scene, frame_mesh
+from .figures import lecture_figures
 from .io import load_mesh, save_image, to_uint8
 from .scene_file import (
     SceneFile,
@@ -68,6 +69,7 @@ __all__ = [
     "demo_scene",
     "frame_mesh",
     "frame_scene",
+    "lecture_figures",
     "load_mesh",
     "load_obj",
     "load_obj_parts",

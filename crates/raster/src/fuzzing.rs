@@ -72,7 +72,7 @@ pub fn obj_loader(data: &[u8]) -> bool {
                     "bad MTL colour {v}"
                 );
             }
-            assert!(m.shininess.is_finite() && m.shininess >= 0.0);
+            assert!(m.shininess >= 0.0, "bad MTL shininess {}", m.shininess);
         }
     }
     let mesh = merge_parts(parts).expect("parts that loaded must merge");

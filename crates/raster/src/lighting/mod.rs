@@ -22,7 +22,7 @@ mod surface;
 pub(crate) use equation::{Folded, Split, Terms};
 pub(crate) use lanes::{normalize_lanes, Lanes, LANES};
 pub(crate) use light_set::LightSet;
-pub(crate) use surface::Surface;
+pub(crate) use surface::{check_mirror, Surface};
 
 #[cfg(test)]
 mod tests {

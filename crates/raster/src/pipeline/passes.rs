@@ -12,7 +12,7 @@ use crate::camera::Camera;
 use crate::effects::FogEffect;
 use crate::error::Result;
 use crate::frame::RenderStats;
-use crate::options::RenderOptions;
+use crate::options::{Interpolation, RenderOptions};
 use crate::scene::Scene;
 
 /// Runs the whole pipeline into caller-provided row-major buffers. On success every sample
@@ -50,6 +50,7 @@ pub(crate) fn color_pass<P: Pixel>(
             .fog()
             .map(|f| FogEffect::new(*f, camera.eye_distance(options.width, options.height))),
         program: Program::for_scene(scene.fog().is_some()),
+        affine: options.interpolation == Interpolation::Screen,
     };
     rects
         .par_iter()

@@ -46,6 +46,9 @@ pub(crate) struct ShadeContext<'a> {
     pub fog: Option<FogEffect>,
     /// The per-pixel stages after lighting, chosen once per render ([`Program::for_scene`]).
     pub program: Program,
+    /// Screen-space (affine) interpolation ([`crate::Interpolation::Screen`]): the weight
+    /// planes drop the 1/w, and the eye depth comes from the stored z instead.
+    pub affine: bool,
 }
 
 impl ShadeContext<'_> {
@@ -54,7 +57,12 @@ impl ShadeContext<'_> {
     #[inline(always)]
     pub(super) fn eye_depth(&self, wanted: bool, z: f32, inv_w: f32) -> f32 {
         if wanted {
-            self.camera.eye_depth(z, inv_w)
+            if self.affine {
+                // The affine weights sum to 1, not to 1/w.
+                self.camera.eye_depth_from_z(z)
+            } else {
+                self.camera.eye_depth(z, inv_w)
+            }
         } else {
             0.0
         }

@@ -14,6 +14,10 @@ use crate::pipeline::setup::{SetupTri, ONE};
 /// triangle's area by more than 2× (slivers), the unsnapped planes would extrapolate far
 /// outside the triangle at covered pixels, so the exact planes of the snapped triangle are
 /// used instead.
+///
+/// With [`ShadeContext::affine`] (screen-space interpolation) the planes are the plain
+/// barycentrics λ_k (the 1/w_k dropped): the lectures' scan-line interpolation, which over a
+/// triangle is the same linear function of (x, y).
 pub(super) fn weight_planes(ctx: &ShadeContext<'_>, t: &SetupTri) -> [[f64; 3]; 3] {
     let (w, h) = ctx.size;
     let screen = |k: u32| {
@@ -29,7 +33,7 @@ pub(super) fn weight_planes(ctx: &ShadeContext<'_>, t: &SetupTri) -> [[f64; 3]; 
         let inv_area = 1.0 / area;
         for (k, pk) in plane.iter_mut().enumerate() {
             let ((ax, ay), (bx, by)) = (s[(k + 1) % 3], s[(k + 2) % 3]);
-            let q = t.inv_w[k] as f64 * inv_area;
+            let q = inv_w(ctx, t, k) * inv_area;
             *pk = [
                 -(by - ay) * q,
                 (bx - ax) * q,
@@ -41,7 +45,7 @@ pub(super) fn weight_planes(ctx: &ShadeContext<'_>, t: &SetupTri) -> [[f64; 3]; 
         let e = t.edges();
         let one = ONE as f64;
         for (k, pk) in plane.iter_mut().enumerate() {
-            let q = t.inv_w[k] as f64 / t.area2 as f64;
+            let q = inv_w(ctx, t, k) / t.area2 as f64;
             *pk = [
                 e.a[k] as f64 * one * q,
                 e.b[k] as f64 * one * q,
@@ -50,6 +54,16 @@ pub(super) fn weight_planes(ctx: &ShadeContext<'_>, t: &SetupTri) -> [[f64; 3]; 
         }
     }
     plane
+}
+
+/// The weight of vertex `k` beside its barycentric: 1/w_k, or 1 for screen-space weights.
+#[inline(always)]
+fn inv_w(ctx: &ShadeContext<'_>, t: &SetupTri, k: usize) -> f64 {
+    if ctx.affine {
+        1.0
+    } else {
+        t.inv_w[k] as f64
+    }
 }
 
 /// A plane `p[0]·x + p[1]·y + p[2]` over pixel coordinates.
