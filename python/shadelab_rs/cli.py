@@ -203,8 +203,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         args.func(args)
-    except (ValueError, TypeError, OSError) as e:
-        print(f"shadelab: error: {e}", file=sys.stderr)
+    except (ValueError, TypeError, OSError, MemoryError, RuntimeError) as e:
+        # One line whatever the message (docs/USER_GUIDE.md, "Command line": exit status).
+        message = " ".join(str(e).split("\n")) or type(e).__name__
+        print(f"shadelab: error: {message}", file=sys.stderr)
         return 1
     return 0
 
