@@ -210,20 +210,27 @@ def test_gouraud_face_intensities_against_its_definition():
         )
 
 
-def test_gouraud_face_intensities_of_a_flat_mesh_is_flat_shading():
+@pytest.mark.parametrize("eye_z", [2.5, -2.5])
+def test_gouraud_face_intensities_of_a_flat_mesh_is_flat_shading(eye_z):
     """A planar mesh lit by a directional light and seen by the infinite viewer: every face
-    has the same colour, so the averaged vertex colours are that colour too."""
-    scene = sl.Scene(ambient=AMBIENT, local_viewer=False)
+    has the same colour, so the averaged vertex colours are that colour too; seen from
+    behind under two-sided lighting, the back material's flipped-normal colour."""
+    scene = sl.Scene(ambient=AMBIENT, local_viewer=False, two_sided=True)
     grid = np.array([[x, y, 0.0] for y in range(4) for x in range(4)]) / 3 - 0.5
     faces = []
     for y in range(3):
         for x in range(3):
             a = y * 4 + x
             faces += [[a, a + 1, a + 5], [a, a + 5, a + 4]]
-    scene.add(sl.Mesh(grid, faces), material=sl.Material.preset("gold"))
-    scene.add_light(sl.DirectionalLight(direction=(0.2, -0.3, -1)))
-    cam = sl.Camera.look_at(eye=(0.3, 0.2, 2.5), target=(0, 0, 0), fov_y=40.0)
+    scene.add(
+        sl.Mesh(grid, faces),
+        material=sl.Material.preset("gold"),
+        back_material=sl.Material.preset("emerald"),
+    )
+    scene.add_light(sl.DirectionalLight(direction=(0.2, -0.3, -np.sign(eye_z))))
+    cam = sl.Camera.look_at(eye=(0.3, 0.2, eye_z), target=(0, 0, 0), fov_y=40.0)
     flat = sl.render(scene, cam, 48, 48, shading="flat")
+    assert flat.any(axis=-1).mean() > 0.2
     got = sl.render(scene, cam, 48, 48, shading="gouraud", gouraud="face-intensities")
     assert np.abs(flat.astype(int) - got.astype(int)).max() <= 1
 
