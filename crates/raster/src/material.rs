@@ -54,7 +54,7 @@ impl Material {
             }
         }
         // +inf is the lectures' perfect mirror (`pow01(x, inf)` is 1 at x ≥ 1, else 0).
-        if !(shininess >= 0.0) {
+        if shininess.is_nan() || shininess < 0.0 {
             return Err(RasterError::invalid_field(
                 "shininess",
                 format!(

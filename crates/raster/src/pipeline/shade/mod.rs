@@ -47,18 +47,20 @@ pub(crate) struct ShadeContext<'a> {
     /// The per-pixel stages after lighting, chosen once per render ([`Program::for_scene`]).
     pub program: Program,
     /// Screen-space (affine) interpolation ([`crate::Interpolation::Screen`]): the weight
-    /// planes drop the 1/w, and the eye depth comes from the stored z instead.
+    /// planes drop the 1/w, and the eye depth comes from the stored z instead. A loop
+    /// constant (`AFFINE`) of the Gouraud and Phong loops, so perspective renders carry none
+    /// of it; flat interpolates nothing and ignores it.
     pub affine: bool,
 }
 
 impl ShadeContext<'_> {
     /// Eye depth of a pixel from its stored z and interpolated 1/w, when `wanted` (depth
-    /// output or fog); 0 otherwise, saving a division per pixel.
+    /// output or fog); 0 otherwise, saving a division per pixel. `AFFINE` (screen-space
+    /// weights, which sum to 1, not to 1/w): from the stored z alone.
     #[inline(always)]
-    pub(super) fn eye_depth(&self, wanted: bool, z: f32, inv_w: f32) -> f32 {
+    pub(super) fn eye_depth<const AFFINE: bool>(&self, wanted: bool, z: f32, inv_w: f32) -> f32 {
         if wanted {
-            if self.affine {
-                // The affine weights sum to 1, not to 1/w.
+            if AFFINE {
                 self.camera.eye_depth_from_z(z)
             } else {
                 self.camera.eye_depth(z, inv_w)
@@ -125,23 +127,35 @@ pub(crate) fn shade_tile<P: Pixel>(
     // specialised); Phong: its effects are a per-render program, and its loop is specialised
     // only on whether that program reads the eye depth. A scene without fog pays nothing for
     // it either way.
-    match (mode, ctx.fog.is_some()) {
-        (ShadingMode::Flat, false) => {
-            runs::shade_runs::<P, FLAT, false>(ctx, rect, buf, color, depth)
+    match (mode, ctx.fog.is_some(), ctx.affine) {
+        (ShadingMode::Flat, false, _) => {
+            runs::shade_runs::<P, FLAT, false, false>(ctx, rect, buf, color, depth)
         }
-        (ShadingMode::Flat, true) => {
-            runs::shade_runs::<P, FLAT, true>(ctx, rect, buf, color, depth)
+        (ShadingMode::Flat, true, _) => {
+            runs::shade_runs::<P, FLAT, true, false>(ctx, rect, buf, color, depth)
         }
-        (ShadingMode::Gouraud, false) => {
-            runs::shade_runs::<P, GOURAUD, false>(ctx, rect, buf, color, depth)
+        (ShadingMode::Gouraud, false, false) => {
+            runs::shade_runs::<P, GOURAUD, false, false>(ctx, rect, buf, color, depth)
         }
-        (ShadingMode::Gouraud, true) => {
-            runs::shade_runs::<P, GOURAUD, true>(ctx, rect, buf, color, depth)
+        (ShadingMode::Gouraud, true, false) => {
+            runs::shade_runs::<P, GOURAUD, true, false>(ctx, rect, buf, color, depth)
+        }
+        (ShadingMode::Gouraud, false, true) => {
+            runs::shade_runs::<P, GOURAUD, false, true>(ctx, rect, buf, color, depth)
+        }
+        (ShadingMode::Gouraud, true, true) => {
+            runs::shade_runs::<P, GOURAUD, true, true>(ctx, rect, buf, color, depth)
         }
         // Phong's per-pixel effects run as the render's program over each batch.
-        (ShadingMode::Phong, read_depth) => match read_depth || ctx.program.reads_depth() {
-            false => phong::shade_phong::<P, false>(ctx, rect, buf, color, depth),
-            true => phong::shade_phong::<P, true>(ctx, rect, buf, color, depth),
-        },
+        (ShadingMode::Phong, read_depth, affine) => {
+            match (read_depth || ctx.program.reads_depth(), affine) {
+                (false, false) => {
+                    phong::shade_phong::<P, false, false>(ctx, rect, buf, color, depth)
+                }
+                (true, false) => phong::shade_phong::<P, true, false>(ctx, rect, buf, color, depth),
+                (false, true) => phong::shade_phong::<P, false, true>(ctx, rect, buf, color, depth),
+                (true, true) => phong::shade_phong::<P, true, true>(ctx, rect, buf, color, depth),
+            }
+        }
     }
 }

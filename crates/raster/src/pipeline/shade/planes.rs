@@ -15,10 +15,10 @@ use crate::pipeline::setup::{SetupTri, ONE};
 /// outside the triangle at covered pixels, so the exact planes of the snapped triangle are
 /// used instead.
 ///
-/// With [`ShadeContext::affine`] (screen-space interpolation) the planes are the plain
+/// With `affine` (screen-space interpolation, [`ShadeContext::affine`]) the planes are the plain
 /// barycentrics λ_k (the 1/w_k dropped): the lectures' scan-line interpolation, which over a
 /// triangle is the same linear function of (x, y).
-pub(super) fn weight_planes(ctx: &ShadeContext<'_>, t: &SetupTri) -> [[f64; 3]; 3] {
+pub(super) fn weight_planes(ctx: &ShadeContext<'_>, t: &SetupTri, affine: bool) -> [[f64; 3]; 3] {
     let (w, h) = ctx.size;
     let screen = |k: u32| {
         let c = ctx.verts.clip[k as usize].as_dvec4();
@@ -33,7 +33,7 @@ pub(super) fn weight_planes(ctx: &ShadeContext<'_>, t: &SetupTri) -> [[f64; 3]; 
         let inv_area = 1.0 / area;
         for (k, pk) in plane.iter_mut().enumerate() {
             let ((ax, ay), (bx, by)) = (s[(k + 1) % 3], s[(k + 2) % 3]);
-            let q = inv_w(ctx, t, k) * inv_area;
+            let q = inv_w(t, k, affine) * inv_area;
             *pk = [
                 -(by - ay) * q,
                 (bx - ax) * q,
@@ -45,7 +45,7 @@ pub(super) fn weight_planes(ctx: &ShadeContext<'_>, t: &SetupTri) -> [[f64; 3]; 
         let e = t.edges();
         let one = ONE as f64;
         for (k, pk) in plane.iter_mut().enumerate() {
-            let q = inv_w(ctx, t, k) / t.area2 as f64;
+            let q = inv_w(t, k, affine) / t.area2 as f64;
             *pk = [
                 e.a[k] as f64 * one * q,
                 e.b[k] as f64 * one * q,
@@ -58,8 +58,8 @@ pub(super) fn weight_planes(ctx: &ShadeContext<'_>, t: &SetupTri) -> [[f64; 3]; 
 
 /// The weight of vertex `k` beside its barycentric: 1/w_k, or 1 for screen-space weights.
 #[inline(always)]
-fn inv_w(ctx: &ShadeContext<'_>, t: &SetupTri, k: usize) -> f64 {
-    if ctx.affine {
+fn inv_w(t: &SetupTri, k: usize, affine: bool) -> f64 {
+    if affine {
         1.0
     } else {
         t.inv_w[k] as f64
@@ -107,8 +107,11 @@ pub(super) struct RunPlanes {
 
 impl RunPlanes {
     #[allow(clippy::needless_range_loop)] // plane coefficient c of three arrays
-    pub(super) fn new<const MODE: u8>(ctx: &ShadeContext<'_>, t: &SetupTri) -> Self {
-        let w = weight_planes(ctx, t);
+    pub(super) fn new<const MODE: u8, const AFFINE: bool>(
+        ctx: &ShadeContext<'_>,
+        t: &SetupTri,
+    ) -> Self {
+        let w = weight_planes(ctx, t, AFFINE);
         let mut out = RunPlanes::default();
         for c in 0..3 {
             out.inv_w[c] = w[0][c] + w[1][c] + w[2][c];
