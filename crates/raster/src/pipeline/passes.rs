@@ -37,6 +37,7 @@ pub(crate) fn color_pass<P: Pixel>(
         None => (0..rects.len()).map(|_| None).collect(),
     };
     let isa = isa::Isa::detect(options.baseline_isa);
+    let screen = options.interpolation == Interpolation::Screen;
     let shade_ctx = ShadeContext {
         tris: &prep.tris,
         verts: &prep.verts,
@@ -50,7 +51,6 @@ pub(crate) fn color_pass<P: Pixel>(
             .fog()
             .map(|f| FogEffect::new(*f, camera.eye_distance(options.width, options.height))),
         program: Program::for_scene(scene.fog().is_some()),
-        affine: options.interpolation == Interpolation::Screen,
     };
     rects
         .par_iter()
@@ -64,7 +64,7 @@ pub(crate) fn color_pass<P: Pixel>(
                 color: crows,
                 depth: drows.as_deref_mut(),
             };
-            isa::run_tile(isa, &shade_ctx, options.shading, buf, job);
+            isa::run_tile(isa, &shade_ctx, options.shading, screen, buf, job);
         });
     let mut stats = prep.stats;
     stats.timings.raster_shade = prep.t_start.elapsed();

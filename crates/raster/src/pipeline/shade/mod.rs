@@ -46,11 +46,6 @@ pub(crate) struct ShadeContext<'a> {
     pub fog: Option<FogEffect>,
     /// The per-pixel stages after lighting, chosen once per render ([`Program::for_scene`]).
     pub program: Program,
-    /// Screen-space (affine) interpolation ([`crate::Interpolation::Screen`]): the weight
-    /// planes drop the 1/w, and the eye depth comes from the stored z instead. A loop
-    /// constant (`AFFINE`) of the Gouraud and Phong loops, so perspective renders carry none
-    /// of it; flat interpolates nothing and ignores it.
-    pub affine: bool,
 }
 
 impl ShadeContext<'_> {
@@ -127,35 +122,50 @@ pub(crate) fn shade_tile<P: Pixel>(
     // specialised); Phong: its effects are a per-render program, and its loop is specialised
     // only on whether that program reads the eye depth. A scene without fog pays nothing for
     // it either way.
-    match (mode, ctx.fog.is_some(), ctx.affine) {
-        (ShadingMode::Flat, false, _) => {
+    match (mode, ctx.fog.is_some()) {
+        (ShadingMode::Flat, false) => {
             runs::shade_runs::<P, FLAT, false, false>(ctx, rect, buf, color, depth)
         }
-        (ShadingMode::Flat, true, _) => {
+        (ShadingMode::Flat, true) => {
             runs::shade_runs::<P, FLAT, true, false>(ctx, rect, buf, color, depth)
         }
-        (ShadingMode::Gouraud, false, false) => {
+        (ShadingMode::Gouraud, false) => {
             runs::shade_runs::<P, GOURAUD, false, false>(ctx, rect, buf, color, depth)
         }
-        (ShadingMode::Gouraud, true, false) => {
+        (ShadingMode::Gouraud, true) => {
             runs::shade_runs::<P, GOURAUD, true, false>(ctx, rect, buf, color, depth)
         }
-        (ShadingMode::Gouraud, false, true) => {
+        // Phong's per-pixel effects run as the render's program over each batch.
+        (ShadingMode::Phong, read_depth) => match read_depth || ctx.program.reads_depth() {
+            false => phong::shade_phong::<P, false, false>(ctx, rect, buf, color, depth),
+            true => phong::shade_phong::<P, true, false>(ctx, rect, buf, color, depth),
+        },
+    }
+}
+
+/// [`shade_tile`] for Gouraud and Phong with screen-space weights (the lectures'
+/// [`crate::Interpolation::Screen`]: the weight planes drop the 1/w, and the eye depth comes
+/// from the stored z instead; `AFFINE` of the loops). Its own tile body calls it
+/// (`isa::run_tile`), so the perspective loops and their inlining into each instruction
+/// set's body stay exactly as they were; flat interpolates nothing and ignores the option.
+#[inline(always)]
+pub(crate) fn shade_tile_screen<P: Pixel>(
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    rect: TileRect,
+    buf: &TileBuffers,
+    color: &mut [&mut [Out<P>]],
+    depth: Option<&mut [&mut [Out<f32>]]>,
+) {
+    let stages_read_depth = ctx.fog.is_some() || ctx.program.reads_depth();
+    match (mode, ctx.fog.is_some(), stages_read_depth) {
+        (ShadingMode::Gouraud, false, _) => {
             runs::shade_runs::<P, GOURAUD, false, true>(ctx, rect, buf, color, depth)
         }
-        (ShadingMode::Gouraud, true, true) => {
+        (ShadingMode::Gouraud, true, _) => {
             runs::shade_runs::<P, GOURAUD, true, true>(ctx, rect, buf, color, depth)
         }
-        // Phong's per-pixel effects run as the render's program over each batch.
-        (ShadingMode::Phong, read_depth, affine) => {
-            match (read_depth || ctx.program.reads_depth(), affine) {
-                (false, false) => {
-                    phong::shade_phong::<P, false, false>(ctx, rect, buf, color, depth)
-                }
-                (true, false) => phong::shade_phong::<P, true, false>(ctx, rect, buf, color, depth),
-                (false, true) => phong::shade_phong::<P, false, true>(ctx, rect, buf, color, depth),
-                (true, true) => phong::shade_phong::<P, true, true>(ctx, rect, buf, color, depth),
-            }
-        }
+        (_, _, false) => phong::shade_phong::<P, false, true>(ctx, rect, buf, color, depth),
+        (_, _, true) => phong::shade_phong::<P, true, true>(ctx, rect, buf, color, depth),
     }
 }

@@ -15,7 +15,7 @@ use crate::pipeline::setup::{SetupTri, ONE};
 /// outside the triangle at covered pixels, so the exact planes of the snapped triangle are
 /// used instead.
 ///
-/// With `affine` (screen-space interpolation, [`ShadeContext::affine`]) the planes are the plain
+/// With `affine` (screen-space interpolation, [`crate::Interpolation::Screen`]) the planes are the plain
 /// barycentrics λ_k (the 1/w_k dropped): the lectures' scan-line interpolation, which over a
 /// triangle is the same linear function of (x, y).
 pub(super) fn weight_planes(ctx: &ShadeContext<'_>, t: &SetupTri, affine: bool) -> [[f64; 3]; 3] {
