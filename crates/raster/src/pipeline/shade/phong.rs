@@ -55,7 +55,7 @@ impl<'a> Current<'a> {
         let back = ctx.two_sided && !t.front;
         Current {
             id,
-            plane: planes.get(id, || weight_planes(ctx, t, AFFINE)),
+            plane: planes.get(id, || weight_planes::<AFFINE>(ctx, t)),
             normal: v.map(|k| ctx.verts.normal[k]),
             pos: v.map(|k| ctx.verts.world[k]),
             material: Some(&ctx.materials[t.object as usize][back as usize]),

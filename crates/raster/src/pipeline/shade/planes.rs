@@ -15,10 +15,13 @@ use crate::pipeline::setup::{SetupTri, ONE};
 /// outside the triangle at covered pixels, so the exact planes of the snapped triangle are
 /// used instead.
 ///
-/// With `affine` (screen-space interpolation, [`crate::Interpolation::Screen`]) the planes are the plain
+/// With `AFFINE` (screen-space interpolation, [`crate::Interpolation::Screen`]) the planes are the plain
 /// barycentrics λ_k (the 1/w_k dropped): the lectures' scan-line interpolation, which over a
 /// triangle is the same linear function of (x, y).
-pub(super) fn weight_planes(ctx: &ShadeContext<'_>, t: &SetupTri, affine: bool) -> [[f64; 3]; 3] {
+pub(super) fn weight_planes<const AFFINE: bool>(
+    ctx: &ShadeContext<'_>,
+    t: &SetupTri,
+) -> [[f64; 3]; 3] {
     let (w, h) = ctx.size;
     let screen = |k: u32| {
         let c = ctx.verts.clip[k as usize].as_dvec4();
@@ -33,7 +36,7 @@ pub(super) fn weight_planes(ctx: &ShadeContext<'_>, t: &SetupTri, affine: bool) 
         let inv_area = 1.0 / area;
         for (k, pk) in plane.iter_mut().enumerate() {
             let ((ax, ay), (bx, by)) = (s[(k + 1) % 3], s[(k + 2) % 3]);
-            let q = inv_w(t, k, affine) * inv_area;
+            let q = inv_w::<AFFINE>(t, k) * inv_area;
             *pk = [
                 -(by - ay) * q,
                 (bx - ax) * q,
@@ -45,7 +48,7 @@ pub(super) fn weight_planes(ctx: &ShadeContext<'_>, t: &SetupTri, affine: bool) 
         let e = t.edges();
         let one = ONE as f64;
         for (k, pk) in plane.iter_mut().enumerate() {
-            let q = inv_w(t, k, affine) / t.area2 as f64;
+            let q = inv_w::<AFFINE>(t, k) / t.area2 as f64;
             *pk = [
                 e.a[k] as f64 * one * q,
                 e.b[k] as f64 * one * q,
@@ -58,8 +61,8 @@ pub(super) fn weight_planes(ctx: &ShadeContext<'_>, t: &SetupTri, affine: bool) 
 
 /// The weight of vertex `k` beside its barycentric: 1/w_k, or 1 for screen-space weights.
 #[inline(always)]
-fn inv_w(t: &SetupTri, k: usize, affine: bool) -> f64 {
-    if affine {
+fn inv_w<const AFFINE: bool>(t: &SetupTri, k: usize) -> f64 {
+    if AFFINE {
         1.0
     } else {
         t.inv_w[k] as f64
@@ -111,7 +114,7 @@ impl RunPlanes {
         ctx: &ShadeContext<'_>,
         t: &SetupTri,
     ) -> Self {
-        let w = weight_planes(ctx, t, AFFINE);
+        let w = weight_planes::<AFFINE>(ctx, t);
         let mut out = RunPlanes::default();
         for c in 0..3 {
             out.inv_w[c] = w[0][c] + w[1][c] + w[2][c];
