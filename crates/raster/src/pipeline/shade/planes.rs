@@ -15,9 +15,9 @@ use crate::pipeline::setup::{SetupTri, ONE};
 /// outside the triangle at covered pixels, so the exact planes of the snapped triangle are
 /// used instead.
 ///
-/// With `AFFINE` (screen-space interpolation, [`crate::Interpolation::Screen`]) the planes are the plain
-/// barycentrics λ_k (the 1/w_k dropped): the lectures' scan-line interpolation, which over a
-/// triangle is the same linear function of (x, y).
+/// With `AFFINE` (screen-space interpolation, [`crate::Interpolation::Screen`]) the planes
+/// are the plain barycentrics λ_k (the 1/w_k dropped): the lectures' scan-line
+/// interpolation, which over a triangle is the same linear function of (x, y).
 pub(super) fn weight_planes<const AFFINE: bool>(
     ctx: &ShadeContext<'_>,
     t: &SetupTri,
