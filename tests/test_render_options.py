@@ -32,6 +32,8 @@ def test_defaults_and_round_trip():
         "background": (0.0, 0.0, 0.0),
         "cull_backfaces": False,
         "threads": None,
+        "gouraud": "normals",
+        "interpolation": "perspective",
     }
     p = sl.RenderOptions(64, 48, shading="FLAT", specular="blinn-normalized", threads=2)
     assert (p.width, p.height, p.shading, p.specular, p.threads) == (
@@ -56,6 +58,8 @@ def test_defaults_and_round_trip():
         ({"specular": "cook"}, "specular"),
         ({"background": (0, 0)}, "background"),
         ({"threads": 0}, "threads"),
+        ({"gouraud": "faces"}, "gouraud"),
+        ({"interpolation": "affine"}, "interpolation"),
     ],
 )
 def test_bad_values_name_the_option(kwargs, field):

@@ -651,7 +651,7 @@ ERRORS = [
         ("materials", "mine", "shininess"),
         -1,
         "materials.mine.shininess",
-        "material shininess must be finite and >= 0, got",
+        "material shininess must be >= 0",
     ),
     (("materials", "mine", "preset"), "unobtainium", "materials.mine.preset", "unknown material"),
     (("materials", "mine", "preset"), 3, "materials.mine.preset", "expected a string, got 3"),

@@ -42,6 +42,7 @@ from .demo import (
     orbit,
     view_direction,
 )
+from .figures import lecture_figures
 from .io import (
     file_up_axis,
     load_mesh,
@@ -96,6 +97,7 @@ __all__ = [
     "frame_scene",
     "intrinsics",
     "iter_render",
+    "lecture_figures",
     "load_mesh",
     "load_obj",
     "load_obj_parts",

@@ -54,6 +54,8 @@ _F32: TypeAlias = Literal["float32"] | type[np.float32] | np.dtype[np.float32]
 # any capitalisation).
 _Shading: TypeAlias = Literal["flat", "gouraud", "phong"]
 _Specular: TypeAlias = Literal["blinn", "phong", "blinn-normalized"]
+_Gouraud: TypeAlias = Literal["normals", "face-intensities"]
+_Interpolation: TypeAlias = Literal["perspective", "screen"]
 #: What Scene.add takes as a mesh: a Mesh, trimesh.Trimesh / Scene, (V, F), PyVista PolyData.
 _MeshLike: TypeAlias = Mesh | tuple[ArrayLike, ArrayLike] | Any
 #: A Material or a preset name.
@@ -145,9 +147,11 @@ class Mesh:
 @final
 class Material:
     """OpenGL-style material: ambient, diffuse, specular RGB (each >= 0), shininess (the
-    specular exponent, >= 0) and emission (RGB >= 0, added unlit; black by default). Omitted
-    arguments take the default grey plastic's values. Materials compare equal when all their
-    values are equal (and are not hashable)."""
+    specular exponent, >= 0; ``float("inf")`` is the lectures' perfect mirror: specular only
+    where the lobe's base is exactly 1, so none on a rasterized surface in practice, and
+    refused with ``specular="blinn-normalized"``) and emission (RGB >= 0, added unlit; black
+    by default). Omitted arguments take the default grey plastic's values. Materials compare
+    equal when all their values are equal (and are not hashable)."""
 
     def __copy__(self) -> Material: ...
     def __deepcopy__(self, _memo: Any) -> Material:
@@ -737,7 +741,11 @@ class RenderOptions:
     "phong"; ``specular``: "blinn" (Blinn-Phong), "phong" or "blinn-normalized"
     (case-insensitive). ``background``: linear RGB of empty pixels (default black).
     ``cull_backfaces``: skip clockwise faces. ``threads``: worker threads, None for all
-    cores; the image is bit-identical for any count."""
+    cores; the image is bit-identical for any count. ``gouraud``: "normals" (each vertex lit
+    with its normal, the default) or "face-intensities" (the mean of the flat-lit colours of
+    the faces around the vertex, the lectures' simple method). ``interpolation``:
+    "perspective" (perspective-correct, the default) or "screen" (affine, the lectures'
+    scan-line formulas) for Gouraud colours and Phong normals and positions."""
 
     def __new__(
         cls,
@@ -748,6 +756,8 @@ class RenderOptions:
         background: _Vec3Like | None = None,
         cull_backfaces: bool = False,
         threads: int | None = None,
+        gouraud: _Gouraud = "normals",
+        interpolation: _Interpolation = "perspective",
     ) -> RenderOptions: ...
     def __copy__(self) -> RenderOptions: ...
     def __deepcopy__(self, _memo: Any) -> RenderOptions:
@@ -756,6 +766,10 @@ class RenderOptions:
     """The names ``shading`` takes (in any case)."""
     specular_names: ClassVar[tuple[str, str, str]]
     """The names ``specular`` takes (in any case)."""
+    gouraud_names: ClassVar[tuple[str, str]]
+    """The names ``gouraud`` takes (in any case)."""
+    interpolation_names: ClassVar[tuple[str, str]]
+    """The names ``interpolation`` takes (in any case)."""
     def replace(self, **changes: Unpack[_RenderOptionsArgs]) -> RenderOptions:
         """The same options with the given ones changed."""
     def to_dict(self) -> dict[str, Any]:
@@ -781,6 +795,12 @@ class RenderOptions:
     @property
     def threads(self) -> int | None:
         """Worker threads, or None for all cores."""
+    @property
+    def gouraud(self) -> str:
+        """ "normals" or "face-intensities"."""
+    @property
+    def interpolation(self) -> str:
+        """ "perspective" or "screen"."""
 
 class _RenderOptionsArgs(TypedDict, total=False):
     """The keywords of :class:`RenderOptions` (tests/test_render_options.py checks that
@@ -793,6 +813,8 @@ class _RenderOptionsArgs(TypedDict, total=False):
     background: _Vec3Like | None
     cull_backfaces: bool
     threads: int | None
+    gouraud: _Gouraud
+    interpolation: _Interpolation
 
 # One overload per output type; the render options are RenderOptions' arguments.
 @overload

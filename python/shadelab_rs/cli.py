@@ -411,6 +411,13 @@ def cmd_materials(args: argparse.Namespace) -> None:
         print(f"wrote {args.sheet} ({w}x{h}, one sphere per preset)", file=sys.stderr)
 
 
+def cmd_figures(args: argparse.Namespace) -> None:
+    from .figures import lecture_figures
+
+    for path in lecture_figures(args.output):
+        print(f"wrote {path}")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``shadelab`` command; returns the exit status."""
     parser = argparse.ArgumentParser(prog="shadelab", description=__doc__)
@@ -473,11 +480,17 @@ def main(argv: Sequence[str] | None = None) -> int:
     m.add_argument("--columns", type=int, default=6, help="swatches per row (6)")
     m.set_defaults(func=cmd_materials)
 
+    f = sub.add_parser("figures", help="render the lecture figures (PNGs and captions.md)")
+    f.add_argument("-o", "--output", default="figures", help="directory to write (figures)")
+    f.set_defaults(func=cmd_figures)
+
     args = parser.parse_args(argv)
     try:
         args.func(args)
-    except (ValueError, TypeError, OSError) as e:
-        print(f"shadelab: error: {e}", file=sys.stderr)
+    except (ValueError, TypeError, OSError, MemoryError, RuntimeError) as e:
+        # One line whatever the message (docs/USER_GUIDE.md, "Command line": exit status).
+        message = " ".join(str(e).split("\n")) or type(e).__name__
+        print(f"shadelab: error: {message}", file=sys.stderr)
         return 1
     return 0
 

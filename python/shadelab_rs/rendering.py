@@ -287,7 +287,11 @@ def render(
       (Blinn-Phong, default), "phong" or "blinn-normalized". ``background``: linear RGB of
       empty pixels, each in [0, 1] for 8-bit output (default black). ``cull_backfaces``:
       skip triangles facing away from the camera. ``threads``: worker threads, None for
-      all cores; the image is bit-identical for any.
+      all cores; the image is bit-identical for any. ``gouraud``: "normals" (default:
+      vertex normals averaged, lit per vertex) or "face-intensities" (the lectures' simple
+      method: each vertex takes the mean of its faces' flat-lit colours).
+      ``interpolation``: "perspective" (default) or "screen" (the lectures' scan-line
+      formulas, affine in screen space).
     - ``dtype``: "uint8" (default, ``round(clamp(c, 0, 1) * 255)``) or "float32" (linear,
       unclamped unless ``encoding="srgb"``).
     - ``return_depth``: also return the float32 eye-space depth (distance along the viewing

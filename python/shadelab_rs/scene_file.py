@@ -461,6 +461,8 @@ def _render_options(v: Any, where: str) -> dict[str, Any]:
     types: dict[str, Callable[[Any, str], Any]] = {
         "shading": _string,
         "specular": _string,
+        "gouraud": _string,
+        "interpolation": _string,
         "background": _numbers,
         "cull_backfaces": _boolean,
     }

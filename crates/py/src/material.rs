@@ -4,13 +4,28 @@ use pyo3::prelude::*;
 use shadelab_raster as core;
 
 use crate::convert;
-use crate::errors::to_py;
+use crate::errors::{to_py, value_error};
 
 /// OpenGL-style material: ambient, diffuse, specular RGB and shininess.
 #[pyclass(name = "Material", module = "shadelab_rs._core", frozen, eq)]
 #[derive(Clone, PartialEq)]
 pub struct PyMaterial {
     pub inner: core::Material,
+}
+
+/// The shininess as float32; a finite value beyond float32's range is refused rather than
+/// becoming the perfect mirror's `inf`.
+fn shininess_f32(s: Option<f64>, default: f32) -> PyResult<f32> {
+    match s {
+        None => Ok(default),
+        Some(s) if s.is_finite() && (s as f32).is_infinite() => Err(value_error(
+            "shininess",
+            format!(
+                "material shininess {s:e} is beyond float32's range; use inf for a perfect mirror"
+            ),
+        )),
+        Some(s) => Ok(s as f32),
+    }
 }
 
 #[pymethods]
@@ -45,7 +60,7 @@ impl PyMaterial {
             pick(ambient, "ambient", d.ambient)?,
             pick(diffuse, "diffuse", d.diffuse)?,
             pick(specular, "specular", d.specular)?,
-            shininess.map_or(d.shininess, |s| s as f32),
+            shininess_f32(shininess, d.shininess)?,
         )
         .and_then(|m| m.with_emission(emission))
         .map_err(to_py)?;

@@ -71,6 +71,20 @@ fn shading_name(mode: core::ShadingMode) -> &'static str {
     }
 }
 
+fn gouraud_name(method: core::GouraudMethod) -> &'static str {
+    match method {
+        core::GouraudMethod::Normals => "normals",
+        core::GouraudMethod::FaceIntensities => "face-intensities",
+    }
+}
+
+fn interpolation_name(i: core::Interpolation) -> &'static str {
+    match i {
+        core::Interpolation::Perspective => "perspective",
+        core::Interpolation::Screen => "screen",
+    }
+}
+
 fn specular_name(model: core::SpecularModel) -> &'static str {
     match model {
         core::SpecularModel::BlinnPhong => "blinn",
@@ -105,8 +119,10 @@ impl PyRenderOptions {
 
     #[new]
     #[pyo3(signature = (width=None, height=None, shading="phong", specular="blinn",
-                        background=None, cull_backfaces=false, threads=None),
-           text_signature = "(width=800, height=600, shading='phong', specular='blinn', background=None, cull_backfaces=False, threads=None)")]
+                        background=None, cull_backfaces=false, threads=None,
+                        gouraud="normals", interpolation="perspective"),
+           text_signature = "(width=800, height=600, shading='phong', specular='blinn', background=None, cull_backfaces=False, threads=None, gouraud='normals', interpolation='perspective')")]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         width: Option<&Bound<'_, PyAny>>,
         height: Option<&Bound<'_, PyAny>>,
@@ -115,6 +131,8 @@ impl PyRenderOptions {
         background: Option<&Bound<'_, PyAny>>,
         cull_backfaces: bool,
         threads: Option<&Bound<'_, PyAny>>,
+        gouraud: &str,
+        interpolation: &str,
     ) -> PyResult<Self> {
         let mut inner =
             core::RenderOptions::new(size(width, 800, "width")?, size(height, 600, "height")?);
@@ -124,6 +142,12 @@ impl PyRenderOptions {
         inner.specular = specular
             .parse()
             .map_err(|e| with_field(to_py(e), "specular"))?;
+        inner.gouraud = gouraud
+            .parse()
+            .map_err(|e| with_field(to_py(e), "gouraud"))?;
+        inner.interpolation = interpolation
+            .parse()
+            .map_err(|e| with_field(to_py(e), "interpolation"))?;
         if let Some(bg) = background.filter(|b| !b.is_none()) {
             inner.background = convert::vec3(bg, "background")?;
         }
@@ -155,6 +179,20 @@ impl PyRenderOptions {
         )
     }
 
+    /// The names `gouraud` takes (it also accepts them in any case, and `_` for `-`).
+    #[classattr]
+    fn gouraud_names() -> (&'static str, &'static str) {
+        use core::GouraudMethod::*;
+        (gouraud_name(Normals), gouraud_name(FaceIntensities))
+    }
+
+    /// The names `interpolation` takes (it also accepts them in any case).
+    #[classattr]
+    fn interpolation_names() -> (&'static str, &'static str) {
+        use core::Interpolation::*;
+        (interpolation_name(Perspective), interpolation_name(Screen))
+    }
+
     /// The same options with the given ones changed (checked like the constructor's).
     #[pyo3(signature = (**changes))]
     fn replace<'py>(
@@ -180,6 +218,11 @@ impl PyRenderOptions {
         d.set_item("background", self.background())?;
         d.set_item("cull_backfaces", self.inner.cull_backfaces)?;
         d.set_item("threads", self.inner.threads)?;
+        d.set_item("gouraud", gouraud_name(self.inner.gouraud))?;
+        d.set_item(
+            "interpolation",
+            interpolation_name(self.inner.interpolation),
+        )?;
         Ok(d)
     }
 
@@ -205,6 +248,20 @@ impl PyRenderOptions {
     #[getter]
     fn specular(&self) -> &'static str {
         specular_name(self.inner.specular)
+    }
+
+    /// "normals" (lit at each vertex with its normal) or "face-intensities" (the mean of the
+    /// flat-lit colours of the faces around each vertex); Gouraud only.
+    #[getter]
+    fn gouraud(&self) -> &'static str {
+        gouraud_name(self.inner.gouraud)
+    }
+
+    /// "perspective" (perspective-correct) or "screen" (affine, the lectures' scan-line
+    /// formulas) interpolation of Gouraud colours and Phong normals and positions.
+    #[getter]
+    fn interpolation(&self) -> &'static str {
+        interpolation_name(self.inner.interpolation)
     }
 
     /// Linear RGB of empty pixels.

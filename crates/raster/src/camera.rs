@@ -400,6 +400,20 @@ impl Camera {
         }
     }
 
+    /// Eye-space depth from the stored reversed-Z value alone (for screen-space
+    /// interpolation, whose weights carry no 1/w): perspective inverts
+    /// `z = n(f − d) / ((f − n)·d)`, i.e. `d = n·f / (z·(f − n) + n)`; orthographic as
+    /// [`Camera::eye_depth`].
+    pub(crate) fn eye_depth_from_z(&self, z_ndc: f32) -> f32 {
+        let (n, f, z) = (self.near, self.far, z_ndc as f64);
+        match self.projection {
+            Projection::Perspective { .. } | Projection::Pinhole(_) => {
+                (n * f / (z * (f - n) + n)) as f32
+            }
+            Projection::Orthographic { .. } => self.eye_depth(z_ndc, 1.0),
+        }
+    }
+
     /// Eye-space depth (distance along the view axis) from a stored reversed-Z value and,
     /// for perspective, the interpolated 1/w.
     pub(crate) fn eye_depth(&self, z_ndc: f32, inv_w: f32) -> f32 {
@@ -483,6 +497,23 @@ mod tests {
             50.0,
         )
         .unwrap()
+    }
+
+    #[test]
+    fn eye_depth_from_z_inverts_the_projection() {
+        let c = cam();
+        let vp = c.projection_matrix(1.5) * c.view_matrix();
+        for d in [c.near(), 0.7, 1.0, 3.3, 20.0, c.far()] {
+            let clip = vp * DVec4::new(0.0, 0.0, 5.0 - d, 1.0);
+            let z = (clip.z / clip.w) as f32;
+            let got = c.eye_depth_from_z(z) as f64;
+            let want = c.eye_depth(z, (1.0 / clip.w) as f32) as f64;
+            assert!((got - d).abs() <= 1e-5 * d * (1.0 + d), "d {d}: {got}");
+            assert!(
+                (got - want).abs() <= 1e-5 * d * (1.0 + d),
+                "d {d}: {got} vs {want}"
+            );
+        }
     }
 
     #[test]

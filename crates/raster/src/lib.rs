@@ -52,7 +52,9 @@ pub use lights::{
 pub use material::{preset_names, Material, Preset, PRESETS};
 pub use mesh::{face_normal, generate_vertex_normals, Mesh};
 pub use obj::{load_obj, load_obj_parts, parse_obj_parts, ObjPart};
-pub use options::{RenderOptions, ShadingMode, SpecularModel, MAX_IMAGE_SIZE};
+pub use options::{
+    GouraudMethod, Interpolation, RenderOptions, ShadingMode, SpecularModel, MAX_IMAGE_SIZE,
+};
 pub use pipeline::shade::Pixel;
 pub use pipeline::MAX_RADIANCE;
 pub use pool::{default_threads, MAX_THREADS};

@@ -34,7 +34,9 @@ impl Default for Material {
 }
 
 impl Material {
-    /// Builds a material, checking that every value is finite and ≥ 0.
+    /// Builds a material, checking that every colour is finite and ≥ 0 and the shininess
+    /// ≥ 0; `shininess = +inf` is a perfect mirror lobe (specular only where the lobe's base
+    /// `n·h` or `r·v` is exactly 1: see [`crate::options::SpecularModel`]).
     pub fn new(ambient: Vec3, diffuse: Vec3, specular: Vec3, shininess: f32) -> Result<Self> {
         for (name, v) in [
             ("ambient", ambient),
@@ -51,10 +53,13 @@ impl Material {
                 ));
             }
         }
-        if !(shininess.is_finite() && shininess >= 0.0) {
+        // +inf is the lectures' perfect mirror (`pow01(x, inf)` is 1 at x ≥ 1, else 0).
+        if shininess.is_nan() || shininess < 0.0 {
             return Err(RasterError::invalid_field(
                 "shininess",
-                format!("material shininess must be finite and >= 0, got {shininess}"),
+                format!(
+                    "material shininess must be >= 0 (inf for a perfect mirror), got {shininess}"
+                ),
             ));
         }
         Ok(Material {

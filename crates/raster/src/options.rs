@@ -28,6 +28,11 @@ pub struct RenderOptions {
     pub cull_backfaces: bool,
     /// Worker threads; `None` uses every core. Results are identical for any count.
     pub threads: Option<usize>,
+    /// How Gouraud finds its vertex colours (ignored by flat and Phong).
+    pub gouraud: GouraudMethod,
+    /// How attributes are interpolated across a triangle (Gouraud colours, Phong normals and
+    /// positions); flat has none.
+    pub interpolation: Interpolation,
     /// Use only the target's baseline instructions (SSE2 on x86-64) even where the CPU has
     /// AVX2. The image is bit-identical either way; this exists to check that, and to
     /// measure what the wider instructions buy.
@@ -45,6 +50,8 @@ impl RenderOptions {
             background: Vec3::ZERO,
             cull_backfaces: false,
             threads: None,
+            gouraud: GouraudMethod::Normals,
+            interpolation: Interpolation::Perspective,
             baseline_isa: false,
         }
     }
@@ -88,6 +95,10 @@ pub enum ShadingMode {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum SpecularModel {
     /// `max(n·h, 0)^f` with the half vector (OpenGL's fixed function).
+    ///
+    /// With `f = +inf` (the lectures' perfect mirror) `x^inf` is 1 where the float32 base
+    /// `x` is ≥ 1 and 0 elsewhere, the limit of `x^f` as `f` grows: on a rasterized surface
+    /// the specular term then vanishes except at a pixel whose base rounds to exactly 1.
     BlinnPhong,
     /// Phong's own `max(r·v, 0)^f`.
     Phong,
@@ -95,6 +106,56 @@ pub enum SpecularModel {
     /// same as the shininess changes (sharper highlights get brighter peaks). The classic
     /// form's highlight instead dims as it narrows.
     NormalizedBlinnPhong,
+}
+
+/// How Gouraud finds its vertex colours.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum GouraudMethod {
+    /// Lit once per vertex with the vertex normal (the mesh's, or the average of its faces'
+    /// unit normals): OpenGL's and the default.
+    #[default]
+    Normals,
+    /// The lectures' "simple method": the mean of the flat-lit colours (face normal, face
+    /// centroid) of the faces sharing the vertex, each face counted once, unweighted.
+    FaceIntensities,
+}
+
+/// How attributes are interpolated across a triangle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Interpolation {
+    /// Perspective-correct (weights λ_k/w_k renormalised), as OpenGL: the default.
+    #[default]
+    Perspective,
+    /// Screen-space (affine) weights λ_k, the lectures' scan-line formulas
+    /// (`I = I_a + (I_b − I_a)·(x − x_a)/(x_b − x_a)` along a span). Depth output and fog still
+    /// use the true eye depth (from the stored z).
+    Screen,
+}
+
+impl FromStr for GouraudMethod {
+    type Err = RasterError;
+    fn from_str(s: &str) -> Result<Self> {
+        match s.to_ascii_lowercase().as_str() {
+            "normals" => Ok(GouraudMethod::Normals),
+            "face-intensities" | "face_intensities" => Ok(GouraudMethod::FaceIntensities),
+            _ => Err(RasterError::invalid(format!(
+                "unknown gouraud method '{s}'; expected 'normals' or 'face-intensities'"
+            ))),
+        }
+    }
+}
+
+impl FromStr for Interpolation {
+    type Err = RasterError;
+    fn from_str(s: &str) -> Result<Self> {
+        match s.to_ascii_lowercase().as_str() {
+            "perspective" => Ok(Interpolation::Perspective),
+            "screen" => Ok(Interpolation::Screen),
+            _ => Err(RasterError::invalid(format!(
+                "unknown interpolation '{s}'; expected 'perspective' or 'screen'"
+            ))),
+        }
+    }
 }
 
 impl FromStr for ShadingMode {
@@ -135,6 +196,15 @@ mod tests {
     fn parses_names() {
         assert_eq!("Phong".parse::<ShadingMode>().unwrap(), ShadingMode::Phong);
         assert!("toon".parse::<ShadingMode>().is_err());
+        assert_eq!(
+            "face-intensities".parse::<GouraudMethod>().unwrap(),
+            GouraudMethod::FaceIntensities
+        );
+        assert_eq!(
+            "Screen".parse::<Interpolation>().unwrap(),
+            Interpolation::Screen
+        );
+        assert!("affine".parse::<Interpolation>().is_err());
         assert_eq!(
             "blinn".parse::<SpecularModel>().unwrap(),
             SpecularModel::BlinnPhong

@@ -22,7 +22,7 @@ mod surface;
 pub(crate) use equation::{Folded, Split, Terms};
 pub(crate) use lanes::{normalize_lanes, Lanes, LANES};
 pub(crate) use light_set::LightSet;
-pub(crate) use surface::Surface;
+pub(crate) use surface::{check_mirror, Surface};
 
 #[cfg(test)]
 mod tests {
@@ -117,6 +117,40 @@ mod tests {
             (lit - both).abs().max_element() < 1e-6 * both.max_element(),
             "{lit} {both}"
         );
+    }
+
+    /// The perfect mirror (`shininess = inf`): the whole lobe where `n·h` is exactly 1, none
+    /// a hair away; refused with the normalised lobe unless there is no specular term.
+    #[test]
+    fn infinite_shininess_is_the_mirror_step() {
+        let l: Light = DirectionalLight::new(-Vec3::Z, Vec3::ONE, 1.0)
+            .unwrap()
+            .into();
+        let m = Material::new(Vec3::ZERO, Vec3::ZERO, Vec3::ONE, f32::INFINITY).unwrap();
+        for model in [SpecularModel::BlinnPhong, SpecularModel::Phong] {
+            let s = fold(&m, Vec3::ZERO, &[l], model).with_infinite_viewer(Vec3::Z);
+            assert_eq!(
+                s.shade(Vec3::Z, Vec3::ZERO, Vec3::Z),
+                Vec3::ONE,
+                "{model:?}"
+            );
+            let tilted = Vec3::new(1e-3, 0.0, 1.0).normalize();
+            assert_eq!(
+                s.shade(tilted, Vec3::ZERO, Vec3::Z),
+                Vec3::ZERO,
+                "{model:?}"
+            );
+            assert!(s.max_value().is_finite());
+        }
+        assert!(check_mirror(&m, SpecularModel::BlinnPhong).is_ok());
+        let e = check_mirror(&m, SpecularModel::NormalizedBlinnPhong).unwrap_err();
+        assert!(e.to_string().contains("blinn-normalized"), "{e}");
+        let dull = Material::new(Vec3::ONE, Vec3::ONE, Vec3::ZERO, f32::INFINITY).unwrap();
+        assert!(check_mirror(&dull, SpecularModel::NormalizedBlinnPhong).is_ok());
+        let folded = fold(&dull, Vec3::ZERO, &[l], SpecularModel::NormalizedBlinnPhong);
+        assert!(folded.max_value().is_finite());
+        assert!(Material::new(Vec3::ONE, Vec3::ONE, Vec3::ONE, f32::NEG_INFINITY).is_err());
+        assert!(Material::new(Vec3::ONE, Vec3::ONE, Vec3::ONE, f32::NAN).is_err());
     }
 
     #[test]

@@ -59,6 +59,20 @@ mod tests {
         }
     }
 
+    /// The exponent an infinite shininess is folded to: `pow01(x, f32::MAX)` is the step
+    /// `[x ≥ 1]` for every f32 in [0, 1], the largest below 1 included.
+    #[test]
+    fn pow01_with_the_largest_exponent_is_the_mirror_step() {
+        let below_one = f32::from_bits(1.0f32.to_bits() - 1);
+        for x in [0.0, 1e-30, 0.5, 0.999, 0.999_999, below_one] {
+            assert_eq!(pow01(x, f32::MAX), 0.0, "x = {x}");
+        }
+        assert_eq!(pow01(1.0, f32::MAX), 1.0);
+        assert_eq!(pow01(1.0 + f32::EPSILON, f32::MAX), 1.0);
+        // The finite exponents approach the step: x^1e8 is below 1e-6 once x < 1 - 1.4e-7.
+        assert!(pow01(1.0 - 2e-7, 1e8) < 1e-6);
+    }
+
     #[test]
     fn pow01_is_accurate() {
         let mut worst_rel = 0.0f64;

@@ -6,6 +6,7 @@
 use glam::Vec3;
 
 use super::light_set::{Geometry, LightSet};
+use crate::error::{RasterError, Result};
 use crate::lights::MIN_ATTENUATION_DENOMINATOR;
 use crate::material::Material;
 use crate::options::SpecularModel;
@@ -35,6 +36,24 @@ pub(crate) struct Surface {
     pub infinite_view: Option<Vec3>,
 }
 
+/// Refuses the normalised Blinn-Phong lobe with an infinite shininess: its scale
+/// `(f + 8) / 8π` is infinite (a zero-width lobe of finite energy, a Dirac, which a rasterizer
+/// cannot show). Materials without a specular term have no lobe and pass.
+pub(crate) fn check_mirror(material: &Material, model: SpecularModel) -> Result<()> {
+    if model == SpecularModel::NormalizedBlinnPhong
+        && material.shininess.is_infinite()
+        && material.has_specular()
+    {
+        return Err(RasterError::invalid_field(
+            "shininess",
+            "shininess=inf (a perfect mirror) cannot be used with specular='blinn-normalized': \
+             its scale (f + 8)/8π is infinite; use 'blinn' or 'phong', or a finite shininess"
+                .to_string(),
+        ));
+    }
+    Ok(())
+}
+
 impl Surface {
     /// Folds `material` with the scene ambient `ambient` and the sources of `set`.
     pub fn folded(
@@ -45,8 +64,10 @@ impl Surface {
     ) -> Self {
         // c = ke + ka·Ia + Σ att·[ka·Ia_i + ...]: constant terms are summed once here.
         // The normalised lobe's (f + 8)/8π is a constant too: folded into ks·Is.
+        // An infinite shininess with it is refused by `check_mirror`; without a specular
+        // term the lobe is absent, and its (infinite) scale is not folded (0 · inf = NaN).
         let spec_scale = match model {
-            SpecularModel::NormalizedBlinnPhong => {
+            SpecularModel::NormalizedBlinnPhong if material.shininess.is_finite() => {
                 ((material.shininess as f64 + 8.0) / (8.0 * std::f64::consts::PI)) as f32
             }
             _ => 1.0,
@@ -73,7 +94,14 @@ impl Surface {
         Surface {
             base,
             lights,
-            shininess: material.shininess,
+            // pow01(x, f32::MAX) is exactly [x ≥ 1] for every f32 x ≤ 1 (the largest x < 1
+            // has log2 x ≈ -8.6e-8, times f32::MAX far below the -126 cut-off), which is the
+            // perfect mirror's lobe; pow01(1, inf) would be inf · 0 = NaN.
+            shininess: if material.shininess.is_finite() {
+                material.shininess
+            } else {
+                f32::MAX
+            },
             specular_on: material.has_specular(),
             model,
             infinite_view: None,

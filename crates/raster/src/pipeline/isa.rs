@@ -44,15 +44,23 @@ pub(crate) struct TileJob<'a, 'b, P> {
     pub depth: Option<&'a mut [&'b mut [Out<f32>]]>,
 }
 
-/// Rasterizes and shades one tile with the instruction set `isa`.
+/// Rasterizes and shades one tile with the instruction set `isa`, or with `screen`
+/// (screen-space interpolation) on the baseline.
 #[inline]
 pub(crate) fn run_tile<P: Pixel>(
     isa: Isa,
     ctx: &ShadeContext<'_>,
     mode: ShadingMode,
+    screen: bool,
     buf: &mut TileBuffers,
     job: TileJob<'_, '_, P>,
 ) {
+    if screen && mode != ShadingMode::Flat {
+        // Screen-space interpolation (the lectures' variant): a body of its own, so the
+        // default bodies below compile exactly as without it.
+        tile_screen(ctx, mode, buf, job);
+        return;
+    }
     match isa {
         Isa::Baseline => tile_baseline(ctx, mode, buf, job),
         #[cfg(target_arch = "x86_64")]
@@ -82,6 +90,23 @@ unsafe fn tile_avx2<P: Pixel>(
     job: TileJob<'_, '_, P>,
 ) {
     tile(ctx, mode, buf, job);
+}
+
+/// The tile body of Gouraud and Phong with screen-space weights, for the baseline
+/// instruction set only (so both instruction sets give the same bits trivially).
+#[inline(never)]
+fn tile_screen<P: Pixel>(
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    buf: &mut TileBuffers,
+    job: TileJob<'_, '_, P>,
+) {
+    if ctx.tris.tile_is_empty(job.index) {
+        shade::fill_background(ctx, job.rect, job.color, job.depth);
+        return;
+    }
+    raster::rasterize_tile(ctx.tris, job.index, job.rect, buf);
+    shade::shade_tile_screen(ctx, mode, job.rect, buf, job.color, job.depth);
 }
 
 /// The tile body; always inlined, so each variant above compiles all of it for its own

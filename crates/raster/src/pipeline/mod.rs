@@ -27,9 +27,9 @@ use rayon::prelude::*;
 use crate::camera::Camera;
 use crate::error::{RasterError, Result};
 use crate::frame::RenderStats;
-use crate::lighting::{LightSet, Surface};
+use crate::lighting::{check_mirror, LightSet, Surface};
 use crate::material::Material;
-use crate::options::{RenderOptions, ShadingMode};
+use crate::options::{GouraudMethod, RenderOptions, ShadingMode};
 use crate::scene::Scene;
 use bin::{Binned, Bins, Chunk};
 use clip::ClipPlanes;
@@ -217,6 +217,12 @@ pub(crate) fn prepare(
     };
     let two_sided = scene.two_sided();
     let lit = needs == Needs::Color;
+    if lit {
+        for o in scene.objects() {
+            check_mirror(o.material(), options.specular)?;
+            check_mirror(o.material_for(true, two_sided), options.specular)?;
+        }
+    }
     let materials: Vec<Sides> = scene
         .objects()
         .iter()
@@ -294,7 +300,12 @@ pub(crate) fn prepare(
     }
     verts.append(&mut extras);
     if lit && options.shading == ShadingMode::Gouraud {
-        prelight::light_vertices(scene, &mut verts, &materials, eye);
+        match options.gouraud {
+            GouraudMethod::Normals => prelight::light_vertices(scene, &mut verts, &materials, eye),
+            GouraudMethod::FaceIntensities => {
+                prelight::light_vertices_by_faces(scene, &mut verts, &materials, eye)
+            }
+        }
     }
     let tris = Binned {
         chunks: outs.into_iter().map(|o| o.chunk).collect(),

@@ -12,7 +12,7 @@ use crate::camera::Camera;
 use crate::effects::FogEffect;
 use crate::error::Result;
 use crate::frame::RenderStats;
-use crate::options::RenderOptions;
+use crate::options::{Interpolation, RenderOptions};
 use crate::scene::Scene;
 
 /// Runs the whole pipeline into caller-provided row-major buffers. On success every sample
@@ -37,6 +37,7 @@ pub(crate) fn color_pass<P: Pixel>(
         None => (0..rects.len()).map(|_| None).collect(),
     };
     let isa = isa::Isa::detect(options.baseline_isa);
+    let screen = options.interpolation == Interpolation::Screen;
     let shade_ctx = ShadeContext {
         tris: &prep.tris,
         verts: &prep.verts,
@@ -63,7 +64,7 @@ pub(crate) fn color_pass<P: Pixel>(
                 color: crows,
                 depth: drows.as_deref_mut(),
             };
-            isa::run_tile(isa, &shade_ctx, options.shading, buf, job);
+            isa::run_tile(isa, &shade_ctx, options.shading, screen, buf, job);
         });
     let mut stats = prep.stats;
     stats.timings.raster_shade = prep.t_start.elapsed();

@@ -50,11 +50,16 @@ pub(crate) struct ShadeContext<'a> {
 
 impl ShadeContext<'_> {
     /// Eye depth of a pixel from its stored z and interpolated 1/w, when `wanted` (depth
-    /// output or fog); 0 otherwise, saving a division per pixel.
+    /// output or fog); 0 otherwise, saving a division per pixel. `AFFINE` (screen-space
+    /// weights, which sum to 1, not to 1/w): from the stored z alone.
     #[inline(always)]
-    pub(super) fn eye_depth(&self, wanted: bool, z: f32, inv_w: f32) -> f32 {
+    pub(super) fn eye_depth<const AFFINE: bool>(&self, wanted: bool, z: f32, inv_w: f32) -> f32 {
         if wanted {
-            self.camera.eye_depth(z, inv_w)
+            if AFFINE {
+                self.camera.eye_depth_from_z(z)
+            } else {
+                self.camera.eye_depth(z, inv_w)
+            }
         } else {
             0.0
         }
@@ -119,21 +124,48 @@ pub(crate) fn shade_tile<P: Pixel>(
     // it either way.
     match (mode, ctx.fog.is_some()) {
         (ShadingMode::Flat, false) => {
-            runs::shade_runs::<P, FLAT, false>(ctx, rect, buf, color, depth)
+            runs::shade_runs::<P, FLAT, false, false>(ctx, rect, buf, color, depth)
         }
         (ShadingMode::Flat, true) => {
-            runs::shade_runs::<P, FLAT, true>(ctx, rect, buf, color, depth)
+            runs::shade_runs::<P, FLAT, true, false>(ctx, rect, buf, color, depth)
         }
         (ShadingMode::Gouraud, false) => {
-            runs::shade_runs::<P, GOURAUD, false>(ctx, rect, buf, color, depth)
+            runs::shade_runs::<P, GOURAUD, false, false>(ctx, rect, buf, color, depth)
         }
         (ShadingMode::Gouraud, true) => {
-            runs::shade_runs::<P, GOURAUD, true>(ctx, rect, buf, color, depth)
+            runs::shade_runs::<P, GOURAUD, true, false>(ctx, rect, buf, color, depth)
         }
         // Phong's per-pixel effects run as the render's program over each batch.
         (ShadingMode::Phong, read_depth) => match read_depth || ctx.program.reads_depth() {
-            false => phong::shade_phong::<P, false>(ctx, rect, buf, color, depth),
-            true => phong::shade_phong::<P, true>(ctx, rect, buf, color, depth),
+            false => phong::shade_phong::<P, false, false>(ctx, rect, buf, color, depth),
+            true => phong::shade_phong::<P, true, false>(ctx, rect, buf, color, depth),
         },
+    }
+}
+
+/// [`shade_tile`] for Gouraud and Phong with screen-space weights (the lectures'
+/// [`crate::Interpolation::Screen`]: the weight planes drop the 1/w, and the eye depth comes
+/// from the stored z instead; `AFFINE` of the loops). Its own tile body calls it
+/// (`isa::run_tile`), so the perspective loops and their inlining into each instruction
+/// set's body stay exactly as they were; flat interpolates nothing and ignores the option.
+#[inline(always)]
+pub(crate) fn shade_tile_screen<P: Pixel>(
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    rect: TileRect,
+    buf: &TileBuffers,
+    color: &mut [&mut [Out<P>]],
+    depth: Option<&mut [&mut [Out<f32>]]>,
+) {
+    let stages_read_depth = ctx.fog.is_some() || ctx.program.reads_depth();
+    match (mode, ctx.fog.is_some(), stages_read_depth) {
+        (ShadingMode::Gouraud, false, _) => {
+            runs::shade_runs::<P, GOURAUD, false, true>(ctx, rect, buf, color, depth)
+        }
+        (ShadingMode::Gouraud, true, _) => {
+            runs::shade_runs::<P, GOURAUD, true, true>(ctx, rect, buf, color, depth)
+        }
+        (_, _, false) => phong::shade_phong::<P, false, true>(ctx, rect, buf, color, depth),
+        (_, _, true) => phong::shade_phong::<P, true, true>(ctx, rect, buf, color, depth),
     }
 }

@@ -45,7 +45,7 @@ impl<'a> Current<'a> {
         ]
     }
 
-    fn load(
+    fn load<const AFFINE: bool>(
         ctx: &ShadeContext<'a>,
         id: u32,
         t: &SetupTri,
@@ -55,7 +55,7 @@ impl<'a> Current<'a> {
         let back = ctx.two_sided && !t.front;
         Current {
             id,
-            plane: planes.get(id, || weight_planes(ctx, t)),
+            plane: planes.get(id, || weight_planes::<AFFINE>(ctx, t)),
             normal: v.map(|k| ctx.verts.normal[k]),
             pos: v.map(|k| ctx.verts.world[k]),
             material: Some(&ctx.materials[t.object as usize][back as usize]),
@@ -141,7 +141,7 @@ impl<'a> PhongBatch<'a> {
 
 /// Phong: interpolation per pixel, lighting [`LANES`] pixels at a time.
 #[inline(always)]
-pub(super) fn shade_phong<P: Pixel, const STAGES_READ_DEPTH: bool>(
+pub(super) fn shade_phong<P: Pixel, const STAGES_READ_DEPTH: bool, const AFFINE: bool>(
     ctx: &ShadeContext<'_>,
     rect: TileRect,
     buf: &TileBuffers,
@@ -176,11 +176,11 @@ pub(super) fn shade_phong<P: Pixel, const STAGES_READ_DEPTH: bool>(
             }
             let t = ctx.tris.get(id);
             if id != cur.id {
-                cur = Current::load(ctx, id, t, &mut planes);
+                cur = Current::load::<AFFINE>(ctx, id, t, &mut planes);
             }
             let [q0, q1, q2] = cur.weights((rect.x0 + i) as f64 + 0.5, y);
             let inv_w = q0 + q1 + q2;
-            let eye_depth = ctx.eye_depth(want_depth, buf.depth[slot], inv_w);
+            let eye_depth = ctx.eye_depth::<AFFINE>(want_depth, buf.depth[slot], inv_w);
             if let Some(d) = depth.as_deref_mut() {
                 d[j][i].write(eye_depth);
             }

@@ -14,7 +14,14 @@ use crate::pipeline::setup::{SetupTri, ONE};
 /// triangle's area by more than 2× (slivers), the unsnapped planes would extrapolate far
 /// outside the triangle at covered pixels, so the exact planes of the snapped triangle are
 /// used instead.
-pub(super) fn weight_planes(ctx: &ShadeContext<'_>, t: &SetupTri) -> [[f64; 3]; 3] {
+///
+/// With `AFFINE` (screen-space interpolation, [`crate::Interpolation::Screen`]) the planes
+/// are the plain barycentrics λ_k (the 1/w_k dropped): the lectures' scan-line
+/// interpolation, which over a triangle is the same linear function of (x, y).
+pub(super) fn weight_planes<const AFFINE: bool>(
+    ctx: &ShadeContext<'_>,
+    t: &SetupTri,
+) -> [[f64; 3]; 3] {
     let (w, h) = ctx.size;
     let screen = |k: u32| {
         let c = ctx.verts.clip[k as usize].as_dvec4();
@@ -29,7 +36,7 @@ pub(super) fn weight_planes(ctx: &ShadeContext<'_>, t: &SetupTri) -> [[f64; 3]; 
         let inv_area = 1.0 / area;
         for (k, pk) in plane.iter_mut().enumerate() {
             let ((ax, ay), (bx, by)) = (s[(k + 1) % 3], s[(k + 2) % 3]);
-            let q = t.inv_w[k] as f64 * inv_area;
+            let q = inv_w::<AFFINE>(t, k) * inv_area;
             *pk = [
                 -(by - ay) * q,
                 (bx - ax) * q,
@@ -41,7 +48,7 @@ pub(super) fn weight_planes(ctx: &ShadeContext<'_>, t: &SetupTri) -> [[f64; 3]; 
         let e = t.edges();
         let one = ONE as f64;
         for (k, pk) in plane.iter_mut().enumerate() {
-            let q = t.inv_w[k] as f64 / t.area2 as f64;
+            let q = inv_w::<AFFINE>(t, k) / t.area2 as f64;
             *pk = [
                 e.a[k] as f64 * one * q,
                 e.b[k] as f64 * one * q,
@@ -50,6 +57,16 @@ pub(super) fn weight_planes(ctx: &ShadeContext<'_>, t: &SetupTri) -> [[f64; 3]; 
         }
     }
     plane
+}
+
+/// The weight of vertex `k` beside its barycentric: 1/w_k, or 1 for screen-space weights.
+#[inline(always)]
+fn inv_w<const AFFINE: bool>(t: &SetupTri, k: usize) -> f64 {
+    if AFFINE {
+        1.0
+    } else {
+        t.inv_w[k] as f64
+    }
 }
 
 /// A plane `p[0]·x + p[1]·y + p[2]` over pixel coordinates.
@@ -93,8 +110,11 @@ pub(super) struct RunPlanes {
 
 impl RunPlanes {
     #[allow(clippy::needless_range_loop)] // plane coefficient c of three arrays
-    pub(super) fn new<const MODE: u8>(ctx: &ShadeContext<'_>, t: &SetupTri) -> Self {
-        let w = weight_planes(ctx, t);
+    pub(super) fn new<const MODE: u8, const AFFINE: bool>(
+        ctx: &ShadeContext<'_>,
+        t: &SetupTri,
+    ) -> Self {
+        let w = weight_planes::<AFFINE>(ctx, t);
         let mut out = RunPlanes::default();
         for c in 0..3 {
             out.inv_w[c] = w[0][c] + w[1][c] + w[2][c];

@@ -16,7 +16,7 @@ use crate::scene::Scene;
 /// Vertices lit per parallel work item.
 const CHUNK: usize = 4096;
 
-/// Gouraud: the lit colour of every vertex (`verts.color`) and, under two-sided lighting,
+/// Gouraud (by vertex normals, the default): the lit colour of every vertex (`verts.color`) and, under two-sided lighting,
 /// the colour lit with the flipped normal and the back material (`verts.color_back`). Reads
 /// the world positions and normals of the transformed vertices and drops them afterwards
 /// (the tile stage interpolates colours only).
@@ -56,6 +56,17 @@ pub(crate) fn light_vertices(scene: &Scene, verts: &mut Vertices, surfaces: &[Si
         }
         first += n;
     }
+    finish_vertex_colors(verts, color, color_back, two_sided);
+}
+
+/// Extends the vertex colours to the clip-made vertices, stores them, and drops the world
+/// positions and normals (the tile stage interpolates colours only).
+fn finish_vertex_colors(
+    verts: &mut Vertices,
+    mut color: Vec<Vec3>,
+    mut color_back: Vec<Vec3>,
+    two_sided: bool,
+) {
     Vertices::extend_to_clipped(&verts.blends, &mut color);
     if two_sided {
         Vertices::extend_to_clipped(&verts.blends, &mut color_back);
@@ -64,6 +75,81 @@ pub(crate) fn light_vertices(scene: &Scene, verts: &mut Vertices, surfaces: &[Si
     verts.color_back = color_back;
     verts.world = Vec::new();
     verts.normal = Vec::new();
+}
+
+/// Gouraud by the lectures' "simple method" ([`crate::GouraudMethod::FaceIntensities`]):
+/// every face of the mesh is lit as flat lights it (its unit normal
+/// `normalize((p1 − p0) × (p2 − p0))` at its centroid; zero for a degenerate face), and a
+/// vertex's colour is the unweighted mean of the colours of the faces that use it (a face
+/// naming the vertex twice counts once). A vertex no face uses is never drawn and gets
+/// black. Two-sided: the same with the flipped normals and the back material.
+pub(crate) fn light_vertices_by_faces(
+    scene: &Scene,
+    verts: &mut Vertices,
+    surfaces: &[Sides],
+    eye: Vec3,
+) {
+    let two_sided = scene.two_sided();
+    let mut first = 0;
+    let mut color = Vec::with_capacity(verts.clip.len());
+    let mut color_back = Vec::new();
+    for (obj, [front, back]) in scene.objects().iter().zip(surfaces) {
+        let n = obj.mesh().positions().len();
+        let pos = &verts.world[first..first + n];
+        let faces = obj.mesh().indices();
+        let light = |surface: &crate::lighting::Surface, flip: f32| -> Vec<Vec3> {
+            let lit: Vec<Vec3> = faces
+                .par_chunks(LANES)
+                .with_min_len(CHUNK / LANES)
+                .flat_map_iter(|group| {
+                    let mut raw = [[0.0; LANES]; 3];
+                    let mut p = [[0.0; LANES]; 3];
+                    for (k, f) in group.iter().enumerate() {
+                        let [a, b, c] = f.map(|v| pos[v as usize]);
+                        let nrm = (b - a).cross(c - a) * flip;
+                        let centroid = (a + b + c) / 3.0;
+                        for ax in 0..3 {
+                            raw[ax][k] = nrm[ax];
+                            p[ax][k] = centroid[ax];
+                        }
+                    }
+                    let mut nl = [[0.0; LANES]; 3];
+                    normalize_lanes(&mut nl, |k| (raw[0][k], raw[1][k], raw[2][k]));
+                    let c = surface.shade_lanes(&nl, &p, eye);
+                    (0..group.len()).map(move |k| Vec3::new(c[0][k], c[1][k], c[2][k]))
+                })
+                .collect();
+            // Sums in f64 so the mean does not depend on the order of a large fan.
+            let mut sum = vec![glam::DVec3::ZERO; n];
+            let mut count = vec![0u32; n];
+            for (f, c) in faces.iter().zip(&lit) {
+                let [a, b, d] = *f;
+                for (i, v) in [a, b, d].into_iter().enumerate() {
+                    if f[..i].contains(&v) {
+                        continue;
+                    }
+                    sum[v as usize] += c.as_dvec3();
+                    count[v as usize] += 1;
+                }
+            }
+            sum.iter()
+                .zip(&count)
+                .map(|(s, &k)| {
+                    if k == 0 {
+                        Vec3::ZERO
+                    } else {
+                        (*s / k as f64).as_vec3()
+                    }
+                })
+                .collect()
+        };
+        color.extend(light(front, 1.0));
+        if two_sided {
+            color_back.extend(light(back, -1.0));
+        }
+        first += n;
+    }
+    finish_vertex_colors(verts, color, color_back, two_sided);
 }
 
 /// Flat: the colour of every set-up triangle of `chunk` (`t.flat`), lit with the face normal

@@ -35,7 +35,7 @@ const FLAT_CACHE: usize = 64;
 /// once at its first pixel and stepped along it (f64 throughout, so stepping adds nothing
 /// measurable: 64 steps at most).
 #[inline(always)]
-pub(super) fn shade_runs<P: Pixel, const MODE: u8, const FOG: bool>(
+pub(super) fn shade_runs<P: Pixel, const MODE: u8, const FOG: bool, const AFFINE: bool>(
     ctx: &ShadeContext<'_>,
     rect: TileRect,
     buf: &TileBuffers,
@@ -77,7 +77,7 @@ pub(super) fn shade_runs<P: Pixel, const MODE: u8, const FOG: bool>(
                 }
             } else {
                 let t = ctx.tris.get(id);
-                let pl = planes.get(id, || RunPlanes::new::<MODE>(ctx, t));
+                let pl = planes.get(id, || RunPlanes::new::<MODE, AFFINE>(ctx, t));
                 let run = RunStart::new::<MODE>(&pl, (rect.x0 + i) as f64 + 0.5, y);
                 if MODE == GOURAUD && !want_depth && end - i > SHORT_RUN {
                     // The common case, kept free of depth and fog: the run's colours into
@@ -95,7 +95,8 @@ pub(super) fn shade_runs<P: Pixel, const MODE: u8, const FOG: bool>(
                     for (k, px) in out.chunks_exact_mut(3).enumerate() {
                         let kf = k as f64;
                         let inv_w = run.inv_w(kf);
-                        let eye_depth = ctx.eye_depth(want_depth, zs[i + k], inv_w as f32);
+                        let eye_depth =
+                            ctx.eye_depth::<AFFINE>(want_depth, zs[i + k], inv_w as f32);
                         if let Some(d) = depth_row.as_deref_mut() {
                             d[i + k].write(eye_depth);
                         }
