@@ -3,8 +3,7 @@
 //! slice of one (N, H, W, 3) array (or into its own array handed to a callback). Between
 //! frames the GIL is taken back briefly to check for Ctrl-C and report progress.
 
-use numpy::ndarray::{Array2, Array3};
-use numpy::{Element, IntoPyArray, PyArray3, PyArray4, PyArrayMethods};
+use numpy::{Element, PyArray3, PyArray4, PyArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
@@ -13,7 +12,7 @@ use shadelab_raster as core;
 use crate::camera::PyCamera;
 use crate::defaults::{fit_planes, lit_scene};
 use crate::errors::{no_panic, to_py};
-use crate::render::{format_of, options_of, PyRenderOptions};
+use crate::render::{format_of, frame_arrays, options_of, PyRenderOptions};
 use crate::scene::PyScene;
 
 /// A scene as a batch holds it: the core scene and whether `render` would add the default
@@ -94,6 +93,33 @@ fn frame_error(py: Python<'_>, i: usize, e: PyErr) -> PyErr {
 /// (rust-numpy's own constructor panics when the allocation fails).
 fn zeros<'py>(py: Python<'py>, shape: Vec<usize>, dtype: &str) -> PyResult<Bound<'py, PyAny>> {
     py.import("numpy")?.call_method1("zeros", (shape, dtype))
+}
+
+/// A new (n, h, w, 3) array of `dtype`, every view rendered into it.
+#[allow(clippy::too_many_arguments)]
+fn batch_images<'py, P: core::Pixel + Element + Send>(
+    py: Python<'py>,
+    dtype: &str,
+    [n, h, w]: [usize; 3],
+    views: &[View],
+    scenes: &[BatchScene],
+    options: &core::RenderOptions,
+    depth: Option<&mut [f32]>,
+    progress: Option<&Bound<'_, PyAny>>,
+    index_base: usize,
+) -> PyResult<Bound<'py, PyAny>> {
+    let a = zeros(py, vec![n, h, w, 3], dtype)?.cast_into::<PyArray4<P>>()?;
+    fill(
+        py,
+        views,
+        scenes,
+        options,
+        a.readwrite().as_slice_mut().expect("contiguous"),
+        depth,
+        progress,
+        index_base,
+    )?;
+    Ok(a.into_any())
 }
 
 /// Renders frame after frame into slices of `color` / `depth`.
@@ -197,26 +223,12 @@ pub fn render_batch<'py>(
         for (i, (s, camera)) in views.iter().enumerate() {
             let frame = render_view(py, &scenes[*s], camera, &options, format, return_depth)
                 .map_err(|e| frame_error(py, index_base + i, e))?;
-            let image = match frame.color {
-                core::ColorBuffer::U8(v) => Array3::from_shape_vec((h, w, 3), v)
-                    .expect("size checked")
-                    .into_pyarray(py)
-                    .into_any(),
-                core::ColorBuffer::F32(v) => Array3::from_shape_vec((h, w, 3), v)
-                    .expect("size checked")
-                    .into_pyarray(py)
-                    .into_any(),
-            };
+            let (image, depth) =
+                frame_arrays(py, frame.color, frame.depth, frame.width, frame.height);
             py.check_signals()?;
             let index = (index_base + i).into_pyobject(py)?.into_any();
-            match frame.depth {
-                Some(d) => {
-                    let d = Array2::from_shape_vec((h, w), d)
-                        .expect("size checked")
-                        .into_pyarray(py)
-                        .into_any();
-                    cb.call1(PyTuple::new(py, [index, image, d])?)?
-                }
+            match depth {
+                Some(d) => cb.call1(PyTuple::new(py, [index, image, d])?)?,
                 None => cb.call1(PyTuple::new(py, [index, image])?)?,
             };
             if let Some(p) = progress {
@@ -235,35 +247,30 @@ pub fn render_batch<'py>(
     let depth_slice = depth_rw
         .as_mut()
         .map(|d| d.as_slice_mut().expect("new arrays are contiguous"));
+    let (views, scenes) = (&views[..], &scenes[..]);
     let image = match format {
-        core::ColorFormat::U8 => {
-            let a = zeros(py, vec![n, h, w, 3], "uint8")?.cast_into::<PyArray4<u8>>()?;
-            fill(
-                py,
-                &views,
-                &scenes,
-                &options,
-                a.readwrite().as_slice_mut().expect("contiguous"),
-                depth_slice,
-                progress,
-                index_base,
-            )?;
-            a.into_any()
-        }
-        core::ColorFormat::F32 => {
-            let a = zeros(py, vec![n, h, w, 3], "float32")?.cast_into::<PyArray4<f32>>()?;
-            fill(
-                py,
-                &views,
-                &scenes,
-                &options,
-                a.readwrite().as_slice_mut().expect("contiguous"),
-                depth_slice,
-                progress,
-                index_base,
-            )?;
-            a.into_any()
-        }
+        core::ColorFormat::U8 => batch_images::<u8>(
+            py,
+            "uint8",
+            [n, h, w],
+            views,
+            scenes,
+            &options,
+            depth_slice,
+            progress,
+            index_base,
+        )?,
+        core::ColorFormat::F32 => batch_images::<f32>(
+            py,
+            "float32",
+            [n, h, w],
+            views,
+            scenes,
+            &options,
+            depth_slice,
+            progress,
+            index_base,
+        )?,
     };
     drop(depth_rw);
     match depth {

@@ -20,6 +20,24 @@ pub struct PyCamera {
     pub fit_far: bool,
 }
 
+impl PyCamera {
+    /// A camera built by `make(near, far)`, whose planes given as None are placeholders
+    /// ([`planes`]) that `render` fits to the scene's bounds.
+    pub(crate) fn fitted_later(
+        near: Option<f64>,
+        far: Option<f64>,
+        perspective: bool,
+        make: impl FnOnce(f64, f64) -> core::Result<core::Camera>,
+    ) -> PyResult<Self> {
+        let (n, f) = planes(near, far, perspective);
+        Ok(PyCamera {
+            inner: make(n, f).map_err(to_py)?,
+            fit_near: near.is_none(),
+            fit_far: far.is_none(),
+        })
+    }
+}
+
 /// Placeholder near/far planes for the ones left to `render` to fit, keeping the given one
 /// valid: a perspective near must stay > 0 and below far.
 pub(crate) fn planes(near: Option<f64>, far: Option<f64>, perspective: bool) -> (f64, f64) {
@@ -83,21 +101,13 @@ impl PyCamera {
         near: Option<f64>,
         far: Option<f64>,
     ) -> PyResult<Self> {
-        let (fit_near, fit_far) = (near.is_none(), far.is_none());
-        let (near, far) = planes(near, far, true);
-        let inner = core::Camera::look_at(
+        let (eye, target, up) = (
             convert::dvec3(eye, "eye")?,
             convert::dvec3(target, "target")?,
             up_or_y(up)?,
-            fov_y,
-            near,
-            far,
-        )
-        .map_err(to_py)?;
-        Ok(Self {
-            inner,
-            fit_near,
-            fit_far,
+        );
+        PyCamera::fitted_later(near, far, true, |n, f| {
+            core::Camera::look_at(eye, target, up, fov_y, n, f)
         })
     }
 
@@ -143,21 +153,13 @@ impl PyCamera {
             width: size("width", width)?,
             height: size("height", height)?,
         };
-        let (fit_near, fit_far) = (near.is_none(), far.is_none());
-        let (near, far) = planes(near, far, true);
-        let inner = core::Camera::from_intrinsics(
+        let (eye, target, up) = (
             convert::dvec3(eye, "eye")?,
             convert::dvec3(target, "target")?,
             up_or_y(up)?,
-            k,
-            near,
-            far,
-        )
-        .map_err(to_py)?;
-        Ok(Self {
-            inner,
-            fit_near,
-            fit_far,
+        );
+        PyCamera::fitted_later(near, far, true, |n, f| {
+            core::Camera::from_intrinsics(eye, target, up, k, n, f)
         })
     }
 
@@ -172,21 +174,13 @@ impl PyCamera {
         near: Option<f64>,
         far: Option<f64>,
     ) -> PyResult<Self> {
-        let (fit_near, fit_far) = (near.is_none(), far.is_none());
-        let (near, far) = planes(near, far, false);
-        let inner = core::Camera::orthographic(
+        let (eye, target, up) = (
             convert::dvec3(eye, "eye")?,
             convert::dvec3(target, "target")?,
             up_or_y(up)?,
-            height,
-            near,
-            far,
-        )
-        .map_err(to_py)?;
-        Ok(Self {
-            inner,
-            fit_near,
-            fit_far,
+        );
+        PyCamera::fitted_later(near, far, false, |n, f| {
+            core::Camera::orthographic(eye, target, up, height, n, f)
         })
     }
 

@@ -265,12 +265,8 @@ fn camera(s: CameraState) -> PyResult<PyCamera> {
             width,
             height,
         };
-        let (near, far) = crate::camera::planes(s.5, s.6, true);
-        return Ok(PyCamera {
-            inner: core::Camera::from_intrinsics(d(s.1), d(s.2), d(s.3), k, near, far)
-                .map_err(to_py)?,
-            fit_near: s.5.is_none(),
-            fit_far: s.6.is_none(),
+        return PyCamera::fitted_later(s.5, s.6, true, |n, f| {
+            core::Camera::from_intrinsics(d(s.1), d(s.2), d(s.3), k, n, f)
         });
     }
     let (make, perspective): (fn(_, _, _, _, _, _) -> _, bool) = match s.0.as_str() {
@@ -282,11 +278,8 @@ fn camera(s: CameraState) -> PyResult<PyCamera> {
             )))
         }
     };
-    let (near, far) = crate::camera::planes(s.5, s.6, perspective);
-    Ok(PyCamera {
-        inner: make(d(s.1), d(s.2), d(s.3), s.4, near, far).map_err(to_py)?,
-        fit_near: s.5.is_none(),
-        fit_far: s.6.is_none(),
+    PyCamera::fitted_later(s.5, s.6, perspective, |n, f| {
+        make(d(s.1), d(s.2), d(s.3), s.4, n, f)
     })
 }
 

@@ -315,6 +315,35 @@ pub(crate) fn options_of(
     Ok(built.extract::<PyRenderOptions>()?.inner)
 }
 
+/// A frame's colour as an (h, w, 3) array and its depth, if any, as (h, w): the buffers are
+/// moved into NumPy, not copied.
+pub(crate) fn frame_arrays(
+    py: Python<'_>,
+    color: core::ColorBuffer,
+    depth: Option<Vec<f32>>,
+    width: u32,
+    height: u32,
+) -> (Bound<'_, PyAny>, Option<Bound<'_, PyAny>>) {
+    let (h, w) = (height as usize, width as usize);
+    let image = match color {
+        core::ColorBuffer::U8(v) => Array3::from_shape_vec((h, w, 3), v)
+            .expect("size checked")
+            .into_pyarray(py)
+            .into_any(),
+        core::ColorBuffer::F32(v) => Array3::from_shape_vec((h, w, 3), v)
+            .expect("size checked")
+            .into_pyarray(py)
+            .into_any(),
+    };
+    let depth = depth.map(|d| {
+        Array2::from_shape_vec((h, w), d)
+            .expect("size checked")
+            .into_pyarray(py)
+            .into_any()
+    });
+    (image, depth)
+}
+
 pub(crate) fn format_of(dtype: &Bound<'_, PyAny>) -> PyResult<core::ColorFormat> {
     let np = dtype.py().import("numpy")?;
     let name: String = np
@@ -360,23 +389,7 @@ fn render_impl<'py>(
             })
         })?
         .map_err(to_py)?;
-    let (h, w) = (frame.height as usize, frame.width as usize);
-    let image = match frame.color {
-        core::ColorBuffer::U8(v) => Array3::from_shape_vec((h, w, 3), v)
-            .expect("size checked")
-            .into_pyarray(py)
-            .into_any(),
-        core::ColorBuffer::F32(v) => Array3::from_shape_vec((h, w, 3), v)
-            .expect("size checked")
-            .into_pyarray(py)
-            .into_any(),
-    };
-    let depth = frame.depth.map(|d| {
-        Array2::from_shape_vec((h, w), d)
-            .expect("size checked")
-            .into_pyarray(py)
-            .into_any()
-    });
+    let (image, depth) = frame_arrays(py, frame.color, frame.depth, frame.width, frame.height);
     Ok(Rendered {
         image,
         depth,

@@ -76,7 +76,7 @@ fn tile_baseline<P: Pixel>(
     buf: &mut TileBuffers,
     job: TileJob<'_, '_, P>,
 ) {
-    tile(ctx, mode, buf, job);
+    tile::<P, false>(ctx, mode, buf, job);
 }
 
 /// # Safety
@@ -89,11 +89,12 @@ unsafe fn tile_avx2<P: Pixel>(
     buf: &mut TileBuffers,
     job: TileJob<'_, '_, P>,
 ) {
-    tile(ctx, mode, buf, job);
+    tile::<P, false>(ctx, mode, buf, job);
 }
 
 /// The tile body of Gouraud and Phong with screen-space weights, for the baseline
-/// instruction set only (so both instruction sets give the same bits trivially).
+/// instruction set only (so both instruction sets give the same bits trivially), kept out of
+/// line so the default bodies compile as without it.
 #[inline(never)]
 fn tile_screen<P: Pixel>(
     ctx: &ShadeContext<'_>,
@@ -101,18 +102,13 @@ fn tile_screen<P: Pixel>(
     buf: &mut TileBuffers,
     job: TileJob<'_, '_, P>,
 ) {
-    if ctx.tris.tile_is_empty(job.index) {
-        shade::fill_background(ctx, job.rect, job.color, job.depth);
-        return;
-    }
-    raster::rasterize_tile(ctx.tris, job.index, job.rect, buf);
-    shade::shade_tile_screen(ctx, mode, job.rect, buf, job.color, job.depth);
+    tile::<P, true>(ctx, mode, buf, job);
 }
 
 /// The tile body; always inlined, so each variant above compiles all of it for its own
 /// instruction set (the passes it calls are `#[inline(always)]` down to the lane loops).
 #[inline(always)]
-fn tile<P: Pixel>(
+fn tile<P: Pixel, const AFFINE: bool>(
     ctx: &ShadeContext<'_>,
     mode: ShadingMode,
     buf: &mut TileBuffers,
@@ -124,5 +120,5 @@ fn tile<P: Pixel>(
         return;
     }
     raster::rasterize_tile(ctx.tris, job.index, job.rect, buf);
-    shade::shade_tile(ctx, mode, job.rect, buf, job.color, job.depth);
+    shade::shade_tile::<P, AFFINE>(ctx, mode, job.rect, buf, job.color, job.depth);
 }

@@ -108,9 +108,13 @@ const FLAT: u8 = 0;
 
 const GOURAUD: u8 = 1;
 
-/// Shades one tile into its output rows (and depth rows when requested).
+/// Shades one tile into its output rows (and depth rows when requested). `AFFINE`: the
+/// lectures' screen-space weights ([`crate::Interpolation::Screen`]: the weight planes drop
+/// the 1/w and the eye depth comes from the stored z) for Gouraud and Phong; flat
+/// interpolates nothing and ignores it. The perspective loops (`AFFINE` false) are the
+/// defaults' and are inlined into each instruction set's tile body (`isa.rs`).
 #[inline(always)]
-pub(crate) fn shade_tile<P: Pixel>(
+pub(crate) fn shade_tile<P: Pixel, const AFFINE: bool>(
     ctx: &ShadeContext<'_>,
     mode: ShadingMode,
     rect: TileRect,
@@ -130,42 +134,15 @@ pub(crate) fn shade_tile<P: Pixel>(
             runs::shade_runs::<P, FLAT, true, false>(ctx, rect, buf, color, depth)
         }
         (ShadingMode::Gouraud, false) => {
-            runs::shade_runs::<P, GOURAUD, false, false>(ctx, rect, buf, color, depth)
+            runs::shade_runs::<P, GOURAUD, false, AFFINE>(ctx, rect, buf, color, depth)
         }
         (ShadingMode::Gouraud, true) => {
-            runs::shade_runs::<P, GOURAUD, true, false>(ctx, rect, buf, color, depth)
+            runs::shade_runs::<P, GOURAUD, true, AFFINE>(ctx, rect, buf, color, depth)
         }
         // Phong's per-pixel effects run as the render's program over each batch.
         (ShadingMode::Phong, read_depth) => match read_depth || ctx.program.reads_depth() {
-            false => phong::shade_phong::<P, false, false>(ctx, rect, buf, color, depth),
-            true => phong::shade_phong::<P, true, false>(ctx, rect, buf, color, depth),
+            false => phong::shade_phong::<P, false, AFFINE>(ctx, rect, buf, color, depth),
+            true => phong::shade_phong::<P, true, AFFINE>(ctx, rect, buf, color, depth),
         },
-    }
-}
-
-/// [`shade_tile`] for Gouraud and Phong with screen-space weights (the lectures'
-/// [`crate::Interpolation::Screen`]: the weight planes drop the 1/w, and the eye depth comes
-/// from the stored z instead; `AFFINE` of the loops). Its own tile body calls it
-/// (`isa::run_tile`), so the perspective loops and their inlining into each instruction
-/// set's body stay exactly as they were; flat interpolates nothing and ignores the option.
-#[inline(always)]
-pub(crate) fn shade_tile_screen<P: Pixel>(
-    ctx: &ShadeContext<'_>,
-    mode: ShadingMode,
-    rect: TileRect,
-    buf: &TileBuffers,
-    color: &mut [&mut [Out<P>]],
-    depth: Option<&mut [&mut [Out<f32>]]>,
-) {
-    let stages_read_depth = ctx.fog.is_some() || ctx.program.reads_depth();
-    match (mode, ctx.fog.is_some(), stages_read_depth) {
-        (ShadingMode::Gouraud, false, _) => {
-            runs::shade_runs::<P, GOURAUD, false, true>(ctx, rect, buf, color, depth)
-        }
-        (ShadingMode::Gouraud, true, _) => {
-            runs::shade_runs::<P, GOURAUD, true, true>(ctx, rect, buf, color, depth)
-        }
-        (_, _, false) => phong::shade_phong::<P, false, true>(ctx, rect, buf, color, depth),
-        (_, _, true) => phong::shade_phong::<P, true, true>(ctx, rect, buf, color, depth),
     }
 }
