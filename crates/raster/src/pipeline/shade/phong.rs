@@ -4,7 +4,8 @@ use glam::Vec3;
 
 use super::planes::{weight_planes, Plane, PlaneCache};
 use super::program::Fragments;
-use super::store::{put, store_out, Out, Pixel};
+use super::runs::run_length;
+use super::store::{fill_out, put, store_out, Out, Pixel};
 use super::{background_row, ShadeContext};
 use crate::lighting::{normalize_lanes, Lanes, Surface, LANES};
 use crate::pipeline::raster::{TileBuffers, NO_TRIANGLE};
@@ -30,19 +31,6 @@ impl<'a> Current<'a> {
             pos: [Vec3::ZERO; 3],
             material: None,
         }
-    }
-
-    /// Perspective weights λ_k / w_k at the pixel centre (x, y) (pixel units). Their sum is
-    /// the interpolated 1/w.
-    #[inline(always)]
-    fn weights(&self, x: f64, y: f64) -> [f32; 3] {
-        let p = &self.plane;
-        // Written out: `array::map` here is not always inlined, and this runs per pixel.
-        [
-            (p[0][0] * x + p[0][1] * y + p[0][2]) as f32,
-            (p[1][0] * x + p[1][1] * y + p[1][2]) as f32,
-            (p[2][0] * x + p[2][1] * y + p[2][2]) as f32,
-        ]
     }
 
     fn load<const AFFINE: bool>(
@@ -109,37 +97,124 @@ impl<'a> PhongBatch<'a> {
         }
         self.len = 0;
     }
+}
 
+/// The interpolated inputs of up to [`LANES`] consecutive pixels of one triangle's run.
+struct RunLanes {
+    /// Interpolated normals, not yet normalised (a zero or unusable blend replaced by the
+    /// face normal, flipped for the back of a two-sided surface).
+    n: [Lanes; 3],
+    p: [Lanes; 3],
+    /// Eye depth of each lane (0 unless wanted).
+    depth: Lanes,
+}
+
+impl Current<'_> {
+    /// The inputs of the pixels at x = `x0 + k` (pixel centres, k < `LANES`) of the row at
+    /// `y`, with stored depths `z`: the same operations, in the same order, as one pixel at a
+    /// time, over whole lanes (SIMD).
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
+    #[allow(clippy::too_many_arguments)]
+    fn lanes<const AFFINE: bool>(
+        &self,
+        ctx: &ShadeContext<'_>,
+        t: &SetupTri,
+        x0: f64,
+        y: f64,
+        z: &Lanes,
+        live: usize,
+        want_depth: bool,
+        out: &mut RunLanes,
+    ) {
+        let pl = &self.plane;
+        // `p[1]·y` is constant along the row; it is the same product per lane.
+        let row = [pl[0][1] * y, pl[1][1] * y, pl[2][1] * y];
+        let mut b = [[0.0f32; LANES]; 3];
+        let mut inv_w: Lanes = [0.0; LANES];
+        for k in 0..LANES {
+            let x = x0 + k as i32 as f64;
+            let q0 = (pl[0][0] * x + row[0] + pl[0][2]) as f32;
+            let q1 = (pl[1][0] * x + row[1] + pl[1][2]) as f32;
+            let q2 = (pl[2][0] * x + row[2] + pl[2][2]) as f32;
+            let iw = q0 + q1 + q2;
+            let r = 1.0 / iw;
+            inv_w[k] = iw;
+            (b[0][k], b[1][k], b[2][k]) = (q0 * r, q1 * r, q2 * r);
+        }
+        for k in 0..LANES {
+            out.depth[k] = ctx.eye_depth::<AFFINE>(want_depth, z[k], inv_w[k]);
+        }
+        blend_lanes(&self.normal, &b, &mut out.n);
+        blend_lanes(&self.pos, &b, &mut out.p);
+        // A zero or unusable blend takes the face normal instead (rare: scalar fix-up).
+        for k in 0..live {
+            let (x, y, z) = (out.n[0][k], out.n[1][k], out.n[2][k]);
+            let len2 = x * x + y * y + z * z;
+            if !(len2 > 1e-30 && len2.is_finite()) {
+                let f = face_normal(t, &ctx.verts.world);
+                (out.n[0][k], out.n[1][k], out.n[2][k]) = (f.x, f.y, f.z);
+            }
+        }
+        if ctx.two_sided && !t.front {
+            for axis in &mut out.n {
+                for v in axis {
+                    *v = -*v;
+                }
+            }
+        }
+    }
+}
+
+/// `a[0]·b0 + a[1]·b1 + a[2]·b2` per lane and axis (the order of the scalar form).
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
+fn blend_lanes(a: &[Vec3; 3], b: &[Lanes; 3], out: &mut [Lanes; 3]) {
+    for (axis, o) in out.iter_mut().enumerate() {
+        let (a0, a1, a2) = (a[0][axis], a[1][axis], a[2][axis]);
+        for k in 0..LANES {
+            o[k] = a0 * b[0][k] + a1 * b[1][k] + a2 * b[2][k];
+        }
+    }
+}
+
+impl<'a> PhongBatch<'a> {
+    /// Appends the first `live` lanes of a run chunk starting at tile column `i` of row `j`,
+    /// all of material `m`, flushing whenever the batch fills.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn push<P: Pixel>(
+    fn extend<P: Pixel>(
         &mut self,
         ctx: &ShadeContext<'_>,
         rect: TileRect,
         m: &'a Surface,
-        n: Vec3,
-        p: Vec3,
-        at: (usize, usize),
-        depth: f32,
+        lanes: &RunLanes,
+        live: usize,
+        (j, i): (usize, usize),
         color: &mut [&mut [Out<P>]],
     ) {
         if self.len > 0 && !std::ptr::eq(m, self.material.unwrap_or(m)) {
             self.flush::<P>(ctx, rect, color);
         }
         self.material = Some(m);
-        let k = self.len;
-        (self.n[0][k], self.n[1][k], self.n[2][k]) = (n.x, n.y, n.z);
-        (self.p[0][k], self.p[1][k], self.p[2][k]) = (p.x, p.y, p.z);
-        self.at[k] = at;
-        self.depth[k] = depth;
-        self.len += 1;
-        if self.len == LANES {
-            self.flush::<P>(ctx, rect, color);
+        for k in 0..live {
+            let at = self.len;
+            for axis in 0..3 {
+                self.n[axis][at] = lanes.n[axis][k];
+                self.p[axis][at] = lanes.p[axis][k];
+            }
+            self.at[at] = (j, i + k);
+            self.depth[at] = lanes.depth[k];
+            self.len += 1;
+            if self.len == LANES {
+                self.flush::<P>(ctx, rect, color);
+            }
         }
     }
 }
 
-/// Phong: interpolation per pixel, lighting [`LANES`] pixels at a time.
+/// Phong: interpolation over whole runs of a triangle's pixels in a row ([`LANES`] at a
+/// time), lighting [`LANES`] pixels at a time.
 #[inline(always)]
 pub(super) fn shade_phong<P: Pixel, const STAGES_READ_DEPTH: bool, const AFFINE: bool>(
     ctx: &ShadeContext<'_>,
@@ -162,44 +237,48 @@ pub(super) fn shade_phong<P: Pixel, const STAGES_READ_DEPTH: bool, const AFFINE:
         len: 0,
         material: None,
     };
+    let mut lanes = RunLanes {
+        n: [[0.0; LANES]; 3],
+        p: [[0.0; LANES]; 3],
+        depth: [0.0; LANES],
+    };
     for j in 0..rect.h {
         let y = (rect.y0 + j) as f64 + 0.5;
-        for i in 0..rect.w {
-            let slot = j * TILE + i;
-            let id = buf.id[slot];
+        let ids = &buf.id[j * TILE..j * TILE + rect.w];
+        let zs = &buf.depth[j * TILE..j * TILE + rect.w];
+        let mut i = 0;
+        while i < rect.w {
+            let id = ids[i];
+            let end = i + run_length(&ids[i..], id);
             if id == NO_TRIANGLE {
-                put(&mut color[j][i * 3..i * 3 + 3], &background[..3]);
+                put(&mut color[j][i * 3..end * 3], &background[..(end - i) * 3]);
                 if let Some(d) = depth.as_deref_mut() {
-                    d[j][i].write(f32::INFINITY);
+                    fill_out(&mut d[j][i..end], f32::INFINITY);
                 }
+                i = end;
                 continue;
             }
             let t = ctx.tris.get(id);
             if id != cur.id {
                 cur = Current::load::<AFFINE>(ctx, id, t, &mut planes);
             }
-            let [q0, q1, q2] = cur.weights((rect.x0 + i) as f64 + 0.5, y);
-            let inv_w = q0 + q1 + q2;
-            let eye_depth = ctx.eye_depth::<AFFINE>(want_depth, buf.depth[slot], inv_w);
-            if let Some(d) = depth.as_deref_mut() {
-                d[j][i].write(eye_depth);
-            }
-            let r = 1.0 / inv_w;
-            let (b0, b1, b2) = (q0 * r, q1 * r, q2 * r);
-            let a = &cur.normal;
-            // Normalised with the batch (in SIMD); a zero or unusable blend takes the face
-            // normal instead.
-            let n = a[0] * b0 + a[1] * b1 + a[2] * b2;
-            let len2 = n.length_squared();
-            let n = if len2 > 1e-30 && len2.is_finite() {
-                n
-            } else {
-                face_normal(t, &ctx.verts.world)
-            };
-            let n = if ctx.two_sided && !t.front { -n } else { n };
-            let p = cur.pos[0] * b0 + cur.pos[1] * b1 + cur.pos[2] * b2;
             let m = cur.material.expect("loaded for phong");
-            batch.push::<P>(ctx, rect, m, n, p, (j, i), eye_depth, color);
+            for s in (i..end).step_by(LANES) {
+                let live = (end - s).min(LANES);
+                let mut z = [0.0; LANES];
+                if want_depth {
+                    z[..live].copy_from_slice(&zs[s..s + live]);
+                }
+                let x0 = (rect.x0 + s) as f64 + 0.5;
+                cur.lanes::<AFFINE>(ctx, t, x0, y, &z, live, want_depth, &mut lanes);
+                if let Some(d) = depth.as_deref_mut() {
+                    for (o, &v) in d[j][s..s + live].iter_mut().zip(&lanes.depth) {
+                        o.write(v);
+                    }
+                }
+                batch.extend::<P>(ctx, rect, m, &lanes, live, (j, s), color);
+            }
+            i = end;
         }
     }
     batch.flush::<P>(ctx, rect, color);

@@ -12,7 +12,7 @@ use crate::pipeline::tiles::{TileRect, TILE};
 
 /// Length of the run of `id` at the start of `ids` (at least 1 when `ids[0] == id`).
 #[inline(always)]
-fn run_length(ids: &[u32], id: u32) -> usize {
+pub(super) fn run_length(ids: &[u32], id: u32) -> usize {
     let mut n = 0;
     // Four ids per compare while the run lasts (one SIMD compare), then one at a time.
     while let Some(chunk) = ids.get(n..n + 4) {
