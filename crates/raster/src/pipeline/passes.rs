@@ -10,10 +10,12 @@ use super::shade::{put, Out, Pixel, Program, ShadeContext};
 use super::{isa, prepare, tiles, Needs};
 use crate::camera::Camera;
 use crate::effects::FogEffect;
-use crate::error::Result;
+use crate::error::{RasterError, Result};
 use crate::frame::RenderStats;
-use crate::options::{Interpolation, RenderOptions};
+use crate::lighting::LightSet;
+use crate::options::{Interpolation, RenderOptions, ShadingMode};
 use crate::scene::Scene;
+use crate::shadows::ShadowEffect;
 
 /// Runs the whole pipeline into caller-provided row-major buffers. On success every sample
 /// of `color` and `depth` has been written (tiles cover the image, and each tile writes
@@ -25,7 +27,25 @@ pub(crate) fn color_pass<P: Pixel>(
     color: &mut [Out<P>],
     depth: Option<&mut [Out<f32>]>,
 ) -> Result<RenderStats> {
+    let shadowed = scene.lights().iter().any(|l| l.shadows().on());
+    if shadowed && options.shading != ShadingMode::Phong {
+        return Err(RasterError::invalid_field(
+            "shadows",
+            "shadows are computed per pixel and need shading='phong' \
+             (flat and Gouraud do not cast shadows yet)",
+        ));
+    }
     let prep = prepare(scene, camera, options, Needs::Color)?;
+    let shadows = match shadowed {
+        true => ShadowEffect::new(
+            scene,
+            &LightSet::new(scene.lights()),
+            &prep.verts.world,
+            camera,
+            options,
+        )?,
+        false => None,
+    };
     let (w, h) = (options.width as usize, options.height as usize);
     let rects = tiles::tile_rects(w, h);
     let mut color_rows = tiles::split_rows(color, w, h, 3);
@@ -51,6 +71,7 @@ pub(crate) fn color_pass<P: Pixel>(
             .fog()
             .map(|f| FogEffect::new(*f, camera.eye_distance(options.width, options.height))),
         program: Program::for_scene(scene.fog().is_some()),
+        shadows,
     };
     rects
         .par_iter()

@@ -28,6 +28,7 @@ use super::Sides;
 use crate::camera::Camera;
 use crate::effects::FogEffect;
 use crate::options::ShadingMode;
+use crate::shadows::ShadowEffect;
 use store::fill_out;
 
 /// Everything the shade pass reads, shared by all tiles.
@@ -46,6 +47,8 @@ pub(crate) struct ShadeContext<'a> {
     pub fog: Option<FogEffect>,
     /// The per-pixel stages after lighting, chosen once per render ([`Program::for_scene`]).
     pub program: Program,
+    /// The scene's shadows (`None`: no light casts one, and no loop reads this).
+    pub shadows: Option<ShadowEffect>,
 }
 
 impl ShadeContext<'_> {
@@ -140,9 +143,23 @@ pub(crate) fn shade_tile<P: Pixel, const AFFINE: bool>(
             runs::shade_runs::<P, GOURAUD, true, AFFINE>(ctx, rect, buf, color, depth)
         }
         // Phong's per-pixel effects run as the render's program over each batch.
-        (ShadingMode::Phong, read_depth) => match read_depth || ctx.program.reads_depth() {
-            false => phong::shade_phong::<P, false, AFFINE>(ctx, rect, buf, color, depth),
-            true => phong::shade_phong::<P, true, AFFINE>(ctx, rect, buf, color, depth),
-        },
+        // Shadows are a loop of their own (the geometric normal carried per lane), so a
+        // scene without them runs exactly the loop it ran before.
+        (ShadingMode::Phong, read_depth) => {
+            match (read_depth || ctx.program.reads_depth(), ctx.shadows.is_some()) {
+                (false, false) => {
+                    phong::shade_phong::<P, false, AFFINE, false>(ctx, rect, buf, color, depth)
+                }
+                (true, false) => {
+                    phong::shade_phong::<P, true, AFFINE, false>(ctx, rect, buf, color, depth)
+                }
+                (false, true) => {
+                    phong::shade_phong::<P, false, AFFINE, true>(ctx, rect, buf, color, depth)
+                }
+                (true, true) => {
+                    phong::shade_phong::<P, true, AFFINE, true>(ctx, rect, buf, color, depth)
+                }
+            }
+        }
     }
 }

@@ -1,0 +1,246 @@
+//! Shadow maps, the lectures' shadow z-buffer: the depth-only pass (`passes::depth_pass`,
+//! the same vertex, clip, setup and raster stages as the colour pass) rendered from the
+//! light, then each shaded point transformed into the light's view and compared with it.
+//!
+//! - directional: one orthographic map fitted to the scene's bounds seen along the light;
+//! - spot (cutoff ≤ 60°): one perspective map covering the cone;
+//! - point, wide spot, area light's sample points: a cube map (six 90° faces).
+//!
+//! Bias, all in world units derived from the texel size `s` at the point (no constant a
+//! user has to tune; the settings' `bias` scales it): the point is moved along its
+//! geometric normal by `1.5·s` (normal offset), and its depth is compared with a slope-scaled
+//! tolerance `s·min(tan θ, 8) + s` (θ between the normal and the light). The filter is the
+//! plain comparison (`filter="none"`) or percentage-closer over a `k × k` kernel.
+
+use glam::{DMat4, DVec3, DVec4, Vec3};
+
+use crate::camera::Camera;
+use crate::error::{RasterError, Result};
+use crate::lighting::{Geometry, Source};
+use crate::lights::{ShadowFilter, ShadowSettings};
+use crate::options::RenderOptions;
+use crate::pipeline::depth_pass;
+use crate::scene::Scene;
+
+/// One face: the light's camera and its depths as eye distances along its axis
+/// (`f32::INFINITY` where nothing was drawn).
+#[derive(Debug)]
+struct Face {
+    camera: Camera,
+    view_proj: DMat4,
+    view: DMat4,
+    depth: Vec<f32>,
+    /// World size of a texel at eye depth 1 (perspective) or anywhere (orthographic).
+    texel: f64,
+    perspective: bool,
+}
+
+/// A light's shadow map: one face, or six for a cube.
+#[derive(Debug)]
+pub(crate) struct ShadowMap {
+    faces: Vec<Face>,
+    /// For a cube: the light's position (the face is chosen by the dominant axis).
+    cube_at: Option<Vec3>,
+    res: usize,
+    filter: ShadowFilter,
+    bias: f32,
+}
+
+/// The cube's faces: view direction and up, in the order +x, −x, +y, −y, +z, −z.
+const CUBE: [(DVec3, DVec3); 6] = [
+    (DVec3::X, DVec3::NEG_Y),
+    (DVec3::NEG_X, DVec3::NEG_Y),
+    (DVec3::Y, DVec3::Z),
+    (DVec3::NEG_Y, DVec3::NEG_Z),
+    (DVec3::Z, DVec3::NEG_Y),
+    (DVec3::NEG_Z, DVec3::NEG_Y),
+];
+
+impl ShadowMap {
+    /// Renders the map of source `s` over a scene whose world bounds are `bounds`.
+    pub fn new(
+        scene: &Scene,
+        s: &Source,
+        settings: ShadowSettings,
+        bounds: (Vec3, Vec3),
+        _camera: &Camera,
+        options: &RenderOptions,
+    ) -> Result<Self> {
+        let res = settings.resolution() as usize;
+        let (lo, hi) = (bounds.0.as_dvec3(), bounds.1.as_dvec3());
+        let center = (lo + hi) / 2.0;
+        let radius = ((hi - lo).length() / 2.0).max(1e-30);
+        let mut opts = RenderOptions::new(res as u32, res as u32);
+        opts.threads = options.threads;
+        opts.baseline_isa = options.baseline_isa;
+        let mut faces = Vec::new();
+        let mut cube_at = None;
+        let bad = |e: RasterError| {
+            RasterError::invalid_field(
+                "shadows",
+                format!("cannot place a shadow map for this light and scene: {e}"),
+            )
+        };
+        match s.geometry {
+            Geometry::Directional(toward) => {
+                let d = toward.as_dvec3();
+                let eye = center + d * (2.0 * radius);
+                let up = if d.y.abs() < 0.9 { DVec3::Y } else { DVec3::X };
+                let cam = Camera::orthographic(eye, center, up, 2.0 * radius, radius * 1e-3, 4.0 * radius)
+                    .map_err(bad)?;
+                faces.push(render_face(scene, cam, &opts, res, false, 2.0 * radius / res as f64)?);
+            }
+            Geometry::Spot { position, cone } if cone.cos_cutoff >= 60f32.to_radians().cos() => {
+                let q = position.as_dvec3();
+                let dir = cone.direction.as_dvec3();
+                let up = if dir.y.abs() < 0.9 { DVec3::Y } else { DVec3::X };
+                let fov = (2.0 * (cone.cos_cutoff as f64).acos().to_degrees() + 2.0).min(150.0);
+                let (near, far) = planes(q, center, radius);
+                let cam = Camera::look_at(q, q + dir, up, fov, near, far).map_err(bad)?;
+                let texel = 2.0 * (fov.to_radians() / 2.0).tan() / res as f64;
+                faces.push(render_face(scene, cam, &opts, res, true, texel)?);
+            }
+            Geometry::Point(position) | Geometry::Spot { position, .. } => {
+                let q = position.as_dvec3();
+                let (near, far) = planes(q, center, radius);
+                for (dir, up) in CUBE {
+                    let cam = Camera::look_at(q, q + dir, up, 90.0, near, far).map_err(bad)?;
+                    faces.push(render_face(scene, cam, &opts, res, true, 2.0 / res as f64)?);
+                }
+                cube_at = Some(position);
+            }
+        }
+        Ok(ShadowMap {
+            faces,
+            cube_at,
+            res,
+            filter: settings.filter(),
+            bias: settings.bias(),
+        })
+    }
+
+    /// The share of the filter's texels (one for `filter="none"`) that see the point `p`
+    /// (shading normal `n`, geometric normal `g`) lit.
+    pub fn visibility(&self, n: Vec3, p: Vec3, g: Vec3) -> f32 {
+        let face = match self.cube_at {
+            Some(q) => &self.faces[cube_face(p - q)],
+            None => &self.faces[0],
+        };
+        let g = g.normalize_or_zero();
+        let g = if g.dot(n) < 0.0 { -g } else { g };
+        // Texel size at the point, and the direction toward the light.
+        let pe = face.view.transform_point3(p.as_dvec3());
+        let d_eye = -pe.z;
+        let (texel, l) = if face.perspective {
+            let l = (face.camera.eye() - p.as_dvec3()).normalize_or_zero().as_vec3();
+            ((face.texel * d_eye.max(0.0)) as f32, l)
+        } else {
+            let l = (face.camera.eye() - face.camera.target()).normalize().as_vec3();
+            (face.texel as f32, l)
+        };
+        if n.dot(l) <= 0.0 {
+            return 1.0; // faces away: no diffuse or specular whatever the map says
+        }
+        let s = texel * self.bias;
+        let q = p + g * (1.5 * s);
+        let c = face.view_proj * DVec4::new(q.x as f64, q.y as f64, q.z as f64, 1.0);
+        if !(c.w > 0.0) {
+            return 1.0;
+        }
+        let qe = face.view.transform_point3(q.as_dvec3());
+        let depth = (-qe.z) as f32;
+        let cos = g.dot(l).clamp(1e-3, 1.0);
+        let tan = ((1.0 - cos * cos).sqrt() / cos).min(8.0);
+        let tolerance = s * tan + s;
+        let (sx, sy) = (
+            (c.x / c.w + 1.0) / 2.0 * self.res as f64,
+            (1.0 - c.y / c.w) / 2.0 * self.res as f64,
+        );
+        let (tx, ty) = (sx.floor() as i64, sy.floor() as i64);
+        let r = self.res as i64;
+        let lit_at = |x: i64, y: i64| -> f32 {
+            let (x, y) = (x.clamp(0, r - 1) as usize, y.clamp(0, r - 1) as usize);
+            (depth - tolerance <= face.depth[y * self.res + x]) as u8 as f32
+        };
+        match self.filter {
+            ShadowFilter::None => {
+                if tx < 0 || ty < 0 || tx >= r || ty >= r {
+                    return 1.0; // outside the map: the light does not reach there via it
+                }
+                lit_at(tx, ty)
+            }
+            ShadowFilter::Pcf(k) => {
+                let h = (k / 2) as i64;
+                let mut sum = 0.0;
+                for dy in -h..=h {
+                    for dx in -h..=h {
+                        sum += lit_at(tx + dx, ty + dy);
+                    }
+                }
+                sum / (k * k) as f32
+            }
+        }
+    }
+}
+
+/// Near and far planes of a light at `q` over a scene in the sphere (`center`, `radius`).
+fn planes(q: DVec3, center: DVec3, radius: f64) -> (f64, f64) {
+    let far = (q - center).length() + radius;
+    (far * 1e-4, far * 1.01)
+}
+
+/// The cube face (index into [`CUBE`]) that sees direction `d` from the light.
+fn cube_face(d: Vec3) -> usize {
+    let a = d.abs();
+    if a.x >= a.y && a.x >= a.z {
+        if d.x >= 0.0 {
+            0
+        } else {
+            1
+        }
+    } else if a.y >= a.z {
+        if d.y >= 0.0 {
+            2
+        } else {
+            3
+        }
+    } else if d.z >= 0.0 {
+        4
+    } else {
+        5
+    }
+}
+
+/// The depth pass from `camera` into a face of eye distances.
+fn render_face(
+    scene: &Scene,
+    camera: Camera,
+    opts: &RenderOptions,
+    res: usize,
+    perspective: bool,
+    texel: f64,
+) -> Result<Face> {
+    // Initialised (to "nothing drawn"), so reading every sample is sound whatever the pass did.
+    let mut out = vec![std::mem::MaybeUninit::new(-1.0f32); res * res];
+    depth_pass(scene, &camera, opts, &mut out)?;
+    let depth = out
+        .into_iter()
+        .map(|z| {
+            // SAFETY: every sample was initialised above (and the pass only writes values).
+            let z = unsafe { z.assume_init() };
+            if z < 0.0 {
+                f32::INFINITY
+            } else {
+                camera.eye_depth_from_z(z)
+            }
+        })
+        .collect();
+    Ok(Face {
+        view_proj: camera.projection_matrix(1.0) * camera.view_matrix(),
+        view: camera.view_matrix(),
+        camera,
+        depth,
+        texel,
+        perspective,
+    })
+}

@@ -1,0 +1,158 @@
+//! The shadow room: for each shadow-casting light source of a render, how visible it is
+//! from a batch of shaded points. Exact shadows cast a segment from each point to the light
+//! through the rays room's BVH; shadow maps ([`map`]) compare depth rendered from the light.
+//!
+//! Shadow rays start at the shaded point moved off its surface along the triangle's
+//! geometric normal (turned to the side of the shading normal) by [`ShadowEffect::offset`]:
+//! `1e-4` of the scene's bounding-box diagonal (plus `1e-6` of the point's largest
+//! coordinate), far above the float error of an interpolated position and far below any
+//! feature a scene shows, so a surface never shadows itself by rounding and a contact
+//! shadow starts at the contact.
+
+mod exact;
+mod map;
+
+use glam::Vec3;
+
+use crate::camera::Camera;
+use crate::error::Result;
+use crate::lighting::{Geometry, Lanes, LightSet, LANES};
+use crate::lights::Shadows;
+use crate::options::RenderOptions;
+use crate::rays::Bvh;
+use crate::scene::Scene;
+use map::ShadowMap;
+
+/// Where a source's light comes from.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Toward {
+    /// A light at infinity: the unit direction toward it.
+    Direction(Vec3),
+    /// A light at a position.
+    Position(Vec3),
+}
+
+impl Toward {
+    fn of(g: &Geometry) -> Self {
+        match *g {
+            Geometry::Directional(d) => Toward::Direction(d),
+            Geometry::Point(q) | Geometry::Spot { position: q, .. } => Toward::Position(q),
+        }
+    }
+}
+
+#[derive(Debug)]
+enum Caster {
+    Exact(Toward),
+    Map(Box<ShadowMap>),
+}
+
+/// A render's shadows: one caster per shadow-casting source of its light set.
+#[derive(Debug)]
+pub(crate) struct ShadowEffect {
+    /// Per source of the light set (same order as the surfaces' lights).
+    casters: Vec<Option<Caster>>,
+    bvh: Option<Bvh>,
+    /// Scene-size part of the ray offset (see the module's doc).
+    offset: f32,
+}
+
+impl ShadowEffect {
+    /// The shadows of `scene` under `set` (its prepared light set), or `None` when no light
+    /// casts one. `world` holds every object's world-space vertices in scene order (the
+    /// vertex stage's). The BVH is built only when a light asks for exact shadows; shadow
+    /// maps are rendered here, through the depth pass, from each light.
+    pub fn new(
+        scene: &Scene,
+        set: &LightSet,
+        world: &[Vec3],
+        camera: &Camera,
+        options: &RenderOptions,
+    ) -> Result<Option<Self>> {
+        if !set.sources.iter().any(|s| s.shadows.on()) {
+            return Ok(None);
+        }
+        let mut bounds = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for p in world.iter().filter(|p| p.is_finite()) {
+            bounds = (bounds.0.min(*p), bounds.1.max(*p));
+        }
+        let diagonal = (bounds.1 - bounds.0).length();
+        let offset = if diagonal.is_finite() {
+            1e-4 * diagonal
+        } else {
+            0.0
+        };
+        let exact = set
+            .sources
+            .iter()
+            .any(|s| matches!(s.shadows, Shadows::Exact));
+        let bvh = exact.then(|| Bvh::new(world_triangles(scene, world)));
+        let mut casters = Vec::with_capacity(set.sources.len());
+        for s in &set.sources {
+            casters.push(match s.shadows {
+                Shadows::Off => None,
+                Shadows::Exact => Some(Caster::Exact(Toward::of(&s.geometry))),
+                Shadows::Map(settings) => Some(Caster::Map(Box::new(ShadowMap::new(
+                    scene, s, settings, bounds, camera, options,
+                )?))),
+            });
+        }
+        Ok(Some(ShadowEffect {
+            casters,
+            bvh,
+            offset,
+        }))
+    }
+
+    /// Number of sources (the length [`ShadowEffect::visibility`] fills).
+    pub fn sources(&self) -> usize {
+        self.casters.len()
+    }
+
+    /// The visibility of each source from the first `live` lanes of points `p` with unit
+    /// shading normals `n` and geometric normals `g` (any length, any side): `None` for a
+    /// source that casts no shadow, else 0 (hidden) to 1 (lit) per lane.
+    pub fn visibility(
+        &self,
+        n: &[Lanes; 3],
+        p: &[Lanes; 3],
+        g: &[Lanes; 3],
+        live: usize,
+        out: &mut [Option<Lanes>],
+    ) {
+        for (caster, o) in self.casters.iter().zip(out.iter_mut()) {
+            *o = caster.as_ref().map(|c| {
+                let mut vis = [1.0; LANES];
+                for k in 0..live {
+                    let nk = Vec3::new(n[0][k], n[1][k], n[2][k]);
+                    let pk = Vec3::new(p[0][k], p[1][k], p[2][k]);
+                    let gk = Vec3::new(g[0][k], g[1][k], g[2][k]);
+                    vis[k] = match c {
+                        Caster::Exact(toward) => {
+                            let bvh = self.bvh.as_ref().expect("built for exact shadows");
+                            exact::visibility(bvh, *toward, nk, pk, gk, self.offset)
+                        }
+                        Caster::Map(m) => m.visibility(nk, pk, gk),
+                    };
+                }
+                vis
+            });
+        }
+    }
+}
+
+/// Every object's triangles in world space (the vertex stage's positions).
+fn world_triangles(scene: &Scene, world: &[Vec3]) -> Vec<[Vec3; 3]> {
+    let mut tris = Vec::with_capacity(scene.triangle_count());
+    let mut first = 0usize;
+    for o in scene.objects() {
+        let mesh = o.mesh();
+        tris.extend(
+            mesh.indices()
+                .iter()
+                .map(|t| t.map(|i| world[first + i as usize])),
+        );
+        first += mesh.positions().len();
+    }
+    tris
+}
