@@ -13,6 +13,7 @@ from . import distributed
 from ._core import (
     MAX_AREA_SAMPLES,
     MAX_IMAGE_SIZE,
+    MAX_SHADOW_RESOLUTION,
     MAX_THREADS,
     AreaLight,
     Camera,
@@ -25,6 +26,7 @@ from ._core import (
     RenderOptions,
     Scene,
     SceneObject,
+    ShadowSettings,
     SpotLight,
     __version__,
     load_obj,
@@ -68,6 +70,7 @@ from .swatch import material_sheet
 __all__ = [
     "MAX_AREA_SAMPLES",
     "MAX_IMAGE_SIZE",
+    "MAX_SHADOW_RESOLUTION",
     "MAX_THREADS",
     "VIEWS",
     "AreaLight",
@@ -85,6 +88,7 @@ __all__ = [
     "SceneFile",
     "SceneFileError",
     "SceneObject",
+    "ShadowSettings",
     "SpotLight",
     "__version__",
     "camera_from_intrinsics",

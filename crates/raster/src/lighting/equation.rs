@@ -180,7 +180,12 @@ impl Surface {
     /// `att` (attenuation × spot factor).
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
-    pub(super) fn light_loop<T: Terms, const SPECULAR: bool, const BLINN: bool, const SCALED: bool>(
+    pub(super) fn light_loop<
+        T: Terms,
+        const SPECULAR: bool,
+        const BLINN: bool,
+        const SCALED: bool,
+    >(
         &self,
         light: &SurfaceLight,
         n: &[Lanes; 3],

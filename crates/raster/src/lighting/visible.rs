@@ -141,8 +141,7 @@ mod tests {
         let plain = folded.shade_lanes(&nn, &p, eye);
         let none: Folded = folded.terms_lanes_visible(&nn, &p, eye, &[None, None, None]);
         assert_eq!(none.0, plain);
-        let ones: Folded =
-            folded.terms_lanes_visible(&nn, &p, eye, &[Some([1.0; LANES]); 3]);
+        let ones: Folded = folded.terms_lanes_visible(&nn, &p, eye, &[Some([1.0; LANES]); 3]);
         for ch in 0..3 {
             for k in 0..LANES {
                 assert!((ones.0[ch][k] - plain[ch][k]).abs() < 1e-6);

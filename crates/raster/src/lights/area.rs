@@ -3,9 +3,9 @@
 
 use glam::Vec3;
 
-use super::shadow::Shadows;
 use super::colors::SplitColors;
 use super::point::PointLight;
+use super::shadow::Shadows;
 use crate::error::{RasterError, Result};
 
 /// Largest `samples` per side: 64² = 4096 point sources, already far past any useful
@@ -124,7 +124,6 @@ impl AreaLight {
             ..self
         })
     }
-
 
     /// The same light casting shadows as `shadows` says.
     pub fn with_shadows(mut self, shadows: Shadows) -> Self {

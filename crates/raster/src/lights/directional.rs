@@ -4,8 +4,8 @@ use glam::Vec3;
 
 use crate::error::{RasterError, Result};
 
-use super::shadow::Shadows;
 use super::colors::{check_ambient, check_color, SplitColors};
+use super::shadow::Shadows;
 
 /// A light at infinity shining along `direction` (a sun overhead is `(0, -1, 0)`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -49,7 +49,6 @@ impl DirectionalLight {
             shadows: Shadows::Off,
         })
     }
-
 
     /// The same light casting shadows as `shadows` says.
     pub fn with_shadows(mut self, shadows: Shadows) -> Self {

@@ -4,8 +4,8 @@ use glam::Vec3;
 
 use crate::error::{RasterError, Result};
 
-use super::shadow::Shadows;
 use super::colors::{check_ambient, check_color, SplitColors};
+use super::shadow::Shadows;
 
 /// A light at a point, shining equally in all directions.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -54,7 +54,6 @@ impl PointLight {
             shadows: Shadows::Off,
         })
     }
-
 
     /// The same light casting shadows as `shadows` says.
     pub fn with_shadows(mut self, shadows: Shadows) -> Self {

@@ -105,10 +105,7 @@ impl Bvh {
             }
             if node.count > 0 {
                 let (a, b) = (node.first as usize, (node.first + node.count) as usize);
-                if self.tris[a..b]
-                    .iter()
-                    .any(|t| hits(t, origin, dir, t_max))
-                {
+                if self.tris[a..b].iter().any(|t| hits(t, origin, dir, t_max)) {
                     return true;
                 }
             } else if top + 2 <= stack.len() {
@@ -132,9 +129,7 @@ impl Bvh {
         let node = &self.nodes[i as usize];
         if node.count > 0 {
             let (a, b) = (node.first as usize, (node.first + node.count) as usize);
-            return self.tris[a..b]
-                .iter()
-                .any(|t| hits(t, origin, dir, t_max));
+            return self.tris[a..b].iter().any(|t| hits(t, origin, dir, t_max));
         }
         self.subtree_hits(node.first, origin, dir, t_max)
             || self.subtree_hits(node.first + 1, origin, dir, t_max)
@@ -297,8 +292,16 @@ mod tests {
         // Some tilted triangles above the grid.
         for k in 0..50 {
             let f = k as f32 * 0.37;
-            let c = Vec3::new(8.0 + 6.0 * f.sin(), 1.0 + (f * 1.3).cos().abs(), 8.0 + 6.0 * f.cos());
-            tris.push([c, c + Vec3::new(0.7, 0.2, 0.0), c + Vec3::new(0.0, 0.3, 0.6)]);
+            let c = Vec3::new(
+                8.0 + 6.0 * f.sin(),
+                1.0 + (f * 1.3).cos().abs(),
+                8.0 + 6.0 * f.cos(),
+            );
+            tris.push([
+                c,
+                c + Vec3::new(0.7, 0.2, 0.0),
+                c + Vec3::new(0.0, 0.3, 0.6),
+            ]);
         }
         let bvh = Bvh::new(tris.clone());
         assert_eq!(bvh.len(), tris.len());

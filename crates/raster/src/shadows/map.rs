@@ -86,14 +86,32 @@ impl ShadowMap {
                 let d = toward.as_dvec3();
                 let eye = center + d * (2.0 * radius);
                 let up = if d.y.abs() < 0.9 { DVec3::Y } else { DVec3::X };
-                let cam = Camera::orthographic(eye, center, up, 2.0 * radius, radius * 1e-3, 4.0 * radius)
-                    .map_err(bad)?;
-                faces.push(render_face(scene, cam, &opts, res, false, 2.0 * radius / res as f64)?);
+                let cam = Camera::orthographic(
+                    eye,
+                    center,
+                    up,
+                    2.0 * radius,
+                    radius * 1e-3,
+                    4.0 * radius,
+                )
+                .map_err(bad)?;
+                faces.push(render_face(
+                    scene,
+                    cam,
+                    &opts,
+                    res,
+                    false,
+                    2.0 * radius / res as f64,
+                )?);
             }
             Geometry::Spot { position, cone } if cone.cos_cutoff >= 60f32.to_radians().cos() => {
                 let q = position.as_dvec3();
                 let dir = cone.direction.as_dvec3();
-                let up = if dir.y.abs() < 0.9 { DVec3::Y } else { DVec3::X };
+                let up = if dir.y.abs() < 0.9 {
+                    DVec3::Y
+                } else {
+                    DVec3::X
+                };
                 let fov = (2.0 * (cone.cos_cutoff as f64).acos().to_degrees() + 2.0).min(150.0);
                 let (near, far) = planes(q, center, radius);
                 let cam = Camera::look_at(q, q + dir, up, fov, near, far).map_err(bad)?;
@@ -132,10 +150,14 @@ impl ShadowMap {
         let pe = face.view.transform_point3(p.as_dvec3());
         let d_eye = -pe.z;
         let (texel, l) = if face.perspective {
-            let l = (face.camera.eye() - p.as_dvec3()).normalize_or_zero().as_vec3();
+            let l = (face.camera.eye() - p.as_dvec3())
+                .normalize_or_zero()
+                .as_vec3();
             ((face.texel * d_eye.max(0.0)) as f32, l)
         } else {
-            let l = (face.camera.eye() - face.camera.target()).normalize().as_vec3();
+            let l = (face.camera.eye() - face.camera.target())
+                .normalize()
+                .as_vec3();
             (face.texel as f32, l)
         };
         if n.dot(l) <= 0.0 {

@@ -146,7 +146,10 @@ pub(crate) fn shade_tile<P: Pixel, const AFFINE: bool>(
         // Shadows are a loop of their own (the geometric normal carried per lane), so a
         // scene without them runs exactly the loop it ran before.
         (ShadingMode::Phong, read_depth) => {
-            match (read_depth || ctx.program.reads_depth(), ctx.shadows.is_some()) {
+            match (
+                read_depth || ctx.program.reads_depth(),
+                ctx.shadows.is_some(),
+            ) {
                 (false, false) => {
                     phong::shade_phong::<P, false, AFFINE, false>(ctx, rect, buf, color, depth)
                 }

@@ -84,7 +84,8 @@ impl<'a> PhongBatch<'a> {
             let lit = match &ctx.shadows {
                 Some(shadows) if SHADOWS => {
                     shadows.visibility(&n, &self.p, &self.g, self.len, &mut self.vis);
-                    m.terms_lanes_visible::<Folded>(&n, &self.p, eye, &self.vis).0
+                    m.terms_lanes_visible::<Folded>(&n, &self.p, eye, &self.vis)
+                        .0
                 }
                 _ => m.shade_lanes(&n, &self.p, eye),
             };
