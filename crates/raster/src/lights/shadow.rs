@@ -54,7 +54,7 @@ impl ShadowSettings {
         if let ShadowFilter::Pcf(k) = filter {
             if !(3..=MAX_PCF_KERNEL).contains(&k) || k % 2 == 0 {
                 return Err(RasterError::invalid_field(
-                    "filter",
+                    "kernel",
                     format!("PCF kernel must be odd, 3 to {MAX_PCF_KERNEL}, got {k}"),
                 ));
             }

@@ -6,15 +6,18 @@
 //! - spot (cutoff ≤ 60°): one perspective map covering the cone;
 //! - point, wide spot, area light's sample points: a cube map (six 90° faces).
 //!
-//! Bias, all in world units derived from the texel size `s` at the point (no constant a
-//! user has to tune; the settings' `bias` scales it): the point is moved along its
-//! geometric normal by `1.5·s` (normal offset), and its depth is compared with a slope-scaled
-//! tolerance `s·min(tan θ, 8) + s` (θ between the normal and the light). The filter is the
-//! plain comparison (`filter="none"`) or percentage-closer over a `k × k` kernel.
+//! Bias without a constant a user has to tune: each texel of the filter is compared with the
+//! depth at which the light's ray through that texel's centre meets the shaded point's own
+//! (geometric) plane -- a receiver-plane depth, which is the slope-scaled bias made exact for
+//! every texel of the kernel -- minus a tolerance of one texel's world size at the point
+//! (times the settings' `bias`; the normal-offset scale). A surface therefore never shadows
+//! itself however grazing the light, and a caster's shadow starts within about a texel of
+//! the contact. The filter is the plain comparison (`filter="none"`) or percentage-closer
+//! over a `k × k` kernel.
 
 use glam::{DMat4, DVec3, DVec4, Vec3};
 
-use crate::camera::Camera;
+use crate::camera::{Camera, Projection};
 use crate::error::{RasterError, Result};
 use crate::lighting::{Geometry, Source};
 use crate::lights::{ShadowFilter, ShadowSettings};
@@ -32,6 +35,8 @@ struct Face {
     depth: Vec<f32>,
     /// World size of a texel at eye depth 1 (perspective) or anywhere (orthographic).
     texel: f64,
+    /// Half the view's extent: `tan(fov/2)` (perspective) or half the height (orthographic).
+    half: f64,
     perspective: bool,
 }
 
@@ -144,50 +149,73 @@ impl ShadowMap {
             Some(q) => &self.faces[cube_face(p - q)],
             None => &self.faces[0],
         };
-        let g = g.normalize_or_zero();
-        let g = if g.dot(n) < 0.0 { -g } else { g };
-        // Texel size at the point, and the direction toward the light.
-        let pe = face.view.transform_point3(p.as_dvec3());
-        let d_eye = -pe.z;
-        let (texel, l) = if face.perspective {
-            let l = (face.camera.eye() - p.as_dvec3())
-                .normalize_or_zero()
-                .as_vec3();
-            ((face.texel * d_eye.max(0.0)) as f32, l)
+        let toward = if face.perspective {
+            (face.camera.eye() - p.as_dvec3()).normalize_or_zero()
         } else {
-            let l = (face.camera.eye() - face.camera.target())
-                .normalize()
-                .as_vec3();
-            (face.texel as f32, l)
+            (face.camera.eye() - face.camera.target()).normalize()
         };
-        if n.dot(l) <= 0.0 {
+        if n.as_dvec3().dot(toward) <= 0.0 {
             return 1.0; // faces away: no diffuse or specular whatever the map says
         }
-        let s = texel * self.bias;
-        let q = p + g * (1.5 * s);
-        let c = face.view_proj * DVec4::new(q.x as f64, q.y as f64, q.z as f64, 1.0);
-        if !(c.w > 0.0) {
+        let g = g.as_dvec3().normalize_or_zero();
+        let g = if g.dot(n.as_dvec3()) < 0.0 { -g } else { g };
+        // In the light's view space (looking down −z): the point, its plane's normal.
+        let pv = face.view.transform_point3(p.as_dvec3());
+        let gv = face.view.transform_vector3(g);
+        let depth = -pv.z;
+        if !(depth > 0.0) && face.perspective {
+            return 1.0; // behind the light: the face does not see it
+        }
+        // World size of a texel at the point; the tolerance is one texel (times `bias`).
+        let s = if face.perspective {
+            face.texel * depth
+        } else {
+            face.texel
+        };
+        let tolerance = s * self.bias as f64 + 1e-6 * depth.abs();
+        // The point's texel coordinates.
+        let c = face.view_proj * DVec4::new(p.x as f64, p.y as f64, p.z as f64, 1.0);
+        let res = self.res as f64;
+        let (sx, sy) = ((c.x / c.w + 1.0) / 2.0 * res, (1.0 - c.y / c.w) / 2.0 * res);
+        if !(sx.is_finite() && sy.is_finite()) {
             return 1.0;
         }
-        let qe = face.view.transform_point3(q.as_dvec3());
-        let depth = (-qe.z) as f32;
-        let cos = g.dot(l).clamp(1e-3, 1.0);
-        let tan = ((1.0 - cos * cos).sqrt() / cos).min(8.0);
-        let tolerance = s * tan + s;
-        let (sx, sy) = (
-            (c.x / c.w + 1.0) / 2.0 * self.res as f64,
-            (1.0 - c.y / c.w) / 2.0 * self.res as f64,
-        );
         let (tx, ty) = (sx.floor() as i64, sy.floor() as i64);
         let r = self.res as i64;
+        // Receiver-plane depth: the depth at which the light's ray through a texel's centre
+        // meets the point's own plane, so a sloped receiver compares with its own depth at
+        // every texel of the kernel (no acne at grazing light, no large constant bias).
+        let receiver = |x: i64, y: i64| -> f64 {
+            let ndc_x = (x as f64 + 0.5) / res * 2.0 - 1.0;
+            let ndc_y = 1.0 - (y as f64 + 0.5) / res * 2.0;
+            let (o, d) = if face.perspective {
+                (
+                    DVec3::ZERO,
+                    DVec3::new(ndc_x * face.half, ndc_y * face.half, -1.0),
+                )
+            } else {
+                (
+                    DVec3::new(ndc_x * face.half, ndc_y * face.half, 0.0),
+                    DVec3::NEG_Z,
+                )
+            };
+            let den = gv.dot(d);
+            let t = gv.dot(pv - o) / den;
+            // Along the plane (den ≈ 0) or behind: the point's own depth.
+            if den.abs() > 1e-9 && t.is_finite() && t > 0.0 {
+                t
+            } else {
+                depth
+            }
+        };
         let lit_at = |x: i64, y: i64| -> f32 {
-            let (x, y) = (x.clamp(0, r - 1) as usize, y.clamp(0, r - 1) as usize);
-            (depth - tolerance <= face.depth[y * self.res + x]) as u8 as f32
+            let stored = face.depth[(y.clamp(0, r - 1) * r + x.clamp(0, r - 1)) as usize];
+            (receiver(x, y) - tolerance <= stored as f64) as u8 as f32
         };
         match self.filter {
             ShadowFilter::None => {
                 if tx < 0 || ty < 0 || tx >= r || ty >= r {
-                    return 1.0; // outside the map: the light does not reach there via it
+                    return 1.0; // outside the map: nothing there casts a shadow
                 }
                 lit_at(tx, ty)
             }
@@ -242,6 +270,11 @@ fn render_face(
     perspective: bool,
     texel: f64,
 ) -> Result<Face> {
+    let half = match camera.projection() {
+        Projection::Perspective { fov_y } => (fov_y.to_radians() / 2.0).tan(),
+        Projection::Orthographic { height } => height / 2.0,
+        Projection::Pinhole(_) => unreachable!("light cameras are look_at or orthographic"),
+    };
     // Initialised (to "nothing drawn"), so reading every sample is sound whatever the pass did.
     let mut out = vec![std::mem::MaybeUninit::new(-1.0f32); res * res];
     depth_pass(scene, &camera, opts, &mut out)?;
@@ -263,6 +296,7 @@ fn render_face(
         camera,
         depth,
         texel,
+        half,
         perspective,
     })
 }
