@@ -462,12 +462,50 @@ def test_shadow_settings_errors_name_the_field():
             sl.ShadowSettings(**kwargs)
 
 
-def test_flat_and_gouraud_with_shadows_are_refused_clearly():
-    scene = sl_scene(CUBE_PLANE, "exact")
-    cam = sl_camera(CUBE_PLANE.camera)
+def grid(half: float, n: int):
+    """The plane y = 0 as ``n`` x ``n`` quads (for shading that lights at faces or vertices)."""
+    xs = np.linspace(-half, half, n + 1)
+    v = np.array([[x, 0.0, z] for x in xs for z in xs])
+    f = []
+    for i in range(n):
+        for j in range(n):
+            a, b, c = i * (n + 1) + j, i * (n + 1) + j + 1, (i + 1) * (n + 1) + j + 1
+            d = (i + 1) * (n + 1) + j
+            f += [[a, b, c], [a, c, d]]
+    return v, np.array(f)
+
+
+def test_flat_shadows_are_the_exact_visibility_at_each_face_centroid():
+    """Flat shading finds visibility where it lights, at the centroid (offset along the face
+    normal): every pixel's shadow state is that of its face, exactly as the reference says;
+    Gouraud's (per vertex) darkens the shadow's vertices."""
+    case = dataclasses.replace(
+        SPHERE_PLANE,
+        label="sphere over a grid",
+        parts=[grid(2.5, 30), sphere((0.0, 1.0, 0.0), 0.5)],
+    )
+    img, _, _ = reference(case)
+    v, f = combine(case.parts)
+    fn = ref.face_normals(v, f)
+    cent = v[f].mean(axis=1)
+    vis = rsh.visibility(cent, fn, fn, case.lights[0], v, f, rsh.scene_offset(v))
+    cam = sl_camera(case.camera)
     for shading in ("flat", "gouraud"):
-        with pytest.raises(ValueError, match="phong"):
-            sl.render(scene, cam, width=32, height=24, shading=shading)
+        got = {}
+        for shadows in (False, "exact", True):
+            got[shadows] = sl.render(
+                sl_scene(case, shadows), cam, width=W, height=H, dtype="float32", shading=shading
+            )
+        mask = (img.tri >= 0) & (img.edge_dist > EDGE_PX)
+        state = (got[False] - got["exact"]).max(axis=2) > 1e-4
+        if shading == "flat":
+            want = vis[img.tri] < 0.5
+            assert np.array_equal(state[mask], want[mask])
+            assert want[mask].sum() > 100
+        else:
+            assert state[mask].sum() > 100
+        mapped = (got[False] - got[True]).max(axis=2) > 1e-4
+        assert (mapped[mask] != state[mask]).mean() < 0.01
 
 
 @pytest.mark.parametrize("scale", [1e-6, 1e6])

@@ -10,12 +10,10 @@ use super::shade::{put, Out, Pixel, Program, ShadeContext};
 use super::{isa, prepare, tiles, Needs};
 use crate::camera::Camera;
 use crate::effects::FogEffect;
-use crate::error::{RasterError, Result};
+use crate::error::Result;
 use crate::frame::RenderStats;
-use crate::lighting::LightSet;
 use crate::options::{Interpolation, RenderOptions, ShadingMode};
 use crate::scene::Scene;
-use crate::shadows::ShadowEffect;
 
 /// Runs the whole pipeline into caller-provided row-major buffers. On success every sample
 /// of `color` and `depth` has been written (tiles cover the image, and each tile writes
@@ -27,24 +25,11 @@ pub(crate) fn color_pass<P: Pixel>(
     color: &mut [Out<P>],
     depth: Option<&mut [Out<f32>]>,
 ) -> Result<RenderStats> {
-    let shadowed = scene.lights().iter().any(|l| l.shadows().on());
-    if shadowed && options.shading != ShadingMode::Phong {
-        return Err(RasterError::invalid_field(
-            "shadows",
-            "shadows are computed per pixel and need shading='phong' \
-             (flat and Gouraud do not cast shadows yet)",
-        ));
-    }
-    let prep = prepare(scene, camera, options, Needs::Color)?;
-    let shadows = match shadowed {
-        true => ShadowEffect::new(
-            scene,
-            &LightSet::new(scene.lights()),
-            &prep.verts.world,
-            camera,
-            options,
-        )?,
-        false => None,
+    let mut prep = prepare(scene, camera, options, Needs::Color)?;
+    // Phong reads them per pixel; flat and Gouraud have used them already (prelight).
+    let shadows = match options.shading {
+        ShadingMode::Phong => prep.shadows.take(),
+        _ => None,
     };
     let (w, h) = (options.width as usize, options.height as usize);
     let rects = tiles::tile_rects(w, h);
