@@ -551,3 +551,54 @@ def test_hard_cases_stay_finite():
         dark = render(inside, shadows, (48, 36))
         seen = img.tri >= 0
         np.testing.assert_allclose(dark[seen], 0.2 * 0.15, atol=1e-6)
+
+
+def test_scene_files_and_dicts_keep_shadows(tmp_path):
+    scene = sl.Scene(ambient=(0.1, 0.1, 0.1))
+    scene.add(sl.Mesh(*box((0, 0.5, 0), 0.5)), material="gold")
+    scene.add(sl.Mesh(*plane(2.0)), material="pewter")
+    settings = sl.ShadowSettings(resolution=512, filter="none", bias=2.0)
+    scene.add_light(sl.DirectionalLight((-1, -2, -1), shadows=True))
+    scene.add_light(sl.PointLight((1, 3, 1), shadows="exact"))
+    scene.add_light(sl.SpotLight((0, 3, 0), (0, -1, 0), shadows=settings))
+    scene.add_light(sl.AreaLight((0, 3, 1), (1, 0, 0), (0, 0, 1)))
+    d = sl.scene_to_dict(scene)
+    assert [light.get("shadows") for light in d["lights"]] == [
+        True,
+        "exact",
+        {"resolution": 512, "filter": "none", "kernel": 1, "bias": 2.0},
+        None,  # off: not written
+    ]
+    back = sl.load_scene_dict(d).scene
+    assert [light.shadows for light in back.lights] == [True, "exact", settings, False]
+    path = tmp_path / "s.toml"
+    sl.save_scene(path, scene)
+    assert [light.shadows for light in sl.load_scene(path).scene.lights][:3] == [
+        True,
+        "exact",
+        settings,
+    ]
+    cam = sl.Camera.look_at((3, 3, 4), (0, 0, 0))
+    assert np.array_equal(
+        sl.render(scene, cam, width=48, height=36), sl.render(back, cam, width=48, height=36)
+    )
+    bad = copy.deepcopy(d)
+    bad["lights"][2]["shadows"]["resolution"] = 100000
+    with pytest.raises(sl.SceneFileError, match="resolution") as e:
+        sl.load_scene_dict(bad)
+    assert e.value.key == "lights[2].shadows.resolution"
+    bad["lights"][2]["shadows"] = "soft"
+    with pytest.raises(sl.SceneFileError, match="shadows"):
+        sl.load_scene_dict(bad)
+
+
+def test_cli_shadows_flag(tmp_path):
+    from shadelab_rs import cli
+
+    out = {}
+    for flag in ("off", "map", "exact"):
+        path = tmp_path / f"{flag}.npy"
+        assert cli.main(["demo", "--shadows", flag, "--size", "96x72", "-o", str(path)]) == 0
+        out[flag] = np.load(path)
+    assert out["off"].sum() > out["exact"].sum()
+    assert (np.abs(out["map"].astype(int) - out["exact"]).max(axis=2) > 8).mean() < 0.01

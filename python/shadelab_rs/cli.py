@@ -134,7 +134,7 @@ def _render(
     """Renders with a scene file's options updated by the flags given."""
     _check_values(args)
     if args.shadows is not None:
-        shadows = {"off": False, "map": True, "exact": "exact"}[args.shadows]
+        shadows: bool | str = {"off": False, "map": True, "exact": "exact"}[args.shadows]
         lights = [light_with_shadows(light, shadows) for light in scene.lights]
         scene.clear_lights()
         for light in lights:
