@@ -134,7 +134,8 @@ def _render(
     """Renders with a scene file's options updated by the flags given."""
     _check_values(args)
     if args.shadows is not None:
-        shadows: bool | str = {"off": False, "map": True, "exact": "exact"}[args.shadows]
+        choices: dict[str, bool | str] = {"off": False, "map": True, "exact": "exact"}
+        shadows = choices[args.shadows]
         lights = [light_with_shadows(light, shadows) for light in scene.lights]
         scene.clear_lights()
         for light in lights:
