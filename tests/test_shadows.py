@@ -602,3 +602,18 @@ def test_cli_shadows_flag(tmp_path):
         out[flag] = np.load(path)
     assert out["off"].sum() > out["exact"].sum()
     assert (np.abs(out["map"].astype(int) - out["exact"]).max(axis=2) > 8).mean() < 0.01
+
+
+def test_shadow_map_memory_is_bounded():
+    """An area light's points share its maps (resolution / samples each); beyond 2^28
+    texels in all (1 GiB) a render is refused with a clear error naming shadows."""
+    scene = sl_scene(CUBE_PLANE, False)
+    scene.clear_lights()
+    scene.add_light(sl.AreaLight((0, 3, 0), (1, 0, 0), (0, 0, 1), samples=8, shadows=True))
+    cam = sl_camera(CUBE_PLANE.camera)
+    assert np.isfinite(sl.render(scene, cam, width=32, height=24, dtype="float32")).all()
+    scene.clear_lights()
+    scene.add_light(sl.PointLight((0, 3, 0), shadows=sl.ShadowSettings(resolution=8192)))
+    with pytest.raises(ValueError, match="texels") as e:
+        sl.render(scene, cam, width=32, height=24)
+    assert getattr(e.value, "field", None) == "shadows"

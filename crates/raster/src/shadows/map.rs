@@ -233,6 +233,31 @@ impl ShadowMap {
     }
 }
 
+/// The settings of one sample point of an area light with `side` samples per side: its
+/// resolution divided by `side` (at least 64, at most the light's), since the soft shadow
+/// averages `side²` maps; other lights (`side` 1) keep theirs.
+pub(super) fn per_point(settings: ShadowSettings, side: u32) -> ShadowSettings {
+    if side <= 1 {
+        return settings;
+    }
+    let res = (settings.resolution() / side)
+        .max(64)
+        .min(settings.resolution());
+    ShadowSettings::new(res, settings.filter(), settings.bias())
+        .expect("a smaller valid resolution of valid settings")
+}
+
+/// Texels of the map of source `s` with `settings` (six faces for a cube).
+pub(super) fn texels(s: &Source, settings: &ShadowSettings) -> u64 {
+    let faces = match s.geometry {
+        Geometry::Directional(_) => 1,
+        Geometry::Spot { cone, .. } if cone.cos_cutoff >= 60f32.to_radians().cos() => 1,
+        _ => 6,
+    };
+    let r = settings.resolution() as u64;
+    faces * r * r
+}
+
 /// Near and far planes of a light at `q` over a scene in the sphere (`center`, `radius`).
 fn planes(q: DVec3, center: DVec3, radius: f64) -> (f64, f64) {
     let far = (q - center).length() + radius;

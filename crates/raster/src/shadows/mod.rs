@@ -15,13 +15,16 @@ mod map;
 use glam::Vec3;
 
 use crate::camera::Camera;
-use crate::error::Result;
+use crate::error::{RasterError, Result};
 use crate::lighting::{Geometry, Lanes, LightSet, LANES};
-use crate::lights::Shadows;
+use crate::lights::{Light, Shadows};
 use crate::options::RenderOptions;
 use crate::rays::Bvh;
 use crate::scene::Scene;
 use map::ShadowMap;
+
+/// Largest number of shadow-map texels a render may hold (2^28: 1 GiB of f32 depths).
+pub const MAX_SHADOW_TEXELS: u64 = 1 << 28;
 
 /// Where a source's light comes from.
 #[derive(Debug, Clone, Copy)]
@@ -87,14 +90,46 @@ impl ShadowEffect {
             .iter()
             .any(|s| matches!(s.shadows, Shadows::Exact));
         let bvh = exact.then(|| Bvh::new(world_triangles(scene, world)));
+        // Each source's samples per side: an area light's points share its maps' budget.
+        let sides: Vec<u32> = scene
+            .lights()
+            .iter()
+            .flat_map(|l| match l {
+                Light::Area(a) => vec![a.samples(); a.n_points()],
+                _ => vec![1],
+            })
+            .collect();
+        let mut texels = 0u64;
+        let mut plans = Vec::with_capacity(set.sources.len());
+        for (s, &side) in set.sources.iter().zip(&sides) {
+            let plan = match s.shadows {
+                Shadows::Map(settings) => {
+                    let settings = map::per_point(settings, side);
+                    texels += map::texels(s, &settings);
+                    Some(settings)
+                }
+                _ => None,
+            };
+            plans.push(plan);
+        }
+        if texels > MAX_SHADOW_TEXELS {
+            return Err(RasterError::invalid_field(
+                "shadows",
+                format!(
+                    "the scene's shadow maps would need {texels} texels, more than the limit \
+                     of {MAX_SHADOW_TEXELS} (1 GiB): lower their resolution or an area \
+                     light's samples, or use shadows='exact'"
+                ),
+            ));
+        }
         let mut casters = Vec::with_capacity(set.sources.len());
-        for s in &set.sources {
-            casters.push(match s.shadows {
-                Shadows::Off => None,
-                Shadows::Exact => Some(Caster::Exact(Toward::of(&s.geometry))),
-                Shadows::Map(settings) => Some(Caster::Map(Box::new(ShadowMap::new(
+        for (s, plan) in set.sources.iter().zip(plans) {
+            casters.push(match (s.shadows, plan) {
+                (Shadows::Exact, _) => Some(Caster::Exact(Toward::of(&s.geometry))),
+                (Shadows::Map(_), Some(settings)) => Some(Caster::Map(Box::new(ShadowMap::new(
                     scene, s, settings, bounds, camera, options,
                 )?))),
+                _ => None,
             });
         }
         Ok(Some(ShadowEffect {

@@ -30,12 +30,24 @@ fn lit(
 ) -> [Lanes; 3] {
     match shadows {
         None => surface.shade_lanes(n, p, eye),
-        Some(s) => {
-            let mut vis = vec![None; s.sources()];
-            s.visibility(n, p, n, live, &mut vis);
-            surface.terms_lanes_visible::<Folded>(n, p, eye, &vis).0
-        }
+        Some(s) => lit_shadowed(surface, s, n, p, live, eye),
     }
+}
+
+/// [`lit`] with shadows, out of line so the shadowless loops stay as they were.
+#[cold]
+#[inline(never)]
+fn lit_shadowed(
+    surface: &Surface,
+    shadows: &ShadowEffect,
+    n: &[Lanes; 3],
+    p: &[Lanes; 3],
+    live: usize,
+    eye: Vec3,
+) -> [Lanes; 3] {
+    let mut vis = vec![None; shadows.sources()];
+    shadows.visibility(n, p, n, live, &mut vis);
+    surface.terms_lanes_visible::<Folded>(n, p, eye, &vis).0
 }
 
 /// Vertices lit per parallel work item.
