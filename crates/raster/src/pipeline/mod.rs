@@ -260,8 +260,8 @@ pub(crate) fn prepare(
             scene,
             &light_set,
             &verts.world[..total_vertices],
-            camera,
             options,
+            &|cam, opts, out| depth_pass(scene, cam, opts, out).map(|_| ()),
         )?,
         false => None,
     };

@@ -15,6 +15,8 @@
 //! the contact. The filter is the plain comparison (`filter="none"`) or percentage-closer
 //! over a `k × k` kernel.
 
+use std::mem::MaybeUninit;
+
 use glam::{DMat4, DVec3, DVec4, Vec3};
 
 use crate::camera::{Camera, Projection};
@@ -22,8 +24,11 @@ use crate::error::{RasterError, Result};
 use crate::lighting::{Geometry, Source};
 use crate::lights::{ShadowFilter, ShadowSettings};
 use crate::options::RenderOptions;
-use crate::pipeline::depth_pass;
-use crate::scene::Scene;
+
+/// The depth-only pass over the render's scene from a camera into a row-major buffer
+/// (`passes::depth_pass`, handed in by the pipeline so this room does not import it).
+pub(crate) type DepthPass<'a> =
+    &'a (dyn Fn(&Camera, &RenderOptions, &mut [MaybeUninit<f32>]) -> Result<()> + Sync);
 
 /// One face: the light's camera and its depths as eye distances along its axis
 /// (`f32::INFINITY` where nothing was drawn).
@@ -51,6 +56,10 @@ pub(crate) struct ShadowMap {
     bias: f32,
 }
 
+/// Widest spot cone (half-angle, degrees) rendered as one perspective map; wider cones
+/// take a cube map.
+const MAX_SPOT_MAP_DEGREES: f64 = 60.0;
+
 /// The cube's faces: view direction and up, in the order +x, −x, +y, −y, +z, −z.
 const CUBE: [(DVec3, DVec3); 6] = [
     (DVec3::X, DVec3::NEG_Y),
@@ -62,14 +71,14 @@ const CUBE: [(DVec3, DVec3); 6] = [
 ];
 
 impl ShadowMap {
-    /// Renders the map of source `s` over a scene whose world bounds are `bounds`.
+    /// Renders the map of source `s` (through `depth`) over a scene whose world bounds are
+    /// `bounds`.
     pub fn new(
-        scene: &Scene,
         s: &Source,
         settings: ShadowSettings,
         bounds: (Vec3, Vec3),
-        _camera: &Camera,
         options: &RenderOptions,
+        depth: DepthPass<'_>,
     ) -> Result<Self> {
         let res = settings.resolution() as usize;
         let (lo, hi) = (bounds.0.as_dvec3(), bounds.1.as_dvec3());
@@ -101,7 +110,7 @@ impl ShadowMap {
                 )
                 .map_err(bad)?;
                 faces.push(render_face(
-                    scene,
+                    depth,
                     cam,
                     &opts,
                     res,
@@ -109,7 +118,7 @@ impl ShadowMap {
                     2.0 * radius / res as f64,
                 )?);
             }
-            Geometry::Spot { position, cone } if cone.cos_cutoff >= 60f32.to_radians().cos() => {
+            Geometry::Spot { position, cone } if cone.cutoff_degrees() <= MAX_SPOT_MAP_DEGREES => {
                 let q = position.as_dvec3();
                 let dir = cone.direction.as_dvec3();
                 let up = if dir.y.abs() < 0.9 {
@@ -117,18 +126,18 @@ impl ShadowMap {
                 } else {
                     DVec3::X
                 };
-                let fov = (2.0 * (cone.cos_cutoff as f64).acos().to_degrees() + 2.0).min(150.0);
+                let fov = (2.0 * cone.cutoff_degrees() + 2.0).min(150.0);
                 let (near, far) = planes(q, center, radius);
                 let cam = Camera::look_at(q, q + dir, up, fov, near, far).map_err(bad)?;
                 let texel = 2.0 * (fov.to_radians() / 2.0).tan() / res as f64;
-                faces.push(render_face(scene, cam, &opts, res, true, texel)?);
+                faces.push(render_face(depth, cam, &opts, res, true, texel)?);
             }
             Geometry::Point(position) | Geometry::Spot { position, .. } => {
                 let q = position.as_dvec3();
                 let (near, far) = planes(q, center, radius);
                 for (dir, up) in CUBE {
                     let cam = Camera::look_at(q, q + dir, up, 90.0, near, far).map_err(bad)?;
-                    faces.push(render_face(scene, cam, &opts, res, true, 2.0 / res as f64)?);
+                    faces.push(render_face(depth, cam, &opts, res, true, 2.0 / res as f64)?);
                 }
                 cube_at = Some(position);
             }
@@ -251,7 +260,7 @@ pub(super) fn per_point(settings: ShadowSettings, side: u32) -> ShadowSettings {
 pub(super) fn texels(s: &Source, settings: &ShadowSettings) -> u64 {
     let faces = match s.geometry {
         Geometry::Directional(_) => 1,
-        Geometry::Spot { cone, .. } if cone.cos_cutoff >= 60f32.to_radians().cos() => 1,
+        Geometry::Spot { cone, .. } if cone.cutoff_degrees() <= MAX_SPOT_MAP_DEGREES => 1,
         _ => 6,
     };
     let r = settings.resolution() as u64;
@@ -288,7 +297,7 @@ fn cube_face(d: Vec3) -> usize {
 
 /// The depth pass from `camera` into a face of eye distances.
 fn render_face(
-    scene: &Scene,
+    depth_pass: DepthPass<'_>,
     camera: Camera,
     opts: &RenderOptions,
     res: usize,
@@ -301,8 +310,8 @@ fn render_face(
         Projection::Pinhole(_) => unreachable!("light cameras are look_at or orthographic"),
     };
     // Initialised (to "nothing drawn"), so reading every sample is sound whatever the pass did.
-    let mut out = vec![std::mem::MaybeUninit::new(-1.0f32); res * res];
-    depth_pass(scene, &camera, opts, &mut out)?;
+    let mut out = vec![MaybeUninit::new(-1.0f32); res * res];
+    depth_pass(&camera, opts, &mut out)?;
     let depth = out
         .into_iter()
         .map(|z| {

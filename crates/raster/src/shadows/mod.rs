@@ -14,13 +14,13 @@ mod map;
 
 use glam::Vec3;
 
-use crate::camera::Camera;
 use crate::error::{RasterError, Result};
 use crate::lighting::{Geometry, Lanes, LightSet, LANES};
 use crate::lights::{Light, Shadows};
 use crate::options::RenderOptions;
 use crate::rays::Bvh;
 use crate::scene::Scene;
+pub(crate) use map::DepthPass;
 use map::ShadowMap;
 
 /// Largest number of shadow-map texels a render may hold (2^28: 1 GiB of f32 depths).
@@ -64,13 +64,13 @@ impl ShadowEffect {
     /// The shadows of `scene` under `set` (its prepared light set), or `None` when no light
     /// casts one. `world` holds every object's world-space vertices in scene order (the
     /// vertex stage's). The BVH is built only when a light asks for exact shadows; shadow
-    /// maps are rendered here, through the depth pass, from each light.
+    /// maps are rendered here from each light, through `depth` (the pipeline's depth pass).
     pub fn new(
         scene: &Scene,
         set: &LightSet,
         world: &[Vec3],
-        camera: &Camera,
         options: &RenderOptions,
+        depth: DepthPass<'_>,
     ) -> Result<Option<Self>> {
         if !set.sources.iter().any(|s| s.shadows.on()) {
             return Ok(None);
@@ -127,7 +127,7 @@ impl ShadowEffect {
             casters.push(match (s.shadows, plan) {
                 (Shadows::Exact, _) => Some(Caster::Exact(Toward::of(&s.geometry))),
                 (Shadows::Map(_), Some(settings)) => Some(Caster::Map(Box::new(ShadowMap::new(
-                    scene, s, settings, bounds, camera, options,
+                    s, settings, bounds, options, depth,
                 )?))),
                 _ => None,
             });
