@@ -96,6 +96,7 @@ class Case:
     camera: ref.Camera
     lights: list
     cull: bool = False
+    size: tuple[int, int] = (W, H)
 
 
 def sl_camera(c: ref.Camera) -> sl.Camera:
@@ -118,7 +119,8 @@ def sl_scene(case: Case, shadows) -> sl.Scene:
     return scene
 
 
-def render(case: Case, shadows, size=(W, H)) -> np.ndarray:
+def render(case: Case, shadows, size=None) -> np.ndarray:
+    size = size or case.size
     return sl.render(
         sl_scene(case, shadows),
         sl_camera(case.camera),
@@ -132,7 +134,8 @@ def render(case: Case, shadows, size=(W, H)) -> np.ndarray:
 _REF: dict = {}
 
 
-def reference(case: Case, size=(W, H)):
+def reference(case: Case, size=None):
+    size = size or case.size
     key = (case.label, size)
     if key not in _REF:
         v, f = combine(case.parts)
@@ -214,7 +217,50 @@ AREA = Case(
         )
     ],
 )
-HARD = [SPHERE_PLANE, CUBE_PLANE, RING_A, RING_B, GRAZING, SPOT]
+
+
+def torus(center, major, minor, n_major=48, n_minor=24, tilt=0.5):
+    """A torus about the y axis tilted by ``tilt`` radians about x (it shadows itself)."""
+    u = np.linspace(0, 2 * np.pi, n_major, endpoint=False)
+    w = np.linspace(0, 2 * np.pi, n_minor, endpoint=False)
+    uu, ww = np.meshgrid(u, w, indexing="ij")
+    r = major + minor * np.cos(ww)
+    v = np.stack([r * np.cos(uu), minor * np.sin(ww), -r * np.sin(uu)], axis=-1).reshape(-1, 3)
+    c, s_ = math.cos(tilt), math.sin(tilt)
+    v = v @ np.array([[1, 0, 0], [0, c, s_], [0, -s_, c]]).T + np.asarray(center, float)
+    f = []
+    for i in range(n_major):
+        for j in range(n_minor):
+            a, b = i * n_minor + j, ((i + 1) % n_major) * n_minor + j
+            c2, d = (
+                ((i + 1) % n_major) * n_minor + (j + 1) % n_minor,
+                i * n_minor + (j + 1) % n_minor,
+            )
+            f += [[a, b, c2], [a, c2, d]]
+    return v, np.array(f)
+
+
+def spot_cow(center, scale=1.0):
+    mesh = sl.load_obj(sl.data_path("spot/spot_triangulated.obj"))
+    return np.asarray(mesh.vertices, float) * scale + np.asarray(center, float), np.asarray(
+        mesh.faces
+    )
+
+
+TORUS = Case(
+    "self-shadowing torus",
+    [plane(2.5, -0.6), torus((0.0, 0.2, 0.0), 0.8, 0.3)],
+    ref.Camera(eye=(0.0, 2.8, 3.6), target=(0.0, 0.0, 0.0), up=(0, 1, 0), fov_y=45.0),
+    [ref.DirectionalLight(direction=(-0.6, -1.0, 0.4))],
+)
+COW = Case(
+    "Spot the cow",
+    [plane(2.0, -0.737), spot_cow((0.0, 0.0, 0.0))],
+    ref.Camera(eye=(1.6, 1.4, 2.6), target=(0.0, -0.1, 0.0), up=(0, 1, 0), fov_y=45.0),
+    [ref.DirectionalLight(direction=(-0.8, -1.0, -0.3))],
+    size=(128, 96),  # 5856 triangles: the reference's rays take a while
+)
+HARD = [SPHERE_PLANE, CUBE_PLANE, RING_A, RING_B, GRAZING, SPOT, TORUS, COW]
 
 
 # --------------------------------------------------------------------------------------------
@@ -222,8 +268,9 @@ HARD = [SPHERE_PLANE, CUBE_PLANE, RING_A, RING_B, GRAZING, SPOT]
 # --------------------------------------------------------------------------------------------
 
 
-def compared(case: Case, size=(W, H)):
+def compared(case: Case, size=None):
     """Mask of compared pixels, the exact shadow state there, and the reference colour."""
+    size = size or case.size
     img, color, vis = reference(case, size)
     v, f = combine(case.parts)
     sel = img.tri.reshape(-1) >= 0
@@ -240,8 +287,9 @@ def compared(case: Case, size=(W, H)):
     return mask.reshape(size[1], size[0]), shadow.reshape(size[1], size[0]), color
 
 
-def rust_state(case: Case, shadows, size=(W, H)) -> np.ndarray:
+def rust_state(case: Case, shadows, size=None) -> np.ndarray:
     """Shadowed pixels of a Rust render: the light's contribution visibly drops."""
+    size = size or case.size
     lit = render(case, False, size)
     shaded = render(case, shadows, size)
     return (lit - shaded).max(axis=2) > 1e-4
@@ -277,14 +325,16 @@ def boundary_distance(mask: np.ndarray, state: np.ndarray, part=None) -> np.ndar
     return dist
 
 
-def parts_of(case: Case, size=(W, H)) -> np.ndarray:
+def parts_of(case: Case, size=None) -> np.ndarray:
     """The object (index into ``case.parts``) seen at every pixel; -1 where none is."""
+    size = size or case.size
     img, _, _ = reference(case, size)
     ends = np.cumsum([len(f) for _, f in case.parts])
     return np.where(img.tri >= 0, np.searchsorted(ends, img.tri, side="right"), -1)
 
 
-def shadow_figures(case: Case, shadows, size=(W, H)) -> dict:
+def shadow_figures(case: Case, shadows, size=None) -> dict:
+    size = size or case.size
     mask, exact, _ = compared(case, size)
     got = rust_state(case, shadows, size)
     dist = boundary_distance(mask, exact, parts_of(case, size))
@@ -300,8 +350,9 @@ def shadow_figures(case: Case, shadows, size=(W, H)) -> dict:
     }
 
 
-def colour_match(case: Case, size=(W, H)) -> float:
+def colour_match(case: Case, size=None) -> float:
     """Share of compared pixels (visible, away from edges) within 1 LSB of the reference."""
+    size = size or case.size
     img, color, _ = reference(case, size)
     got = render(case, "exact", size)
     mask = (img.tri >= 0) & (img.edge_dist > EDGE_PX)
