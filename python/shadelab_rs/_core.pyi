@@ -79,8 +79,9 @@ class ShadowSettings:
     (16 to ``MAX_SHADOW_RESOLUTION``; each of a point light's six cube faces), ``filter``
     ``"pcf"`` (percentage-closer filtering over ``kernel`` x ``kernel`` texels, kernel odd,
     3 to 9) or ``"none"`` (the lectures' plain comparison), and ``bias``, the scale of the
-    default bias (slope-scaled plus normal offset, both from the texel size; 0 to 100,
-    1 by default, 0 shows acne). ``shadows=True`` is ``ShadowSettings()``."""
+    depth tolerance (one texel's world size at the point, compared with the receiver-plane
+    depth: the exact slope-scaled bias; 0 to 100, 1 by default, 0 shows acne).
+    ``shadows=True`` is ``ShadowSettings()``."""
 
     def __copy__(self) -> ShadowSettings: ...
     def __deepcopy__(self, _memo: Any) -> ShadowSettings: ...

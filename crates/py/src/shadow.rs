@@ -85,7 +85,8 @@ impl PyShadowSettings {
         }
     }
 
-    /// Scale of the default bias (slope-scaled plus normal offset from the texel size).
+    /// Scale of the depth tolerance (one texel's world size at the point; the comparison
+    /// is against the receiver-plane depth, the exact slope-scaled bias).
     #[getter]
     fn bias(&self) -> f32 {
         self.inner.bias()

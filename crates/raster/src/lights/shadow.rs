@@ -39,8 +39,9 @@ impl Default for ShadowSettings {
 }
 
 impl ShadowSettings {
-    /// Validated settings. `bias` scales the default bias (slope-scaled plus normal offset,
-    /// both derived from the shadow texel size): 1 is the default, 0 none (acne).
+    /// Validated settings. `bias` scales the depth tolerance of one texel's world size at
+    /// the point (the comparison is with the receiver-plane depth, the exact slope-scaled
+    /// bias): 1 is the default, 0 none (acne).
     pub fn new(resolution: u32, filter: ShadowFilter, bias: f32) -> Result<Self> {
         if !(16..=MAX_SHADOW_RESOLUTION).contains(&resolution) {
             return Err(RasterError::invalid_field(
@@ -82,7 +83,7 @@ impl ShadowSettings {
         self.filter
     }
 
-    /// The bias scale (1: the default slope-scaled plus normal-offset bias).
+    /// The bias scale (1: a tolerance of one texel's world size at the point).
     pub fn bias(&self) -> f32 {
         self.bias
     }

@@ -10,7 +10,7 @@
 //! depth at which the light's ray through that texel's centre meets the shaded point's own
 //! (geometric) plane -- a receiver-plane depth, which is the slope-scaled bias made exact for
 //! every texel of the kernel -- minus a tolerance of one texel's world size at the point
-//! (times the settings' `bias`; the normal-offset scale). A surface therefore never shadows
+//! (times the settings' `bias`). A surface therefore never shadows
 //! itself however grazing the light, and a caster's shadow starts within about a texel of
 //! the contact. The filter is the plain comparison (`filter="none"`) or percentage-closer
 //! over a `k × k` kernel.
