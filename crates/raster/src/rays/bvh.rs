@@ -158,7 +158,7 @@ fn build(nodes: &mut Vec<Node>, at: usize, items: &mut [(Aabb, Vec3, u32)], offs
     let mut best: Option<(usize, usize, f32)> = None;
     let extent = cent.max - cent.min;
     for axis in 0..3 {
-        if !(extent[axis] > 0.0) {
+        if extent[axis].partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             continue;
         }
         let scale = BINS as f32 / extent[axis];
@@ -181,7 +181,7 @@ fn build(nodes: &mut Vec<Node>, at: usize, items: &mut [(Aabb, Vec3, u32)], offs
             left.0.merge(&bins[i].0);
             left.1 += bins[i].1;
             let cost = left.0.area() * left.1 as f32 + right_area[i + 1];
-            if left.1 > 0 && left.1 < items.len() && best.is_none_or(|b| cost < b.2) {
+            if left.1 > 0 && left.1 < items.len() && best.map_or(true, |b| cost < b.2) {
                 best = Some((axis, i, cost));
             }
         }

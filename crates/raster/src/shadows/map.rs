@@ -172,7 +172,7 @@ impl ShadowMap {
         let pv = face.view.transform_point3(p.as_dvec3());
         let gv = face.view.transform_vector3(g);
         let depth = -pv.z;
-        if !(depth > 0.0) && face.perspective {
+        if face.perspective && depth.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             return 1.0; // behind the light: the face does not see it
         }
         // World size of a texel at the point; the tolerance is one texel (times `bias`).
