@@ -143,8 +143,8 @@ pub(crate) fn shade_tile<P: Pixel, const AFFINE: bool>(
             runs::shade_runs::<P, GOURAUD, true, AFFINE>(ctx, rect, buf, color, depth)
         }
         // Phong's per-pixel effects run as the render's program over each batch.
-        // Shadows are a loop of their own (the geometric normal carried per lane), so a
-        // scene without them runs exactly the loop it ran before.
+        // Shadows are a loop of their own (the geometric normal carried per lane), out of
+        // line, so the tile bodies of scenes without them are the code they were.
         (ShadingMode::Phong, read_depth) => {
             match (
                 read_depth || ctx.program.reads_depth(),
@@ -156,13 +156,23 @@ pub(crate) fn shade_tile<P: Pixel, const AFFINE: bool>(
                 (true, false) => {
                     phong::shade_phong::<P, true, AFFINE, false>(ctx, rect, buf, color, depth)
                 }
-                (false, true) => {
-                    phong::shade_phong::<P, false, AFFINE, true>(ctx, rect, buf, color, depth)
-                }
-                (true, true) => {
-                    phong::shade_phong::<P, true, AFFINE, true>(ctx, rect, buf, color, depth)
-                }
+                (false, true) => phong_shadowed::<P, false, AFFINE>(ctx, rect, buf, color, depth),
+                (true, true) => phong_shadowed::<P, true, AFFINE>(ctx, rect, buf, color, depth),
             }
         }
     }
+}
+
+/// Phong with shadows, kept out of the tile bodies (`isa.rs` inlines the rest): its cost
+/// is the shadow rays and map look-ups, and the shadowless bodies keep their code and
+/// inlining. Compiled for the baseline instruction set.
+#[inline(never)]
+fn phong_shadowed<P: Pixel, const STAGES_READ_DEPTH: bool, const AFFINE: bool>(
+    ctx: &ShadeContext<'_>,
+    rect: TileRect,
+    buf: &TileBuffers,
+    color: &mut [&mut [Out<P>]],
+    depth: Option<&mut [&mut [Out<f32>]]>,
+) {
+    phong::shade_phong::<P, STAGES_READ_DEPTH, AFFINE, true>(ctx, rect, buf, color, depth)
 }
