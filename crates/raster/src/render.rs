@@ -127,8 +127,90 @@ fn run_checked<P: Pixel>(
         }
     }
     pool::run(options.threads, || {
-        pipeline::color_pass(scene, camera, options, color, depth)
+        if options.supersample > 1 {
+            supersampled(scene, camera, options, color, depth)
+        } else {
+            pipeline::color_pass(scene, camera, options, color, depth)
+        }
     })?
+}
+
+/// `supersample = k`: renders `k·width × k·height` linear float pixels and averages each
+/// k×k block into one output pixel (a box filter; the mean in f32, summed in row order, then
+/// stored as the output type). The depth output is the nearest eye depth of the block
+/// (+inf where no triangle is).
+fn supersampled<P: Pixel>(
+    scene: &Scene,
+    camera: &Camera,
+    options: &RenderOptions,
+    color: &mut [Out<P>],
+    depth: Option<&mut [Out<f32>]>,
+) -> Result<RenderStats> {
+    use rayon::prelude::*;
+    let k = options.supersample as usize;
+    let w = options.width as usize;
+    let mut big = options.clone();
+    big.width *= options.supersample;
+    big.height *= options.supersample;
+    big.supersample = 1;
+    let n = big.pixel_count();
+    let mut c = reserve::<f32>(n * 3)?;
+    let mut d = match depth {
+        Some(_) => Some(reserve::<f32>(n)?),
+        None => None,
+    };
+    let stats = pipeline::color_pass(
+        scene,
+        camera,
+        &big,
+        &mut c.spare_capacity_mut()[..n * 3],
+        d.as_mut().map(|d| &mut d.spare_capacity_mut()[..n]),
+    )?;
+    // SAFETY: the pass succeeded, so it wrote all `n·3` colour samples and, when asked for,
+    // all `n` depths; both vectors have that capacity.
+    unsafe {
+        c.set_len(n * 3);
+        if let Some(d) = d.as_mut() {
+            d.set_len(n);
+        }
+    }
+    let (bw, kk) = (w * k, (k * k) as f32);
+    color
+        .par_chunks_mut(w * 3)
+        .enumerate()
+        .for_each(|(y, row)| {
+            for (x, px) in row.chunks_exact_mut(3).enumerate() {
+                let mut sum = [0.0f32; 3];
+                for sy in 0..k {
+                    let base = ((y * k + sy) * bw + x * k) * 3;
+                    for s in c[base..base + k * 3].chunks_exact(3) {
+                        for (a, v) in sum.iter_mut().zip(s) {
+                            *a += v;
+                        }
+                    }
+                }
+                let mut out = [P::default(); 3];
+                P::store(&mut out, glam::Vec3::from_array(sum) / kk);
+                for (o, v) in px.iter_mut().zip(out) {
+                    o.write(v);
+                }
+            }
+        });
+    if let (Some(out), Some(d)) = (depth, d.as_ref()) {
+        out.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
+            for (x, o) in row.iter_mut().enumerate() {
+                let mut near = f32::INFINITY;
+                for sy in 0..k {
+                    let base = (y * k + sy) * bw + x * k;
+                    for &v in &d[base..base + k] {
+                        near = near.min(v);
+                    }
+                }
+                o.write(near);
+            }
+        });
+    }
+    Ok(stats)
 }
 
 /// The window depth of every pixel, row-major `height·width`, from the visibility pass alone

@@ -57,15 +57,19 @@ pub(crate) fn color_pass<P: Pixel>(
         .zip(color_rows.par_iter_mut())
         .zip(depth_rows.par_iter_mut())
         .enumerate()
-        .for_each_init(TileBuffers::new, |buf, (i, ((rect, crows), drows))| {
-            let job = isa::TileJob {
-                index: i,
-                rect: *rect,
-                color: crows,
-                depth: drows.as_deref_mut(),
-            };
-            isa::run_tile(isa, &shade_ctx, options.shading, screen, buf, job);
-        });
+        .for_each_init(
+            || isa::Workspace::new(options.samples),
+            |work, (i, ((rect, crows), drows))| {
+                let job = isa::TileJob {
+                    index: i,
+                    rect: *rect,
+                    color: crows,
+                    depth: drows.as_deref_mut(),
+                };
+                let (mode, samples) = (options.shading, options.samples);
+                isa::run_tile(isa, &shade_ctx, mode, screen, samples, work, job);
+            },
+        );
     let mut stats = prep.stats;
     stats.timings.raster_shade = prep.t_start.elapsed();
     Ok(stats)

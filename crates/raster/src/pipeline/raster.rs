@@ -63,6 +63,20 @@ pub(crate) fn rasterize_tile(tris: &Binned, index: usize, rect: TileRect, buf: &
     for_each_span(tris.tile(index), rect, buf);
 }
 
+/// [`rasterize_tile`] with every pixel's sample point moved from the centre by `offset`
+/// (fixed-point units): one sample position of a multi-sample tile.
+#[inline(always)]
+pub(crate) fn rasterize_tile_at(
+    tris: &Binned,
+    index: usize,
+    rect: TileRect,
+    offset: (i64, i64),
+    buf: &mut TileBuffers,
+) {
+    buf.clear();
+    for_each_span_at(tris.tile(index), rect, offset, buf);
+}
+
 /// What [`for_each_span`] hands its spans to. A trait with an `#[inline(always)]` method
 /// rather than a closure, so the depth test is inlined into its caller's instruction set.
 pub(crate) trait SpanSink {
@@ -168,6 +182,18 @@ pub(crate) fn for_each_span<'a>(
     rect: TileRect,
     sink: &mut impl SpanSink,
 ) {
+    for_each_span_at(tris, rect, (0, 0), sink);
+}
+
+/// [`for_each_span`] with the sample point of every pixel at its centre plus `offset`
+/// (fixed-point units, each component within half a pixel).
+#[inline(always)]
+pub(crate) fn for_each_span_at<'a>(
+    tris: impl Iterator<Item = (u32, &'a SetupTri)>,
+    rect: TileRect,
+    offset: (i64, i64),
+    sink: &mut impl SpanSink,
+) {
     let (tx0, ty0) = (rect.x0 as i64, rect.y0 as i64);
     let (tx1, ty1) = (tx0 + rect.w as i64 - 1, ty0 + rect.h as i64 - 1);
     for (id, t) in tris {
@@ -179,7 +205,7 @@ pub(crate) fn for_each_span<'a>(
             continue;
         }
         let e = t.edges();
-        let (px, py) = (x0 * ONE + HALF, y0 * ONE + HALF);
+        let (px, py) = (x0 * ONE + HALF + offset.0, y0 * ONE + HALF + offset.1);
         let mut row = [0i64; 3];
         let mut step_x = [0i64; 3];
         let mut step_y = [0i64; 3];

@@ -16,7 +16,7 @@ mod store;
 
 pub(crate) use program::Program;
 pub use store::Pixel;
-pub(crate) use store::{put, Out};
+pub(crate) use store::{put, Out, RowColors, ROW_LANES};
 
 use glam::Vec3;
 
