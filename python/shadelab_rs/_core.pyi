@@ -745,7 +745,11 @@ class RenderOptions:
     with its normal, the default) or "face-intensities" (the mean of the flat-lit colours of
     the faces around the vertex, the lectures' simple method). ``interpolation``:
     "perspective" (perspective-correct, the default) or "screen" (affine, the lectures'
-    scan-line formulas) for Gouraud colours and Phong normals and positions."""
+    scan-line formulas) for Gouraud colours and Phong normals and positions. ``samples``:
+    1 (default) or 2, 4, 8, 16: multi-sample anti-aliasing at the standard D3D/Vulkan
+    sample positions, each pixel shaded once per visible triangle and resolved by coverage.
+    ``supersample``: k from 1 (default) to 8: render k x k pixels per output pixel and
+    average them (exact but k^2 times the work)."""
 
     def __new__(
         cls,
@@ -758,6 +762,8 @@ class RenderOptions:
         threads: int | None = None,
         gouraud: _Gouraud = "normals",
         interpolation: _Interpolation = "perspective",
+        samples: int | None = 1,
+        supersample: int | None = 1,
     ) -> RenderOptions: ...
     def __copy__(self) -> RenderOptions: ...
     def __deepcopy__(self, _memo: Any) -> RenderOptions:
@@ -801,6 +807,12 @@ class RenderOptions:
     @property
     def interpolation(self) -> str:
         """ "perspective" or "screen"."""
+    @property
+    def samples(self) -> int:
+        """Visibility samples per pixel: 1, or 2, 4, 8, 16 (multi-sample anti-aliasing)."""
+    @property
+    def supersample(self) -> int:
+        """Supersampling factor k (k x k pixels averaged per output pixel)."""
 
 class _RenderOptionsArgs(TypedDict, total=False):
     """The keywords of :class:`RenderOptions` (tests/test_render_options.py checks that
@@ -815,6 +827,8 @@ class _RenderOptionsArgs(TypedDict, total=False):
     threads: int | None
     gouraud: _Gouraud
     interpolation: _Interpolation
+    samples: int | None
+    supersample: int | None
 
 # One overload per output type; the render options are RenderOptions' arguments.
 @overload

@@ -88,6 +88,18 @@ def _render_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--background", type=_triple, default=None, help="r,g,b in [0,1] (0,0,0)")
     p.add_argument("--threads", type=int, default=None, help="worker threads (default: all)")
     p.add_argument("--cull-backfaces", action="store_true", default=None)
+    p.add_argument(
+        "--samples",
+        type=int,
+        default=None,
+        help="anti-aliasing samples per pixel: 1 (off), 2, 4, 8 or 16",
+    )
+    p.add_argument(
+        "--supersample",
+        type=int,
+        default=None,
+        help="render KxK pixels per output pixel and average them (1..8)",
+    )
     p.add_argument("--alpha", action="store_true", help="write RGBA with a transparent background")
     p.add_argument(
         "--encoding",
@@ -126,7 +138,8 @@ def _render(
 ) -> None:
     """Renders with a scene file's options updated by the flags given."""
     _check_values(args)
-    flags = {k: getattr(args, k) for k in ("shading", "specular", "background", "threads")}
+    names = ("shading", "specular", "background", "threads", "samples", "supersample")
+    flags = {k: getattr(args, k) for k in names}
     flags["cull_backfaces"] = args.cull_backfaces
     if args.size is not None:
         flags["width"], flags["height"] = args.size

@@ -291,13 +291,21 @@ def render(
       vertex normals averaged, lit per vertex) or "face-intensities" (the lectures' simple
       method: each vertex takes the mean of its faces' flat-lit colours).
       ``interpolation``: "perspective" (default) or "screen" (the lectures' scan-line
-      formulas, affine in screen space).
+      formulas, affine in screen space). ``samples``: 1 (default) or 2, 4, 8, 16:
+      multi-sample anti-aliasing (standard D3D/Vulkan sample positions; each pixel shaded
+      once per visible triangle, weighted by the share of samples it covers).
+      ``supersample``: k in 1..8, render k x k pixels per output pixel and average them
+      (exact, k^2 times the work).
     - ``dtype``: "uint8" (default, ``round(clamp(c, 0, 1) * 255)``) or "float32" (linear,
       unclamped unless ``encoding="srgb"``).
     - ``return_depth``: also return the float32 eye-space depth (distance along the viewing
-      axis, world units), +inf where nothing was drawn.
+      axis, world units), +inf where nothing was drawn. With ``samples`` > 1 it is the
+      depth of the surface covering most of the pixel's samples (+inf where the
+      background covers most); with ``supersample`` the nearest of the k x k.
     - ``alpha``: add an alpha channel: opaque (255 or 1.0) where a triangle was drawn,
-      0 elsewhere (the colour there is ``background``, straight alpha).
+      0 elsewhere (the colour there is ``background``, straight alpha). It follows the
+      depth output, so with ``samples`` or ``supersample`` it is not yet the fractional
+      coverage of edge pixels.
     - ``encoding``: "linear" (default): the shading's linear values, as OpenGL's classic
       pipeline writes them. "srgb": encoded for display with the sRGB transfer function
       (:func:`srgb_encode`), which brightens mid-tones the way viewers expect for an

@@ -63,6 +63,17 @@ fn threads_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
     }
 }
 
+/// A small count (`samples`, `supersample`; None is 1). Values beyond u32 are refused here
+/// (`expected` says what is allowed); the rest is the core's check, which names the field.
+fn count_arg(obj: Option<&Bound<'_, PyAny>>, name: &str, expected: &str) -> PyResult<u32> {
+    let Some(obj) = obj.filter(|o| !o.is_none()) else {
+        return Ok(1);
+    };
+    int_arg(obj, name)?
+        .and_then(|v| u32::try_from(v).ok())
+        .ok_or_else(|| value_error(name, format!("{name} must be {expected}, got {obj}")))
+}
+
 fn shading_name(mode: core::ShadingMode) -> &'static str {
     match mode {
         core::ShadingMode::Flat => "flat",
@@ -120,8 +131,9 @@ impl PyRenderOptions {
     #[new]
     #[pyo3(signature = (width=None, height=None, shading="phong", specular="blinn",
                         background=None, cull_backfaces=false, threads=None,
-                        gouraud="normals", interpolation="perspective"),
-           text_signature = "(width=800, height=600, shading='phong', specular='blinn', background=None, cull_backfaces=False, threads=None, gouraud='normals', interpolation='perspective')")]
+                        gouraud="normals", interpolation="perspective", samples=None,
+                        supersample=None),
+           text_signature = "(width=800, height=600, shading='phong', specular='blinn', background=None, cull_backfaces=False, threads=None, gouraud='normals', interpolation='perspective', samples=1, supersample=1)")]
     #[allow(clippy::too_many_arguments)]
     fn new(
         width: Option<&Bound<'_, PyAny>>,
@@ -133,6 +145,8 @@ impl PyRenderOptions {
         threads: Option<&Bound<'_, PyAny>>,
         gouraud: &str,
         interpolation: &str,
+        samples: Option<&Bound<'_, PyAny>>,
+        supersample: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let mut inner =
             core::RenderOptions::new(size(width, 800, "width")?, size(height, 600, "height")?);
@@ -153,6 +167,9 @@ impl PyRenderOptions {
         }
         inner.cull_backfaces = cull_backfaces;
         inner.threads = threads_arg(threads)?;
+        inner.samples = count_arg(samples, "samples", "1, 2, 4, 8 or 16")?;
+        let max_ss = core::MAX_SUPERSAMPLE;
+        inner.supersample = count_arg(supersample, "supersample", &format!("1 to {max_ss}"))?;
         inner.validate().map_err(to_py)?;
         Ok(Self { inner })
     }
@@ -223,7 +240,21 @@ impl PyRenderOptions {
             "interpolation",
             interpolation_name(self.inner.interpolation),
         )?;
+        d.set_item("samples", self.inner.samples)?;
+        d.set_item("supersample", self.inner.supersample)?;
         Ok(d)
+    }
+
+    /// Visibility samples per pixel: 1, or 2, 4, 8, 16 for multi-sample anti-aliasing.
+    #[getter]
+    fn samples(&self) -> u32 {
+        self.inner.samples
+    }
+
+    /// Supersampling factor k (k×k pixels rendered and box-filtered per output pixel).
+    #[getter]
+    fn supersample(&self) -> u32 {
+        self.inner.supersample
     }
 
     /// Image width in pixels.

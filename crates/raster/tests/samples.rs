@@ -196,7 +196,8 @@ fn pixels_inside_one_triangle_equal_the_single_sample_render() {
             for y in 1..H as usize - 1 {
                 for x in 1..W as usize - 1 {
                     // Interior: the pixel and its 8 neighbours covered with one sample.
-                    let all = (0..9).all(|k| d1[(y + k / 3 - 1) * W as usize + x + k % 3 - 1].is_finite());
+                    let all = (0..9)
+                        .all(|k| d1[(y + k / 3 - 1) * W as usize + x + k % 3 - 1].is_finite());
                     let i = y * W as usize + x;
                     if all {
                         assert_eq!(cn[i * 3..i * 3 + 3], c1[i * 3..i * 3 + 3], "{mode:?} n={n}");
@@ -224,7 +225,14 @@ fn sphere_scene() -> (Scene, Camera) {
         .unwrap();
     scene.add_light(DirectionalLight::new(Vec3::new(-1.0, -1.0, -1.0), Vec3::ONE, 1.0).unwrap());
     scene.set_fog(Some(
-        Fog::new(FogMode::Linear { start: 2.0, end: 5.0 }, Vec3::splat(0.5)).unwrap(),
+        Fog::new(
+            FogMode::Linear {
+                start: 2.0,
+                end: 5.0,
+            },
+            Vec3::splat(0.5),
+        )
+        .unwrap(),
     ));
     let camera = Camera::look_at(
         DVec3::new(0.3, 0.4, 3.0),
@@ -332,7 +340,10 @@ fn edge_error_against_exact_coverage_falls_as_samples_grow() {
         (s / edge.len() as f64).sqrt()
     };
     let errors: Vec<f64> = [1, 2, 4, 8, 16].map(|n| rmse(&options(n))).to_vec();
-    eprintln!("edge pixels {}, RMSE for 1..16 samples {errors:?}", edge.len());
+    eprintln!(
+        "edge pixels {}, RMSE for 1..16 samples {errors:?}",
+        edge.len()
+    );
     for w in errors.windows(2) {
         assert!(w[1] < w[0], "{errors:?}");
     }
@@ -376,7 +387,9 @@ fn supersample_is_the_box_filter_of_the_larger_render() {
         }
         // u8 output is the quantised mean.
         let f = render(&scene, &camera, &o, ColorFormat::U8, false).unwrap();
-        let ColorBuffer::U8(u) = f.color else { panic!() };
+        let ColorBuffer::U8(u) = f.color else {
+            panic!()
+        };
         for (q, v) in u.iter().zip(&c) {
             assert_eq!(*q, (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8);
         }
@@ -391,10 +404,13 @@ fn bad_sample_settings_are_errors_naming_the_field() {
         ("samples", Box::new(|o| o.samples = 0)),
         ("supersample", Box::new(|o| o.supersample = 0)),
         ("supersample", Box::new(|o| o.supersample = 9)),
-        ("supersample", Box::new(|o| {
-            o.width = 4000;
-            o.supersample = 5;
-        })),
+        (
+            "supersample",
+            Box::new(|o| {
+                o.width = 4000;
+                o.supersample = 5;
+            }),
+        ),
     ];
     for (field, set) in cases {
         let mut o = RenderOptions::new(20, 20);

@@ -178,9 +178,7 @@ fn samples_body<P: Pixel, const AFFINE: bool>(
     target: &mut SampleTarget,
     job: TileJob<'_, '_, P>,
 ) {
-    samples::sample_tile::<P, AFFINE>(
-        ctx, mode, job.index, job.rect, target, job.color, job.depth,
-    );
+    samples::sample_tile::<P, AFFINE>(ctx, mode, job.index, job.rect, target, job.color, job.depth);
 }
 
 /// The tile body; always inlined, so each variant above compiles all of it for its own

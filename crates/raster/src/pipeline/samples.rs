@@ -308,7 +308,10 @@ mod tests {
             let p = pattern(n);
             assert_eq!(p.len(), n as usize);
             for (k, a) in p.iter().enumerate() {
-                assert!((-8..8).contains(&a.0) && (-8..8).contains(&a.1), "{n}: {a:?}");
+                assert!(
+                    (-8..8).contains(&a.0) && (-8..8).contains(&a.1),
+                    "{n}: {a:?}"
+                );
                 assert!(!p[..k].contains(a), "{n}: {a:?} twice");
             }
         }
@@ -325,7 +328,10 @@ mod tests {
             let (sx, sy) = p
                 .iter()
                 .fold((0i32, 0i32), |(a, b), &(x, y)| (a + x as i32, b + y as i32));
-            assert!(sx.abs() <= n as i32 && sy.abs() <= n as i32, "{n}: {sx} {sy}");
+            assert!(
+                sx.abs() <= n as i32 && sy.abs() <= n as i32,
+                "{n}: {sx} {sy}"
+            );
         }
     }
 }
