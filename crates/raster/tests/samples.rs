@@ -399,7 +399,8 @@ fn supersample_is_the_box_filter_of_the_larger_render() {
 #[test]
 fn bad_sample_settings_are_errors_naming_the_field() {
     let (scene, camera) = sphere_scene();
-    let cases: [(&str, Box<dyn Fn(&mut RenderOptions)>); 5] = [
+    type Set = Box<dyn Fn(&mut RenderOptions)>;
+    let cases: [(&str, Set); 5] = [
         ("samples", Box::new(|o| o.samples = 3)),
         ("samples", Box::new(|o| o.samples = 0)),
         ("supersample", Box::new(|o| o.supersample = 0)),
