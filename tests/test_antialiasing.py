@@ -143,3 +143,52 @@ def test_scene_file_and_cli(tmp_path):
     assert bad.returncode == 1
     assert "samples must be 1, 2, 4, 8 or 16, got 3" in bad.stderr
     assert len(bad.stderr.strip().splitlines()) == 1
+
+
+def test_alpha_is_the_coverage_and_the_colour_is_premultiplied():
+    tris = _fan()
+    s, c = _white(tris)
+    for n in (1, 4, 16):
+        f = sl.render(s, c, W, H, samples=n, dtype="float32", alpha=True)
+        assert f.shape == (H, W, 4)
+        share = sample_coverage(tris, W, H, n)
+        sure = ~np.isnan(share)
+        np.testing.assert_array_equal(f[..., 3][sure], share[sure].astype(np.float32))
+        # White over a transparent background: premultiplied colour = coverage.
+        np.testing.assert_array_equal(f[..., 0], f[..., 3])
+        u = sl.render(s, c, W, H, samples=n, alpha=True)
+        np.testing.assert_array_equal(u[..., 3], np.floor(f[..., 3] * 255 + 0.5))
+
+
+def test_premultiplied_image_composites_to_the_render_over_a_background():
+    s, c = sl.demo_scene()
+    bg = np.array([0.2, 0.5, 0.9], dtype=np.float32)
+    for kw in ({"samples": 8}, {"supersample": 2}, {}):
+        rgba = sl.render(s, c, 160, 120, dtype="float32", alpha=True, background=bg, **kw)
+        over = sl.render(s, c, 160, 120, dtype="float32", background=bg, **kw)
+        a = rgba[..., 3:]
+        if kw:
+            assert ((a > 0) & (a < 1)).any()
+        np.testing.assert_allclose(rgba[..., :3] + (1 - a) * bg, over, atol=2e-6)
+
+
+def test_srgb_alpha_encodes_the_straight_colour():
+    s, c = sl.demo_scene()
+    lin = sl.render(s, c, 96, 72, dtype="float32", alpha=True, samples=4)
+    enc = sl.render(s, c, 96, 72, dtype="float32", alpha=True, samples=4, encoding="srgb")
+    a = lin[..., 3:]
+    straight = np.divide(lin[..., :3], a, out=np.zeros_like(lin[..., :3]), where=a > 0)
+    np.testing.assert_allclose(enc[..., :3], sl.srgb_encode(straight) * a, atol=1e-6)
+    np.testing.assert_array_equal(enc[..., 3], lin[..., 3])
+
+
+def test_cli_views_with_alpha_and_samples(tmp_path):
+    out = tmp_path / "v_{:02d}.png"
+    cmd = [sys.executable, "-m", "shadelab_rs", "demo", "-o", str(out), "--size", "64x48"]
+    subprocess.run([*cmd, "--views", "2", "--alpha", "--samples", "4"], check=True)
+    from PIL import Image
+
+    with Image.open(tmp_path / "v_00.png") as im:
+        a = np.asarray(im)
+    assert a.shape == (48, 64, 4)
+    assert ((a[..., 3] > 0) & (a[..., 3] < 255)).any()

@@ -728,6 +728,7 @@ def load_obj_parts(path: _Path) -> list[tuple[str, Mesh, Material | None]]:
 class _Frame(TypedDict):
     image: NDArray[Any]
     depth: NDArray[np.float32] | None
+    alpha: NDArray[np.float32] | None
     stats: dict[str, Any]
 
 @final
@@ -898,13 +899,16 @@ def render_frame(
     dtype: Any = None,
     return_depth: bool = False,
     options: RenderOptions | None = None,
+    alpha: bool = False,
     **kwargs: Unpack[_RenderOptionsArgs],
 ) -> _Frame:
-    """Like :func:`render`, returning a dict with "image", "depth" (or None) and "stats":
-    triangle counters (``triangles_in``, ``triangles_setup``, ``triangles_clipped``,
-    ``triangles_culled``, ``triangles_dropped``), ``light_sources`` (point sources lit per
-    shaded point; an area light counts its ``n_points``) and per-stage wall times in
-    milliseconds (keys ending in ``_ms``)."""
+    """Like :func:`render`, returning a dict with "image", "depth" (or None), "alpha" and
+    "stats": triangle counters (``triangles_in``, ``triangles_setup``,
+    ``triangles_clipped``, ``triangles_culled``, ``triangles_dropped``), ``light_sources``
+    (point sources lit per shaded point; an area light counts its ``n_points``) and
+    per-stage wall times in milliseconds (keys ending in ``_ms``). With ``alpha=True`` the
+    background is transparent: "image" is premultiplied and "alpha" is the float32 coverage
+    (the share of each pixel's samples a triangle covers); otherwise "alpha" is None."""
 
 def render_batch(
     scene: Scene | Sequence[Scene],

@@ -396,6 +396,7 @@ pub(crate) fn format_of(dtype: &Bound<'_, PyAny>) -> PyResult<core::ColorFormat>
 struct Rendered<'py> {
     image: Bound<'py, PyAny>,
     depth: Option<Bound<'py, PyAny>>,
+    alpha: Option<Bound<'py, PyAny>>,
     stats: core::RenderStats,
 }
 
@@ -403,10 +404,14 @@ fn render_impl<'py>(
     py: Python<'py>,
     scene: &PyScene,
     camera: &PyCamera,
-    options: core::RenderOptions,
+    mut options: core::RenderOptions,
     dtype: Option<&Bound<'py, PyAny>>,
-    return_depth: bool,
+    outputs: core::Outputs,
 ) -> PyResult<Rendered<'py>> {
+    if outputs.coverage {
+        // Premultiplied alpha: the colour over a transparent (black) background.
+        options.background = glam::Vec3::ZERO;
+    }
     let format = match dtype {
         Some(d) => format_of(d)?,
         None => core::ColorFormat::U8,
@@ -416,14 +421,22 @@ fn render_impl<'py>(
     let frame = py
         .detach(|| {
             no_panic("render", || {
-                core::render(&scene_copy, &cam, &options, format, return_depth)
+                core::render_with(&scene_copy, &cam, &options, format, outputs)
             })
         })?
         .map_err(to_py)?;
     let (image, depth) = frame_arrays(py, frame.color, frame.depth, frame.width, frame.height);
+    let (h, w) = (frame.height as usize, frame.width as usize);
+    let alpha = frame.coverage.map(|a| {
+        Array2::from_shape_vec((h, w), a)
+            .expect("size checked")
+            .into_pyarray(py)
+            .into_any()
+    });
     Ok(Rendered {
         image,
         depth,
+        alpha,
         stats: frame.stats,
     })
 }
@@ -444,18 +457,24 @@ pub fn render<'py>(
     kwargs: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let options = options_of(py, options.as_deref(), args, kwargs)?;
-    let r = render_impl(py, scene, camera, options, dtype, return_depth)?;
+    let outputs = core::Outputs {
+        depth: return_depth,
+        coverage: false,
+    };
+    let r = render_impl(py, scene, camera, options, dtype, outputs)?;
     match r.depth {
         Some(d) => Ok(PyTuple::new(py, [r.image, d])?.into_any()),
         None => Ok(r.image),
     }
 }
 
-/// Like `render`, returning a dict with "image", "depth" (or None) and "stats" (triangle
-/// counters and per-stage times in milliseconds: vertex_ms, setup_ms (assembly, clipping,
-/// setup and binning), raster_shade_ms).
+/// Like `render`, returning a dict with "image", "depth" (or None), "alpha" and "stats"
+/// (triangle counters and per-stage times in milliseconds: vertex_ms, setup_ms (assembly,
+/// clipping, setup and binning), raster_shade_ms). With `alpha=True` the background is
+/// transparent: "image" is premultiplied and "alpha" the float32 (h, w) coverage (the share
+/// of each pixel's samples a triangle covers); otherwise "alpha" is None.
 #[pyfunction]
-#[pyo3(signature = (scene, camera, *args, dtype=None, return_depth=false, options=None, **kwargs))]
+#[pyo3(signature = (scene, camera, *args, dtype=None, return_depth=false, options=None, alpha=false, **kwargs))]
 #[allow(clippy::too_many_arguments)]
 pub fn render_frame<'py>(
     py: Python<'py>,
@@ -465,10 +484,15 @@ pub fn render_frame<'py>(
     dtype: Option<&Bound<'py, PyAny>>,
     return_depth: bool,
     options: Option<PyRef<'py, PyRenderOptions>>,
+    alpha: bool,
     kwargs: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let options = options_of(py, options.as_deref(), args, kwargs)?;
-    let r = render_impl(py, scene, camera, options, dtype, return_depth)?;
+    let outputs = core::Outputs {
+        depth: return_depth,
+        coverage: alpha,
+    };
+    let r = render_impl(py, scene, camera, options, dtype, outputs)?;
     let s = r.stats;
     let stats = PyDict::new(py);
     stats.set_item("triangles_in", s.triangles_in)?;
@@ -484,6 +508,7 @@ pub fn render_frame<'py>(
     let out = PyDict::new(py);
     out.set_item("image", r.image)?;
     out.set_item("depth", r.depth)?;
+    out.set_item("alpha", r.alpha)?;
     out.set_item("stats", stats)?;
     Ok(out)
 }

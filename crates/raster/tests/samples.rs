@@ -420,3 +420,37 @@ fn bad_sample_settings_are_errors_naming_the_field() {
         assert_eq!(e.field(), Some(field), "{e}");
     }
 }
+
+#[test]
+fn coverage_output_is_the_share_of_covered_samples() {
+    // White over black: the colour is the coverage, so the two outputs must agree exactly;
+    // with one sample the coverage is where the depth is finite.
+    let t = [(3.25, 2.5), (71.75, 20.125), (20.5, 60.875)];
+    let scene = white(&[t]);
+    let camera = pixel_camera(W, H);
+    let outputs = Outputs {
+        depth: true,
+        coverage: true,
+    };
+    for (n, k) in [(1, 1), (2, 1), (4, 1), (16, 1), (1, 2), (4, 3)] {
+        let mut o = options(n);
+        o.supersample = k;
+        let f = render_with(&scene, &camera, &o, ColorFormat::F32, outputs).unwrap();
+        let ColorBuffer::F32(c) = &f.color else {
+            unreachable!()
+        };
+        let cov = f.coverage.as_ref().unwrap();
+        assert_eq!(&red(c), cov, "n={n} k={k}");
+        let partial = cov.iter().filter(|&&v| v > 0.0 && v < 1.0).count();
+        assert_eq!(
+            partial > 0,
+            n * k > 1,
+            "n={n} k={k}: {partial} partial pixels"
+        );
+        if n * k == 1 {
+            for (v, d) in cov.iter().zip(f.depth.as_ref().unwrap()) {
+                assert_eq!(*v == 1.0, d.is_finite());
+            }
+        }
+    }
+}

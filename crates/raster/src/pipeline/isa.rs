@@ -6,10 +6,10 @@
 //! with no code of its own. Rust never contracts `a·b + c` into a fused multiply-add and
 //! every lane operation is IEEE-exact, so both variants give bit-identical images (tested).
 
-use super::raster::{self, TileBuffers};
+use super::raster::{self, TileBuffers, NO_TRIANGLE};
 use super::samples::{self, SampleTarget};
 use super::shade::{self, Out, Pixel, ShadeContext};
-use super::tiles::TileRect;
+use super::tiles::{TileRect, TILE};
 use crate::options::ShadingMode;
 
 /// The instruction set a render's tiles run on.
@@ -58,6 +58,26 @@ impl Workspace {
         Workspace {
             buf: TileBuffers::new(),
             target: SampleTarget::new(samples),
+        }
+    }
+
+    /// Writes the coverage of the tile just rendered (`empty`: no triangle touched it, so
+    /// the buffers hold another tile's visibility) into its rows: the share of each pixel's
+    /// samples that a triangle owns.
+    pub fn write_coverage(&self, rect: TileRect, empty: bool, rows: &mut [&mut [Out<f32>]]) {
+        if empty {
+            for row in rows.iter_mut() {
+                shade::fill_out(&mut row[..rect.w], 0.0);
+            }
+        } else if self.target.is_multi() {
+            self.target.write_coverage(rect, rows);
+        } else {
+            for (j, row) in rows.iter_mut().enumerate() {
+                let ids = &self.buf.id[j * TILE..j * TILE + rect.w];
+                for (o, &id) in row.iter_mut().zip(ids) {
+                    o.write(if id == NO_TRIANGLE { 0.0 } else { 1.0 });
+                }
+            }
         }
     }
 }

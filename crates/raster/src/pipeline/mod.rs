@@ -18,7 +18,7 @@ pub mod shade;
 pub(crate) mod tiles;
 pub(crate) mod vertex;
 
-pub(crate) use passes::{color_pass, coverage_counts, depth_pass};
+pub(crate) use passes::{color_pass, coverage_counts, depth_pass, Buffers};
 
 use std::time::Instant;
 

@@ -118,6 +118,32 @@ impl SampleTarget {
     }
 }
 
+impl SampleTarget {
+    /// Whether this target has room for several samples (it is empty for one).
+    pub fn is_multi(&self) -> bool {
+        !self.samples.is_empty()
+    }
+
+    /// The share of each pixel's samples owned by a triangle in the tile last rendered,
+    /// into `rows`.
+    pub fn write_coverage(&self, rect: TileRect, rows: &mut [&mut [Out<f32>]]) {
+        let inv_n = 1.0 / self.samples.len() as f32;
+        for (j, row) in rows.iter_mut().enumerate().take(rect.h) {
+            for (i, o) in row[..rect.w].iter_mut().enumerate() {
+                let slot = j * TILE + i;
+                let covered: u32 = self
+                    .layers
+                    .iter()
+                    .zip(&self.counts)
+                    .filter(|(l, _)| l.id[slot] != NO_TRIANGLE)
+                    .map(|(_, c)| c[slot] as u32)
+                    .sum();
+                o.write(covered as f32 * inv_n);
+            }
+        }
+    }
+}
+
 /// Rasterizes tile `index` at every sample position, shades each layer and resolves into
 /// the user's rows. `AFFINE` as for [`shade::shade_tile`].
 #[inline(always)]
