@@ -446,7 +446,14 @@ def build_commit(rev: str) -> Path:
     subprocess.run(["tar", "-x", "-C", str(src)], input=archive.stdout, check=True)
     print(f"building {sha[:9]} in {src} (release; takes a few minutes)", file=sys.stderr)
     maturin = Path(sys.executable).parent / "maturin"
-    env = {**os.environ, "CARGO_TARGET_DIR": str(home / "target")}
+    # The earlier commit is built with one codegen unit, as the current release profile
+    # builds ours: with several, the partition decided whether lane loops were vectorised,
+    # which moved frame times by several percent unrelated to the code compared.
+    env = {
+        **os.environ,
+        "CARGO_TARGET_DIR": str(home / "target"),
+        "CARGO_PROFILE_RELEASE_CODEGEN_UNITS": "1",
+    }
     env.pop("VIRTUAL_ENV", None)
     wheels = home / "wheels"
     subprocess.run(
@@ -663,7 +670,9 @@ def markdown(
                 if meta["before"].startswith(DEFAULT_BEFORE)
                 else ""
             )
-            + ". Both builds rendered the baseline scene in "
+            + ". The earlier commit is built with one codegen unit, as the release profile "
+            "builds ours (with several, the partition decided whether lane loops were "
+            "vectorised). Both builds rendered the baseline scene in "
             "their own worker process (this script with `--worker`, under each build's venv), "
             "one frame each in alternation, the first of each pair alternating too. Ratio = "
             "median over pairs of now / before in CPU time (below 1: now is faster); the wall-time "

@@ -133,44 +133,25 @@ fn run_checked<P: Pixel>(
     options: &RenderOptions,
     out: Buffers<'_, P>,
 ) -> Result<RenderStats> {
-    let Buffers {
-        color,
-        depth,
-        coverage,
-    } = out;
     options.validate()?;
     let n = options.pixel_count();
-    if color.len() != n * 3 {
+    if out.color.len() != n * 3 {
         return Err(RasterError::invalid(format!(
             "colour buffer has {} samples, expected {}x{}x3 = {}",
-            color.len(),
+            out.color.len(),
             options.height,
             options.width,
             n * 3
         )));
     }
-    if let Some(d) = &depth {
-        if d.len() != n {
+    for (name, buf) in [("depth", &out.depth), ("coverage", &out.coverage)] {
+        if let Some(b) = buf.as_ref().filter(|b| b.len() != n) {
             return Err(RasterError::invalid(format!(
-                "depth buffer has {} samples, expected {}",
-                d.len(),
-                n
+                "{name} buffer has {} samples, expected {n}",
+                b.len()
             )));
         }
     }
-    if let Some(v) = &coverage {
-        if v.len() != n {
-            return Err(RasterError::invalid(format!(
-                "coverage buffer has {} samples, expected {n}",
-                v.len()
-            )));
-        }
-    }
-    let out = Buffers {
-        color,
-        depth,
-        coverage,
-    };
     pool::run(options.threads, || {
         if options.supersample > 1 {
             supersampled(scene, camera, options, out)

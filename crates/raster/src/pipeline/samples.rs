@@ -94,6 +94,8 @@ pub(crate) struct SampleTarget {
     acc: Vec<[f32; TILE * TILE]>,
     /// One layer's shaded colours, as the shading loops write them (row-major RGB).
     layer_color: Vec<Out<f32>>,
+    /// Layers the last tile wrote (those above 0 are cleared before the next).
+    dirty: usize,
 }
 
 impl SampleTarget {
@@ -114,6 +116,7 @@ impl SampleTarget {
             } else {
                 Vec::new()
             },
+            dirty: 0,
         }
     }
 }
@@ -190,11 +193,40 @@ pub(crate) fn sample_tile<P: Pixel, const AFFINE: bool>(
 /// sample order); returns how many layers the tile uses.
 fn build_layers(ctx: &ShadeContext<'_>, rect: TileRect, target: &mut SampleTarget) -> usize {
     let n = target.samples.len();
-    let mut used = 1;
+    // Layers above 0 start empty: clear the ones the previous tile wrote (layer 0 is
+    // written at every pixel below).
+    for k in 1..target.dirty {
+        target.layers[k].id.fill(NO_TRIANGLE);
+        target.counts[k].fill(0);
+    }
     let mut cached: Option<(u32, DepthPlane)> = None;
+    let mut centre_depth = |id: u32, x: usize, y: usize| -> f32 {
+        if id == NO_TRIANGLE {
+            return -1.0;
+        }
+        let plane = match cached {
+            Some((c, p)) if c == id => p,
+            _ => {
+                let p = DepthPlane::new(ctx.tris.get(id));
+                cached = Some((id, p));
+                p
+            }
+        };
+        plane.at(x, y)
+    };
+    let mut used = 1;
     for j in 0..rect.h {
         for i in 0..rect.w {
             let slot = j * TILE + i;
+            let (x, y) = (rect.x0 + i, rect.y0 + j);
+            let first = target.samples[0].id[slot];
+            if target.samples[1..].iter().all(|s| s.id[slot] == first) {
+                // Inside a triangle (or the background): one layer, every sample.
+                target.layers[0].id[slot] = first;
+                target.layers[0].depth[slot] = centre_depth(first, x, y);
+                target.counts[0][slot] = n as u8;
+                continue;
+            }
             // Distinct owners and their counts, in sample order (at most 16).
             let mut ids = [NO_TRIANGLE; 16];
             let mut cnt = [0u8; 16];
@@ -217,31 +249,15 @@ fn build_layers(ctx: &ShadeContext<'_>, rect: TileRect, target: &mut SampleTarge
             }
             order[..m].sort_by(|&a, &b| cnt[b].cmp(&cnt[a]));
             for (k, &o) in order[..m].iter().enumerate() {
-                let id = ids[o];
                 let layer = &mut target.layers[k];
-                layer.id[slot] = id;
-                layer.depth[slot] = if id == NO_TRIANGLE {
-                    -1.0
-                } else {
-                    let plane = match cached {
-                        Some((c, p)) if c == id => p,
-                        _ => {
-                            let p = DepthPlane::new(ctx.tris.get(id));
-                            cached = Some((id, p));
-                            p
-                        }
-                    };
-                    plane.at(rect.x0 + i, rect.y0 + j)
-                };
+                layer.id[slot] = ids[o];
+                layer.depth[slot] = centre_depth(ids[o], x, y);
                 target.counts[k][slot] = cnt[o];
-            }
-            for k in m..n {
-                target.layers[k].id[slot] = NO_TRIANGLE;
-                target.counts[k][slot] = 0;
             }
             used = used.max(m);
         }
     }
+    target.dirty = used;
     used
 }
 
