@@ -299,6 +299,7 @@ def _render_many(
             )
             save_image(f["image"], names[i])
             if depth_names is not None:
+                assert f["depth"] is not None
                 save_depth(f["depth"], depth_names[i])
     else:
         # With one sample the coverage is where the depth is finite; the background is
@@ -306,7 +307,10 @@ def _render_many(
         batch_opts = opts.replace(background=(0.0, 0.0, 0.0)) if args.alpha else opts
 
         def save_batch(i: int, img: np.ndarray, depth: np.ndarray | None = None) -> None:
-            alpha = np.isfinite(depth).astype(np.float32) if args.alpha else None
+            alpha = None
+            if args.alpha:
+                assert depth is not None
+                alpha = np.isfinite(depth).astype(np.float32)
             save(i, img, depth if depth_names is not None else None, alpha)
 
         render_batch(
