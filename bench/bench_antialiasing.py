@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import datetime as _dt
+import os
 import statistics
 import sys
 import time
@@ -95,7 +96,13 @@ def times(frames: int, threads: int) -> dict[str, float]:
 
 
 def report(
-    errors: dict[str, float], n_edge: int, size: tuple[int, int], t1: dict, t2: dict, frames: int
+    errors: dict[str, float],
+    n_edge: int,
+    size: tuple[int, int],
+    t1: dict,
+    t2: dict,
+    frames: int,
+    load: tuple[float, float],
 ) -> str:
     base1, base2 = t1["1 sample"], t2["1 sample"]
     rows = [
@@ -117,7 +124,9 @@ def report(
         "contrast across an edge.",
         "- **Time**: the demo scene (three Spot cows on a floor, Phong, its own lights) at "
         f"1920x1080, median of {frames} frames per setting, settings interleaved; "
-        "readback to NumPy included.",
+        "readback to NumPy included. Load average (1 min) at the start and end of the timing: "
+        f"{load[0]:.2f}, {load[1]:.2f} on {os.cpu_count()} cores; compare rows measured "
+        "in one run (the ratios), not runs on different days.",
         "",
         "| setting | edge RMSE | ms, 1 thread | × 1 sample | ms, 2 threads | × 1 sample |",
         "|---|---:|---:|---:|---:|---:|",
@@ -147,9 +156,10 @@ def main() -> int:
     w, h = (160, 120) if a.quick else (480, 320)
     errors, n_edge = edge_errors(w, h)
     print("edge RMSE:", {k: round(v, 4) for k, v in errors.items()}, file=sys.stderr)
+    load0 = os.getloadavg()[0]
     t1 = times(frames, 1)
     t2 = times(frames, 2)
-    text = report(errors, n_edge, (w, h), t1, t2, frames)
+    text = report(errors, n_edge, (w, h), t1, t2, frames, (load0, os.getloadavg()[0]))
     if a.write:
         a.write.write_text(text)
     else:

@@ -249,6 +249,9 @@ def variants() -> list[Variant]:
         Variant("fog_linear", "linear fog", _fog("linear", start=2.0, end=4.0)),
         Variant("fog_exp", "exp fog", _fog("exp", density=0.3)),
         Variant("fog_exp2", "exp2 fog", _fog("exp2", density=0.3)),
+        Variant("msaa_2", "samples=2 (multi-sample anti-aliasing)", _with_kw(base, samples=2)),
+        Variant("msaa_4", "samples=4 (multi-sample anti-aliasing)", _with_kw(base, samples=4)),
+        Variant("msaa_16", "samples=16 (multi-sample anti-aliasing)", _with_kw(base, samples=16)),
     ]
 
 
@@ -261,7 +264,7 @@ def _fog(mode: str, **kw: Any) -> Callable:
 
 
 # Gouraud and flat light per vertex / per triangle, so most features cost nothing per pixel
-# there; these show that, and fog (which is per pixel in every mode).
+# there; these show that, and fog and anti-aliasing (per pixel in every mode).
 OTHER_MODE_VARIANTS = (
     "baseline",
     "no_specular",
@@ -270,6 +273,8 @@ OTHER_MODE_VARIANTS = (
     "spot_smooth",
     "area_rect_8",
     "fog_exp2",
+    "msaa_4",
+    "msaa_16",
 )
 
 
