@@ -10,7 +10,7 @@ DEPS := $(VENV)/.deps-stamp
 BENCH_ENV := OPENBLAS_NUM_THREADS=1 PYTHONPATH=$(CURDIR)
 ENVS := VIRTUAL_ENV=$(abspath $(VENV)) PATH="$(abspath $(VENV))/bin:$$PATH"
 
-.PHONY: help demo test lint build bench bench-batch bench-peers docs-images wheel wheel-check clean fuzz
+.PHONY: help demo test lint build bench bench-aa bench-batch bench-peers docs-images wheel wheel-check clean fuzz
 
 help:  ## list targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
@@ -40,8 +40,8 @@ demo: $(BUILT)  ## render the built-in demo scene to demo.png (builds only when 
 lint: $(DEPS)  ## rustfmt, clippy (warnings are errors), ruff
 	cargo fmt --all -- --check
 	PYO3_PYTHON=$(abspath $(PY)) cargo clippy --workspace --all-targets --features shadelab-raster/fuzzing -- -D warnings
-	$(VENV)/bin/ruff check python tests bench shadelab_ref docs/lighting docs/first_minutes examples
-	$(VENV)/bin/ruff format --check python tests bench shadelab_ref docs/lighting docs/first_minutes examples
+	$(VENV)/bin/ruff check python tests bench shadelab_ref docs/lighting docs/first_minutes docs/antialiasing examples
+	$(VENV)/bin/ruff format --check python tests bench shadelab_ref docs/lighting docs/first_minutes docs/antialiasing examples
 
 test: lint build  ## lint, stub check, cargo test, pytest
 	$(PY) -m mypy.stubtest shadelab_rs._core
@@ -76,19 +76,24 @@ $(BENCH_DEPS): bench/peers/install.sh bench/requirements-bench.txt $(DEPS)
 
 bench-peers: $(BENCH_DEPS)  ## install the peers: Mesa llvmpipe (headless EGL, apt), moderngl, VTK, matplotlib
 
-bench: build $(BENCH_DEPS)  ## benchmarks, speed against error, llvmpipe, feature costs, many views -> docs/BENCHMARKS.md, docs/FEATURE_COSTS.md (~27 min)
+bench: build $(BENCH_DEPS)  ## benchmarks, speed against error, llvmpipe, feature costs, many views, anti-aliasing -> docs/BENCHMARKS.md, docs/FEATURE_COSTS.md, docs/ANTIALIASING.md (~30 min)
 	$(BENCH_ENV) $(PY) bench/bench_render.py --write docs/BENCHMARKS.md
 	$(BENCH_ENV) $(PY) bench/speed_error.py --write docs/BENCHMARKS.md
 	$(BENCH_ENV) $(PY) bench/speed_error_vtk.py --write docs/BENCHMARKS.md
 	$(BENCH_ENV) $(PY) bench/bench_features.py --write docs/FEATURE_COSTS.md $(if $(AGAINST),--against-commit $(AGAINST))
 	$(BENCH_ENV) $(PY) bench/bench_batch.py --write docs/BENCHMARKS.md
+	$(BENCH_ENV) $(PY) bench/bench_antialiasing.py --write docs/ANTIALIASING.md
+
+bench-aa: build  ## anti-aliasing only: edge error against exact coverage, time per setting -> docs/ANTIALIASING.md (~3 min)
+	$(BENCH_ENV) $(PY) bench/bench_antialiasing.py --write docs/ANTIALIASING.md
 
 bench-batch: build  ## many views only: render_batch vs loop vs 2 processes, pickling -> docs/BENCHMARKS.md (~2 min)
 	$(BENCH_ENV) $(PY) bench/bench_batch.py --write docs/BENCHMARKS.md
 
-docs-images: build  ## render the guides' images -> docs/lighting/*.png, docs/first_minutes/*.png
+docs-images: build  ## render the guides' images -> docs/lighting/*.png, docs/first_minutes/*.png, docs/antialiasing/*.png
 	$(PY) docs/lighting/make_images.py
 	$(PY) docs/first_minutes/make_images.py
+	$(PY) docs/antialiasing/make_images.py
 
 # manylinux2014 (glibc 2.17: Ubuntu 18.04+, RHEL 7+) through zig as the linker, from the
 # ziglang package on PyPI: no Docker. Without --zig the wheel would need this machine's glibc.

@@ -249,6 +249,9 @@ def variants() -> list[Variant]:
         Variant("fog_linear", "linear fog", _fog("linear", start=2.0, end=4.0)),
         Variant("fog_exp", "exp fog", _fog("exp", density=0.3)),
         Variant("fog_exp2", "exp2 fog", _fog("exp2", density=0.3)),
+        Variant("msaa_2", "samples=2 (multi-sample anti-aliasing)", _with_kw(base, samples=2)),
+        Variant("msaa_4", "samples=4 (multi-sample anti-aliasing)", _with_kw(base, samples=4)),
+        Variant("msaa_16", "samples=16 (multi-sample anti-aliasing)", _with_kw(base, samples=16)),
     ]
 
 
@@ -261,7 +264,7 @@ def _fog(mode: str, **kw: Any) -> Callable:
 
 
 # Gouraud and flat light per vertex / per triangle, so most features cost nothing per pixel
-# there; these show that, and fog (which is per pixel in every mode).
+# there; these show that, and fog and anti-aliasing (per pixel in every mode).
 OTHER_MODE_VARIANTS = (
     "baseline",
     "no_specular",
@@ -270,6 +273,8 @@ OTHER_MODE_VARIANTS = (
     "spot_smooth",
     "area_rect_8",
     "fog_exp2",
+    "msaa_4",
+    "msaa_16",
 )
 
 
@@ -446,7 +451,14 @@ def build_commit(rev: str) -> Path:
     subprocess.run(["tar", "-x", "-C", str(src)], input=archive.stdout, check=True)
     print(f"building {sha[:9]} in {src} (release; takes a few minutes)", file=sys.stderr)
     maturin = Path(sys.executable).parent / "maturin"
-    env = {**os.environ, "CARGO_TARGET_DIR": str(home / "target")}
+    # The earlier commit is built with one codegen unit, as the current release profile
+    # builds ours: with several, the partition decided whether lane loops were vectorised,
+    # which moved frame times by several percent unrelated to the code compared.
+    env = {
+        **os.environ,
+        "CARGO_TARGET_DIR": str(home / "target"),
+        "CARGO_PROFILE_RELEASE_CODEGEN_UNITS": "1",
+    }
     env.pop("VIRTUAL_ENV", None)
     wheels = home / "wheels"
     subprocess.run(
@@ -663,7 +675,9 @@ def markdown(
                 if meta["before"].startswith(DEFAULT_BEFORE)
                 else ""
             )
-            + ". Both builds rendered the baseline scene in "
+            + ". The earlier commit is built with one codegen unit, as the release profile "
+            "builds ours (with several, the partition decided whether lane loops were "
+            "vectorised). Both builds rendered the baseline scene in "
             "their own worker process (this script with `--worker`, under each build's venv), "
             "one frame each in alternation, the first of each pair alternating too. Ratio = "
             "median over pairs of now / before in CPU time (below 1: now is faster); the wall-time "

@@ -564,8 +564,9 @@ def test_pyvista_polydata_is_accepted_when_present():
 def test_the_wrapper_and_the_binding_take_the_same_options():
     """sl.render wraps _core.render: the same parameters of the same kinds in the same
     order (the render options positionally, options= and RenderOptions' keywords passed
-    through), plus its own keyword-only alpha and encoding, so the two cannot drift apart;
-    the stub's overloads spell the binding's parameters the same way."""
+    through), plus its own keyword-only alpha (render_frame's binding has it: the coverage)
+    and encoding, so the two cannot drift apart; the stub's overloads spell the binding's
+    parameters the same way."""
     import ast
     import inspect
     from pathlib import Path
@@ -578,13 +579,12 @@ def test_the_wrapper_and_the_binding_take_the_same_options():
         core_params = list(inspect.signature(core).parameters.values())
         # The binding's **kwargs (RenderOptions' keywords) stays last.
         assert core_params[-1].kind is inspect.Parameter.VAR_KEYWORD
+        own = [("encoding", inspect.Parameter.KEYWORD_ONLY)]
+        if "alpha" not in [p.name for p in core_params]:
+            own.insert(0, ("alpha", inspect.Parameter.KEYWORD_ONLY))
         assert [(p.name, p.kind) for p in params] == [
             (p.name, p.kind) for p in core_params[:-1]
-        ] + [
-            ("alpha", inspect.Parameter.KEYWORD_ONLY),
-            ("encoding", inspect.Parameter.KEYWORD_ONLY),
-            (core_params[-1].name, inspect.Parameter.VAR_KEYWORD),
-        ]
+        ] + [*own, (core_params[-1].name, inspect.Parameter.VAR_KEYWORD)]
         for p, c in zip(params[2:], core_params[2:-1]):
             assert p.default == c.default, p.name
         stubs = [n for n in stub.body if isinstance(n, ast.FunctionDef) and n.name == core.__name__]

@@ -34,6 +34,8 @@ def test_defaults_and_round_trip():
         "threads": None,
         "gouraud": "normals",
         "interpolation": "perspective",
+        "samples": 1,
+        "supersample": 1,
     }
     p = sl.RenderOptions(64, 48, shading="FLAT", specular="blinn-normalized", threads=2)
     assert (p.width, p.height, p.shading, p.specular, p.threads) == (
@@ -60,6 +62,12 @@ def test_defaults_and_round_trip():
         ({"threads": 0}, "threads"),
         ({"gouraud": "faces"}, "gouraud"),
         ({"interpolation": "affine"}, "interpolation"),
+        ({"samples": 3}, "samples"),
+        ({"samples": 0}, "samples"),
+        ({"samples": 2**70}, "samples"),
+        ({"supersample": 0}, "supersample"),
+        ({"supersample": 9}, "supersample"),
+        ({"width": 4000, "supersample": 5}, "supersample"),
     ],
 )
 def test_bad_values_name_the_option(kwargs, field):

@@ -788,6 +788,7 @@ def load_obj_parts(path: _Path) -> list[tuple[str, Mesh, Material | None]]:
 class _Frame(TypedDict):
     image: NDArray[Any]
     depth: NDArray[np.float32] | None
+    alpha: NDArray[np.float32] | None
     stats: dict[str, Any]
 
 @final
@@ -805,7 +806,11 @@ class RenderOptions:
     with its normal, the default) or "face-intensities" (the mean of the flat-lit colours of
     the faces around the vertex, the lectures' simple method). ``interpolation``:
     "perspective" (perspective-correct, the default) or "screen" (affine, the lectures'
-    scan-line formulas) for Gouraud colours and Phong normals and positions."""
+    scan-line formulas) for Gouraud colours and Phong normals and positions. ``samples``:
+    1 (default) or 2, 4, 8, 16: multi-sample anti-aliasing at the standard D3D/Vulkan
+    sample positions, each pixel shaded once per visible triangle and resolved by coverage.
+    ``supersample``: k from 1 (default) to 8: render k x k pixels per output pixel and
+    average them (exact but k^2 times the work)."""
 
     def __new__(
         cls,
@@ -818,6 +823,8 @@ class RenderOptions:
         threads: int | None = None,
         gouraud: _Gouraud = "normals",
         interpolation: _Interpolation = "perspective",
+        samples: int | None = 1,
+        supersample: int | None = 1,
     ) -> RenderOptions: ...
     def __copy__(self) -> RenderOptions: ...
     def __deepcopy__(self, _memo: Any) -> RenderOptions:
@@ -861,6 +868,12 @@ class RenderOptions:
     @property
     def interpolation(self) -> str:
         """ "perspective" or "screen"."""
+    @property
+    def samples(self) -> int:
+        """Visibility samples per pixel: 1, or 2, 4, 8, 16 (multi-sample anti-aliasing)."""
+    @property
+    def supersample(self) -> int:
+        """Supersampling factor k (k x k pixels averaged per output pixel)."""
 
 class _RenderOptionsArgs(TypedDict, total=False):
     """The keywords of :class:`RenderOptions` (tests/test_render_options.py checks that
@@ -875,6 +888,8 @@ class _RenderOptionsArgs(TypedDict, total=False):
     threads: int | None
     gouraud: _Gouraud
     interpolation: _Interpolation
+    samples: int | None
+    supersample: int | None
 
 # One overload per output type; the render options are RenderOptions' arguments.
 @overload
@@ -944,13 +959,16 @@ def render_frame(
     dtype: Any = None,
     return_depth: bool = False,
     options: RenderOptions | None = None,
+    alpha: bool = False,
     **kwargs: Unpack[_RenderOptionsArgs],
 ) -> _Frame:
-    """Like :func:`render`, returning a dict with "image", "depth" (or None) and "stats":
-    triangle counters (``triangles_in``, ``triangles_setup``, ``triangles_clipped``,
-    ``triangles_culled``, ``triangles_dropped``), ``light_sources`` (point sources lit per
-    shaded point; an area light counts its ``n_points``) and per-stage wall times in
-    milliseconds (keys ending in ``_ms``)."""
+    """Like :func:`render`, returning a dict with "image", "depth" (or None), "alpha" and
+    "stats": triangle counters (``triangles_in``, ``triangles_setup``,
+    ``triangles_clipped``, ``triangles_culled``, ``triangles_dropped``), ``light_sources``
+    (point sources lit per shaded point; an area light counts its ``n_points``) and
+    per-stage wall times in milliseconds (keys ending in ``_ms``). With ``alpha=True`` the
+    background is transparent: "image" is premultiplied and "alpha" is the float32 coverage
+    (the share of each pixel's samples a triangle covers); otherwise "alpha" is None."""
 
 def render_batch(
     scene: Scene | Sequence[Scene],

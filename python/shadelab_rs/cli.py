@@ -17,7 +17,7 @@ import numpy as np
 from . import _core as core
 from .demo import VIEWS, demo_scene, view_direction
 from .io import file_up_axis, load_mesh, save_depth, save_image
-from .rendering import EmptyRenderWarning, _finish, render
+from .rendering import EmptyRenderWarning, _finish, render, render_frame
 from .scene_file import frame_scene, light_with_shadows, load_scene
 from .swatch import material_sheet
 
@@ -93,7 +93,19 @@ def _render_args(p: argparse.ArgumentParser) -> None:
         choices=["off", "map", "exact"],
         default=None,
         help="every light casts shadows: map (shadow maps, default settings), exact (shadow "
-        "rays) or off; default: as the scene says (needs --shading phong)",
+        "rays) or off; default: as the scene says",
+    )
+    p.add_argument(
+        "--samples",
+        type=int,
+        default=None,
+        help="anti-aliasing samples per pixel: 1 (off), 2, 4, 8 or 16",
+    )
+    p.add_argument(
+        "--supersample",
+        type=int,
+        default=None,
+        help="render KxK pixels per output pixel and average them (1..8)",
     )
     p.add_argument("--alpha", action="store_true", help="write RGBA with a transparent background")
     p.add_argument(
@@ -140,7 +152,8 @@ def _render(
         scene.clear_lights()
         for light in lights:
             scene.add_light(light)
-    flags = {k: getattr(args, k) for k in ("shading", "specular", "background", "threads")}
+    names = ("shading", "specular", "background", "threads", "samples", "supersample")
+    flags = {k: getattr(args, k) for k in names}
     flags["cull_backfaces"] = args.cull_backfaces
     if args.size is not None:
         flags["width"], flags["height"] = args.size
@@ -275,23 +288,53 @@ def _render_many(
     names = _frame_names(args.output, views)
     depth_names = _frame_names(args.depth, views) if args.depth is not None else None
 
-    def save(i: int, img: np.ndarray, depth: np.ndarray | None = None) -> None:
-        img = _finish(img, depth, out_dtype="uint8", alpha=args.alpha, encoding=args.encoding)
+    def save(
+        i: int, img: np.ndarray, depth: np.ndarray | None = None, alpha: np.ndarray | None = None
+    ) -> None:
+        img = _finish(img, alpha, out_dtype="uint8", encoding=args.encoding)
         save_image(img, names[i])
         if depth_names is not None:
             assert depth is not None
             save_depth(depth, depth_names[i])
 
+    # As `render`: sRGB is encoded from the float image.
+    dtype = "float32" if args.encoding == "srgb" else None
     t0 = time.perf_counter()
-    render_batch(
-        scene,
-        cameras,
-        options=opts,
-        # As `render`: sRGB is encoded from the float image, alpha read from the depth.
-        dtype="float32" if args.encoding == "srgb" else None,
-        return_depth=args.alpha or depth_names is not None,
-        callback=save,
-    )
+    if args.alpha and (opts.samples > 1 or opts.supersample > 1):
+        # Fractional coverage comes with render_frame only: one view at a time.
+        for i, cam in enumerate(cameras):
+            f = render_frame(
+                scene,
+                cam,
+                options=opts,
+                alpha=True,
+                encoding=args.encoding,
+                return_depth=depth_names is not None,
+            )
+            save_image(f["image"], names[i])
+            if depth_names is not None:
+                assert f["depth"] is not None
+                save_depth(f["depth"], depth_names[i])
+    else:
+        # With one sample the coverage is where the depth is finite; the background is
+        # transparent as in `render`.
+        batch_opts = opts.replace(background=(0.0, 0.0, 0.0)) if args.alpha else opts
+
+        def save_batch(i: int, img: np.ndarray, depth: np.ndarray | None = None) -> None:
+            alpha = None
+            if args.alpha:
+                assert depth is not None
+                alpha = np.isfinite(depth).astype(np.float32)
+            save(i, img, depth if depth_names is not None else None, alpha)
+
+        render_batch(
+            scene,
+            cameras,
+            options=batch_opts,
+            dtype=dtype,
+            return_depth=args.alpha or depth_names is not None,
+            callback=save_batch,
+        )
     dt = time.perf_counter() - t0
     w, h = opts.width, opts.height
     print(

@@ -132,14 +132,14 @@ def _frame(
         raise ValueError(f"encoding must be 'linear' or 'srgb', got {encoding!r}")
     out_dtype = _dtype_name(dtype)
     core_dtype = "float32" if encoding == "srgb" else dtype
-    # The depth is the coverage: fetched only when alpha needs it (it costs a copy).
     frame = _core.render_frame(
         s,
         camera,
         *args,
         dtype=core_dtype,
-        return_depth=return_depth or alpha,
+        return_depth=return_depth,
         options=options,
+        alpha=alpha,
         **kwargs,
     )
     stats = frame["stats"]
@@ -156,30 +156,38 @@ def _frame(
             EmptyRenderWarning,
             stacklevel=stacklevel,
         )
-    depth = frame["depth"]
-    image = _finish(frame["image"], depth, out_dtype=out_dtype, alpha=alpha, encoding=encoding)
-    return {"image": image, "depth": depth if return_depth else None, "stats": stats}
+    image = _finish(frame["image"], frame["alpha"], out_dtype=out_dtype, encoding=encoding)
+    return {"image": image, "depth": frame["depth"], "stats": stats}
 
 
 def _finish(
     image: NDArray[Any],
-    depth: NDArray[np.float32] | None,
+    alpha: NDArray[np.float32] | None,
     *,
     out_dtype: str,
-    alpha: bool,
     encoding: Encoding,
 ) -> NDArray[Any]:
-    """The renderer's image (float32 when ``encoding="srgb"``) encoded and with its alpha
-    channel (from ``depth``, the coverage) as ``render`` returns it; the command line's
-    many-view renders use it too."""
+    """The renderer's image (float32 when ``encoding="srgb"``) encoded and, given the
+    coverage ``alpha`` of a render over a transparent background, with its alpha channel
+    (premultiplied), as ``render`` returns it; the command line's many-view renders use it
+    too."""
     if encoding == "srgb":
-        enc = srgb_encode(image)
+        if alpha is not None:
+            # Encode the colour, not the colour times coverage: un-premultiply, encode,
+            # premultiply again (in float, before any rounding).
+            a = alpha[..., None]
+            straight = np.divide(image, a, out=np.zeros_like(image), where=a > 0)
+            enc = srgb_encode(straight) * a
+        else:
+            enc = srgb_encode(image)
         image = np.floor(enc * 255.0 + 0.5).astype(np.uint8) if out_dtype == "uint8" else enc
-    if alpha:
-        assert depth is not None
-        covered = np.isfinite(depth)
-        a = covered.astype(image.dtype) * (255 if image.dtype == np.uint8 else 1)
-        image = np.ascontiguousarray(np.concatenate([image, a[:, :, None]], axis=2))
+    if alpha is not None:
+        if image.dtype == np.uint8:
+            a8 = np.floor(alpha * 255.0 + 0.5).astype(np.uint8)
+            image = np.concatenate([image, a8[:, :, None]], axis=2)
+        else:
+            image = np.concatenate([image, alpha[:, :, None].astype(image.dtype)], axis=2)
+        image = np.ascontiguousarray(image)
     return image
 
 
@@ -291,13 +299,22 @@ def render(
       vertex normals averaged, lit per vertex) or "face-intensities" (the lectures' simple
       method: each vertex takes the mean of its faces' flat-lit colours).
       ``interpolation``: "perspective" (default) or "screen" (the lectures' scan-line
-      formulas, affine in screen space).
+      formulas, affine in screen space). ``samples``: 1 (default) or 2, 4, 8, 16:
+      multi-sample anti-aliasing (standard D3D/Vulkan sample positions; each pixel shaded
+      once per visible triangle, weighted by the share of samples it covers).
+      ``supersample``: k in 1..8, render k x k pixels per output pixel and average them
+      (exact, k^2 times the work).
     - ``dtype``: "uint8" (default, ``round(clamp(c, 0, 1) * 255)``) or "float32" (linear,
       unclamped unless ``encoding="srgb"``).
     - ``return_depth``: also return the float32 eye-space depth (distance along the viewing
-      axis, world units), +inf where nothing was drawn.
-    - ``alpha``: add an alpha channel: opaque (255 or 1.0) where a triangle was drawn,
-      0 elsewhere (the colour there is ``background``, straight alpha).
+      axis, world units), +inf where nothing was drawn. With ``samples`` > 1 it is the
+      depth of the surface covering most of the pixel's samples (+inf where the
+      background covers most); with ``supersample`` the nearest of the k x k.
+    - ``alpha``: render over a transparent background and add an alpha channel: the share
+      of each pixel's samples a triangle covers (0 or 1 with one sample, fractions at
+      anti-aliased edges), 255 or 1.0 where fully covered. The colour is premultiplied
+      (edge pixels hold colour x coverage; the ``background`` option is not drawn), so the
+      image composites with ``out = rgb + (1 - alpha) * under``.
     - ``encoding``: "linear" (default): the shading's linear values, as OpenGL's classic
       pipeline writes them. "srgb": encoded for display with the sRGB transfer function
       (:func:`srgb_encode`), which brightens mid-tones the way viewers expect for an

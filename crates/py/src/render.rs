@@ -63,6 +63,17 @@ fn threads_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
     }
 }
 
+/// A small count (`samples`, `supersample`; None is 1). Values beyond u32 are refused here
+/// (`expected` says what is allowed); the rest is the core's check, which names the field.
+fn count_arg(obj: Option<&Bound<'_, PyAny>>, name: &str, expected: &str) -> PyResult<u32> {
+    let Some(obj) = obj.filter(|o| !o.is_none()) else {
+        return Ok(1);
+    };
+    int_arg(obj, name)?
+        .and_then(|v| u32::try_from(v).ok())
+        .ok_or_else(|| value_error(name, format!("{name} must be {expected}, got {obj}")))
+}
+
 fn shading_name(mode: core::ShadingMode) -> &'static str {
     match mode {
         core::ShadingMode::Flat => "flat",
@@ -120,8 +131,9 @@ impl PyRenderOptions {
     #[new]
     #[pyo3(signature = (width=None, height=None, shading="phong", specular="blinn",
                         background=None, cull_backfaces=false, threads=None,
-                        gouraud="normals", interpolation="perspective"),
-           text_signature = "(width=800, height=600, shading='phong', specular='blinn', background=None, cull_backfaces=False, threads=None, gouraud='normals', interpolation='perspective')")]
+                        gouraud="normals", interpolation="perspective", samples=None,
+                        supersample=None),
+           text_signature = "(width=800, height=600, shading='phong', specular='blinn', background=None, cull_backfaces=False, threads=None, gouraud='normals', interpolation='perspective', samples=1, supersample=1)")]
     #[allow(clippy::too_many_arguments)]
     fn new(
         width: Option<&Bound<'_, PyAny>>,
@@ -133,6 +145,8 @@ impl PyRenderOptions {
         threads: Option<&Bound<'_, PyAny>>,
         gouraud: &str,
         interpolation: &str,
+        samples: Option<&Bound<'_, PyAny>>,
+        supersample: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let mut inner =
             core::RenderOptions::new(size(width, 800, "width")?, size(height, 600, "height")?);
@@ -153,6 +167,9 @@ impl PyRenderOptions {
         }
         inner.cull_backfaces = cull_backfaces;
         inner.threads = threads_arg(threads)?;
+        inner.samples = count_arg(samples, "samples", "1, 2, 4, 8 or 16")?;
+        let max_ss = core::MAX_SUPERSAMPLE;
+        inner.supersample = count_arg(supersample, "supersample", &format!("1 to {max_ss}"))?;
         inner.validate().map_err(to_py)?;
         Ok(Self { inner })
     }
@@ -223,7 +240,21 @@ impl PyRenderOptions {
             "interpolation",
             interpolation_name(self.inner.interpolation),
         )?;
+        d.set_item("samples", self.inner.samples)?;
+        d.set_item("supersample", self.inner.supersample)?;
         Ok(d)
+    }
+
+    /// Visibility samples per pixel: 1, or 2, 4, 8, 16 for multi-sample anti-aliasing.
+    #[getter]
+    fn samples(&self) -> u32 {
+        self.inner.samples
+    }
+
+    /// Supersampling factor k (k×k pixels rendered and box-filtered per output pixel).
+    #[getter]
+    fn supersample(&self) -> u32 {
+        self.inner.supersample
     }
 
     /// Image width in pixels.
@@ -365,6 +396,7 @@ pub(crate) fn format_of(dtype: &Bound<'_, PyAny>) -> PyResult<core::ColorFormat>
 struct Rendered<'py> {
     image: Bound<'py, PyAny>,
     depth: Option<Bound<'py, PyAny>>,
+    alpha: Option<Bound<'py, PyAny>>,
     stats: core::RenderStats,
 }
 
@@ -372,10 +404,14 @@ fn render_impl<'py>(
     py: Python<'py>,
     scene: &PyScene,
     camera: &PyCamera,
-    options: core::RenderOptions,
+    mut options: core::RenderOptions,
     dtype: Option<&Bound<'py, PyAny>>,
-    return_depth: bool,
+    outputs: core::Outputs,
 ) -> PyResult<Rendered<'py>> {
+    if outputs.coverage {
+        // Premultiplied alpha: the colour over a transparent (black) background.
+        options.background = glam::Vec3::ZERO;
+    }
     let format = match dtype {
         Some(d) => format_of(d)?,
         None => core::ColorFormat::U8,
@@ -385,14 +421,22 @@ fn render_impl<'py>(
     let frame = py
         .detach(|| {
             no_panic("render", || {
-                core::render(&scene_copy, &cam, &options, format, return_depth)
+                core::render_with(&scene_copy, &cam, &options, format, outputs)
             })
         })?
         .map_err(to_py)?;
     let (image, depth) = frame_arrays(py, frame.color, frame.depth, frame.width, frame.height);
+    let (h, w) = (frame.height as usize, frame.width as usize);
+    let alpha = frame.coverage.map(|a| {
+        Array2::from_shape_vec((h, w), a)
+            .expect("size checked")
+            .into_pyarray(py)
+            .into_any()
+    });
     Ok(Rendered {
         image,
         depth,
+        alpha,
         stats: frame.stats,
     })
 }
@@ -413,18 +457,24 @@ pub fn render<'py>(
     kwargs: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let options = options_of(py, options.as_deref(), args, kwargs)?;
-    let r = render_impl(py, scene, camera, options, dtype, return_depth)?;
+    let outputs = core::Outputs {
+        depth: return_depth,
+        coverage: false,
+    };
+    let r = render_impl(py, scene, camera, options, dtype, outputs)?;
     match r.depth {
         Some(d) => Ok(PyTuple::new(py, [r.image, d])?.into_any()),
         None => Ok(r.image),
     }
 }
 
-/// Like `render`, returning a dict with "image", "depth" (or None) and "stats" (triangle
-/// counters and per-stage times in milliseconds: vertex_ms, setup_ms (assembly, clipping,
-/// setup and binning), raster_shade_ms).
+/// Like `render`, returning a dict with "image", "depth" (or None), "alpha" and "stats"
+/// (triangle counters and per-stage times in milliseconds: vertex_ms, setup_ms (assembly,
+/// clipping, setup and binning), raster_shade_ms). With `alpha=True` the background is
+/// transparent: "image" is premultiplied and "alpha" the float32 (h, w) coverage (the share
+/// of each pixel's samples a triangle covers); otherwise "alpha" is None.
 #[pyfunction]
-#[pyo3(signature = (scene, camera, *args, dtype=None, return_depth=false, options=None, **kwargs))]
+#[pyo3(signature = (scene, camera, *args, dtype=None, return_depth=false, options=None, alpha=false, **kwargs))]
 #[allow(clippy::too_many_arguments)]
 pub fn render_frame<'py>(
     py: Python<'py>,
@@ -434,10 +484,15 @@ pub fn render_frame<'py>(
     dtype: Option<&Bound<'py, PyAny>>,
     return_depth: bool,
     options: Option<PyRef<'py, PyRenderOptions>>,
+    alpha: bool,
     kwargs: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let options = options_of(py, options.as_deref(), args, kwargs)?;
-    let r = render_impl(py, scene, camera, options, dtype, return_depth)?;
+    let outputs = core::Outputs {
+        depth: return_depth,
+        coverage: alpha,
+    };
+    let r = render_impl(py, scene, camera, options, dtype, outputs)?;
     let s = r.stats;
     let stats = PyDict::new(py);
     stats.set_item("triangles_in", s.triangles_in)?;
@@ -453,6 +508,7 @@ pub fn render_frame<'py>(
     let out = PyDict::new(py);
     out.set_item("image", r.image)?;
     out.set_item("depth", r.depth)?;
+    out.set_item("alpha", r.alpha)?;
     out.set_item("stats", stats)?;
     Ok(out)
 }

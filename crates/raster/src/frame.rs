@@ -43,6 +43,16 @@ pub enum ColorBuffer {
     F32(Vec<f32>),
 }
 
+/// Which buffers a render produces besides the colour.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Outputs {
+    /// The eye-space depth ([`Frame::depth`]).
+    pub depth: bool,
+    /// The coverage ([`Frame::coverage`]): with the colour of a render over a black
+    /// background it makes a premultiplied RGBA image.
+    pub coverage: bool,
+}
+
 /// Which colour buffer to produce.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ColorFormat {
@@ -63,6 +73,9 @@ pub struct Frame {
     pub color: ColorBuffer,
     /// Eye-space depth (distance along the view axis, world units); +inf where empty.
     pub depth: Option<Vec<f32>>,
+    /// Share of each pixel's samples that a triangle covers, in [0, 1] (0 or 1 with one
+    /// sample), when asked for ([`Outputs::coverage`]).
+    pub coverage: Option<Vec<f32>>,
     /// What happened.
     pub stats: RenderStats,
 }

@@ -46,7 +46,7 @@ mod shadows;
 pub use camera::{Camera, Intrinsics, Projection};
 pub use effects::{Fog, FogMode};
 pub use error::{RasterError, Result};
-pub use frame::{ColorBuffer, ColorFormat, Frame, RenderStats, StageTimings};
+pub use frame::{ColorBuffer, ColorFormat, Frame, Outputs, RenderStats, StageTimings};
 pub use lights::{
     AreaLight, AreaShape, DirectionalLight, Light, PointLight, SplitColors, SpotLight,
     MAX_AREA_SAMPLES, MIN_ATTENUATION_DENOMINATOR,
@@ -57,11 +57,12 @@ pub use mesh::{face_normal, generate_vertex_normals, Mesh};
 pub use obj::{load_obj, load_obj_parts, parse_obj_parts, ObjPart};
 pub use options::{
     GouraudMethod, Interpolation, RenderOptions, ShadingMode, SpecularModel, MAX_IMAGE_SIZE,
+    MAX_SUPERSAMPLE, SAMPLE_COUNTS,
 };
 pub use pipeline::shade::Pixel;
 pub use pipeline::MAX_RADIANCE;
 pub use pool::{default_threads, MAX_THREADS};
 #[doc(hidden)]
 pub use pool::{max_in_flight, set_rendezvous};
-pub use render::{coverage_counts, render, render_depth_map, render_into};
+pub use render::{coverage_counts, render, render_depth_map, render_into, render_with};
 pub use scene::{Object, Scene};

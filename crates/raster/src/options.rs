@@ -37,7 +37,22 @@ pub struct RenderOptions {
     /// AVX2. The image is bit-identical either way; this exists to check that, and to
     /// measure what the wider instructions buy.
     pub baseline_isa: bool,
+    /// Visibility samples per pixel: 1 (the pixel centre) or 2, 4, 8, 16 (multi-sample
+    /// anti-aliasing at the standard D3D/Vulkan sample positions, [`SAMPLE_COUNTS`]). Each
+    /// pixel is shaded once per visible triangle, at its centre, and the colours are
+    /// averaged with the share of samples each triangle (or the background) covers.
+    pub samples: u32,
+    /// Render `k·width × k·height` pixels with one sample each and average each k×k block
+    /// (a box filter in linear colour): the exact-but-slow anti-aliasing, 1 (off) to
+    /// [`MAX_SUPERSAMPLE`]. Combines with `samples`.
+    pub supersample: u32,
 }
+
+/// The sample counts [`RenderOptions::samples`] accepts.
+pub const SAMPLE_COUNTS: [u32; 5] = [1, 2, 4, 8, 16];
+
+/// Largest [`RenderOptions::supersample`] factor.
+pub const MAX_SUPERSAMPLE: u32 = 8;
 
 impl RenderOptions {
     /// Phong shading, Blinn-Phong specular, black background, no culling, all cores.
@@ -53,6 +68,8 @@ impl RenderOptions {
             gouraud: GouraudMethod::Normals,
             interpolation: Interpolation::Perspective,
             baseline_isa: false,
+            samples: 1,
+            supersample: 1,
         }
     }
 
@@ -70,6 +87,29 @@ impl RenderOptions {
                 "background must be finite, got {:?}",
                 self.background.to_array()
             )));
+        }
+        if !SAMPLE_COUNTS.contains(&self.samples) {
+            return Err(RasterError::invalid_field(
+                "samples",
+                format!("samples must be 1, 2, 4, 8 or 16, got {}", self.samples),
+            ));
+        }
+        let k = self.supersample;
+        if !(1..=MAX_SUPERSAMPLE).contains(&k) {
+            return Err(RasterError::invalid_field(
+                "supersample",
+                format!("supersample must be between 1 and {MAX_SUPERSAMPLE}, got {k}"),
+            ));
+        }
+        let (w, h) = (self.width as u64 * k as u64, self.height as u64 * k as u64);
+        if w > MAX_IMAGE_SIZE as u64 || h > MAX_IMAGE_SIZE as u64 {
+            return Err(RasterError::invalid_field(
+                "supersample",
+                format!(
+                    "supersample {k} renders {w}x{h} pixels, above the limit of \
+                     {MAX_IMAGE_SIZE} per side; lower it or the image size"
+                ),
+            ));
         }
         pool::check_threads(self.threads)
     }

@@ -2,10 +2,11 @@
 
 use crate::camera::Camera;
 use crate::error::{RasterError, Result};
-use crate::frame::{ColorBuffer, ColorFormat, Frame, RenderStats};
+use crate::frame::{ColorBuffer, ColorFormat, Frame, Outputs, RenderStats};
 use crate::options::RenderOptions;
 use crate::pipeline;
 use crate::pipeline::shade::{Out, Pixel};
+use crate::pipeline::Buffers;
 use crate::pool;
 use crate::scene::Scene;
 
@@ -19,7 +20,8 @@ fn reserve<T>(len: usize) -> Result<Vec<T>> {
     Ok(v)
 }
 
-/// Renders `scene` seen by `camera` into newly allocated buffers.
+/// Renders `scene` seen by `camera` into newly allocated buffers: the colour, and the
+/// depth when `with_depth`.
 pub fn render(
     scene: &Scene,
     camera: &Camera,
@@ -27,9 +29,29 @@ pub fn render(
     format: ColorFormat,
     with_depth: bool,
 ) -> Result<Frame> {
+    let outputs = Outputs {
+        depth: with_depth,
+        coverage: false,
+    };
+    render_with(scene, camera, options, format, outputs)
+}
+
+/// [`render`] with the chosen [`Outputs`] besides the colour.
+pub fn render_with(
+    scene: &Scene,
+    camera: &Camera,
+    options: &RenderOptions,
+    format: ColorFormat,
+    outputs: Outputs,
+) -> Result<Frame> {
     options.validate()?;
     let n = options.pixel_count();
-    let mut depth = if with_depth {
+    let mut depth = if outputs.depth {
+        Some(reserve::<f32>(n)?)
+    } else {
+        None
+    };
+    let mut coverage = if outputs.coverage {
         Some(reserve::<f32>(n)?)
     } else {
         None
@@ -42,33 +64,33 @@ pub fn render(
         options: &RenderOptions,
         n: usize,
         depth: &mut Option<Vec<f32>>,
+        coverage: &mut Option<Vec<f32>>,
     ) -> Result<(Vec<P>, RenderStats)> {
         let mut c = reserve::<P>(n * 3)?;
-        let d = depth.as_mut().map(|d| &mut d.spare_capacity_mut()[..n]);
-        let stats = run_checked(
-            scene,
-            camera,
-            options,
-            &mut c.spare_capacity_mut()[..n * 3],
-            d,
-        )?;
+        let out = Buffers {
+            color: &mut c.spare_capacity_mut()[..n * 3],
+            depth: depth.as_mut().map(|d| &mut d.spare_capacity_mut()[..n]),
+            coverage: coverage.as_mut().map(|v| &mut v.spare_capacity_mut()[..n]),
+        };
+        let stats = run_checked(scene, camera, options, out)?;
         // SAFETY: the pipeline succeeded, so it wrote all `n·3` colour samples and, when
-        // asked for, all `n` depths (`pipeline::run`'s contract); both have that capacity.
+        // asked for, all `n` depths and coverages (`color_pass`'s contract); each vector
+        // has that capacity.
         unsafe {
             c.set_len(n * 3);
-            if let Some(d) = depth {
-                d.set_len(n);
+            for v in [depth, coverage].into_iter().flatten() {
+                v.set_len(n);
             }
         }
         Ok((c, stats))
     }
     let (color, stats) = match format {
         ColorFormat::U8 => {
-            let (c, s) = fill::<u8>(scene, camera, options, n, &mut depth)?;
+            let (c, s) = fill::<u8>(scene, camera, options, n, &mut depth, &mut coverage)?;
             (ColorBuffer::U8(c), s)
         }
         ColorFormat::F32 => {
-            let (c, s) = fill::<f32>(scene, camera, options, n, &mut depth)?;
+            let (c, s) = fill::<f32>(scene, camera, options, n, &mut depth, &mut coverage)?;
             (ColorBuffer::F32(c), s)
         }
     };
@@ -77,6 +99,7 @@ pub fn render(
         height: options.height,
         color,
         depth,
+        coverage,
         stats,
     })
 }
@@ -95,7 +118,12 @@ pub fn render_into<P: Pixel>(
     let color = unsafe { &mut *(color as *mut [P] as *mut [Out<P>]) };
     // SAFETY: as for `color`.
     let depth = depth.map(|d| unsafe { &mut *(d as *mut [f32] as *mut [Out<f32>]) });
-    run_checked(scene, camera, options, color, depth)
+    let out = Buffers {
+        color,
+        depth,
+        coverage: None,
+    };
+    run_checked(scene, camera, options, out)
 }
 
 /// Checks the options and buffer sizes, then runs the pipeline on the thread pool.
@@ -103,32 +131,132 @@ fn run_checked<P: Pixel>(
     scene: &Scene,
     camera: &Camera,
     options: &RenderOptions,
-    color: &mut [Out<P>],
-    depth: Option<&mut [Out<f32>]>,
+    out: Buffers<'_, P>,
 ) -> Result<RenderStats> {
     options.validate()?;
     let n = options.pixel_count();
-    if color.len() != n * 3 {
+    if out.color.len() != n * 3 {
         return Err(RasterError::invalid(format!(
             "colour buffer has {} samples, expected {}x{}x3 = {}",
-            color.len(),
+            out.color.len(),
             options.height,
             options.width,
             n * 3
         )));
     }
-    if let Some(d) = &depth {
-        if d.len() != n {
+    for (name, buf) in [("depth", &out.depth), ("coverage", &out.coverage)] {
+        if let Some(b) = buf.as_ref().filter(|b| b.len() != n) {
             return Err(RasterError::invalid(format!(
-                "depth buffer has {} samples, expected {}",
-                d.len(),
-                n
+                "{name} buffer has {} samples, expected {n}",
+                b.len()
             )));
         }
     }
     pool::run(options.threads, || {
-        pipeline::color_pass(scene, camera, options, color, depth)
+        if options.supersample > 1 {
+            supersampled(scene, camera, options, out)
+        } else {
+            pipeline::color_pass(scene, camera, options, out)
+        }
     })?
+}
+
+/// `supersample = k`: renders `k·width × k·height` linear float pixels and averages each
+/// k×k block into one output pixel (a box filter; the mean in f32, summed in row order, then
+/// stored as the output type). The depth output is the nearest eye depth of the block
+/// (+inf where no triangle is).
+fn supersampled<P: Pixel>(
+    scene: &Scene,
+    camera: &Camera,
+    options: &RenderOptions,
+    out: Buffers<'_, P>,
+) -> Result<RenderStats> {
+    let Buffers {
+        color,
+        depth,
+        coverage,
+    } = out;
+    use rayon::prelude::*;
+    let k = options.supersample as usize;
+    let w = options.width as usize;
+    let mut big = options.clone();
+    big.width *= options.supersample;
+    big.height *= options.supersample;
+    big.supersample = 1;
+    let n = big.pixel_count();
+    let mut c = reserve::<f32>(n * 3)?;
+    let mut d = match depth {
+        Some(_) => Some(reserve::<f32>(n)?),
+        None => None,
+    };
+    let mut v = match coverage {
+        Some(_) => Some(reserve::<f32>(n)?),
+        None => None,
+    };
+    let big_out = Buffers {
+        color: &mut c.spare_capacity_mut()[..n * 3],
+        depth: d.as_mut().map(|d| &mut d.spare_capacity_mut()[..n]),
+        coverage: v.as_mut().map(|v| &mut v.spare_capacity_mut()[..n]),
+    };
+    let stats = pipeline::color_pass(scene, camera, &big, big_out)?;
+    // SAFETY: the pass succeeded, so it wrote all `n·3` colour samples and, when asked for,
+    // all `n` depths and coverages; each vector has that capacity.
+    unsafe {
+        c.set_len(n * 3);
+        for b in [d.as_mut(), v.as_mut()].into_iter().flatten() {
+            b.set_len(n);
+        }
+    }
+    let (bw, kk) = (w * k, (k * k) as f32);
+    color
+        .par_chunks_mut(w * 3)
+        .enumerate()
+        .for_each(|(y, row)| {
+            for (x, px) in row.chunks_exact_mut(3).enumerate() {
+                let mut sum = [0.0f32; 3];
+                for sy in 0..k {
+                    let base = ((y * k + sy) * bw + x * k) * 3;
+                    for s in c[base..base + k * 3].chunks_exact(3) {
+                        for (a, v) in sum.iter_mut().zip(s) {
+                            *a += v;
+                        }
+                    }
+                }
+                let mut out = [P::default(); 3];
+                P::store(&mut out, glam::Vec3::from_array(sum) / kk);
+                for (o, v) in px.iter_mut().zip(out) {
+                    o.write(v);
+                }
+            }
+        });
+    if let (Some(out), Some(v)) = (coverage, v.as_ref()) {
+        // The mean coverage of the block, summed in row order.
+        out.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
+            for (x, o) in row.iter_mut().enumerate() {
+                let mut sum = 0.0f32;
+                for sy in 0..k {
+                    let base = (y * k + sy) * bw + x * k;
+                    sum += v[base..base + k].iter().sum::<f32>();
+                }
+                o.write(sum / kk);
+            }
+        });
+    }
+    if let (Some(out), Some(d)) = (depth, d.as_ref()) {
+        out.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
+            for (x, o) in row.iter_mut().enumerate() {
+                let mut near = f32::INFINITY;
+                for sy in 0..k {
+                    let base = (y * k + sy) * bw + x * k;
+                    for &v in &d[base..base + k] {
+                        near = near.min(v);
+                    }
+                }
+                o.write(near);
+            }
+        });
+    }
+    Ok(stats)
 }
 
 /// The window depth of every pixel, row-major `height·width`, from the visibility pass alone

@@ -6,9 +6,10 @@
 //! with no code of its own. Rust never contracts `a·b + c` into a fused multiply-add and
 //! every lane operation is IEEE-exact, so both variants give bit-identical images (tested).
 
-use super::raster::{self, TileBuffers};
+use super::raster::{self, TileBuffers, NO_TRIANGLE};
+use super::samples::{self, SampleTarget};
 use super::shade::{self, Out, Pixel, ShadeContext};
-use super::tiles::TileRect;
+use super::tiles::{TileRect, TILE};
 use crate::options::ShadingMode;
 
 /// The instruction set a render's tiles run on.
@@ -44,17 +45,62 @@ pub(crate) struct TileJob<'a, 'b, P> {
     pub depth: Option<&'a mut [&'b mut [Out<f32>]]>,
 }
 
+/// A worker's per-tile buffers: the single-sample visibility buffer and the multi-sample
+/// target (empty with one sample).
+pub(crate) struct Workspace {
+    pub buf: TileBuffers,
+    pub target: SampleTarget,
+}
+
+impl Workspace {
+    /// Buffers for `samples` per pixel.
+    pub fn new(samples: u32) -> Self {
+        Workspace {
+            buf: TileBuffers::new(),
+            target: SampleTarget::new(samples),
+        }
+    }
+
+    /// Writes the coverage of the tile just rendered (`empty`: no triangle touched it, so
+    /// the buffers hold another tile's visibility) into its rows: the share of each pixel's
+    /// samples that a triangle owns.
+    pub fn write_coverage(&self, rect: TileRect, empty: bool, rows: &mut [&mut [Out<f32>]]) {
+        if empty {
+            for row in rows.iter_mut() {
+                shade::fill_out(&mut row[..rect.w], 0.0);
+            }
+        } else if self.target.is_multi() {
+            self.target.write_coverage(rect, rows);
+        } else {
+            for (j, row) in rows.iter_mut().enumerate() {
+                let ids = &self.buf.id[j * TILE..j * TILE + rect.w];
+                for (o, &id) in row.iter_mut().zip(ids) {
+                    o.write(if id == NO_TRIANGLE { 0.0 } else { 1.0 });
+                }
+            }
+        }
+    }
+}
+
 /// Rasterizes and shades one tile with the instruction set `isa`, or with `screen`
-/// (screen-space interpolation) on the baseline.
+/// (screen-space interpolation) on the baseline; with `samples > 1` through the multi-sample
+/// target (`samples.rs`), in bodies of their own.
 #[inline]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn run_tile<P: Pixel>(
     isa: Isa,
     ctx: &ShadeContext<'_>,
     mode: ShadingMode,
     screen: bool,
-    buf: &mut TileBuffers,
+    samples: u32,
+    work: &mut Workspace,
     job: TileJob<'_, '_, P>,
 ) {
+    if samples > 1 {
+        multi_sample_tile(isa, ctx, mode, screen, &mut work.target, job);
+        return;
+    }
+    let buf = &mut work.buf;
     if screen && mode != ShadingMode::Flat {
         // Screen-space interpolation (the lectures' variant): a body of its own, so the
         // default bodies below compile exactly as without it.
@@ -103,6 +149,56 @@ fn tile_screen<P: Pixel>(
     job: TileJob<'_, '_, P>,
 ) {
     tile::<P, true>(ctx, mode, buf, job);
+}
+
+/// Multi-sample tiles (`samples.rs`), dispatched like the single-sample ones; kept out of
+/// line so the default bodies compile as without them.
+#[inline(never)]
+fn multi_sample_tile<P: Pixel>(
+    isa: Isa,
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    screen: bool,
+    target: &mut SampleTarget,
+    job: TileJob<'_, '_, P>,
+) {
+    if ctx.tris.tile_is_empty(job.index) {
+        shade::fill_background(ctx, job.rect, job.color, job.depth);
+        return;
+    }
+    if screen && mode != ShadingMode::Flat {
+        samples_body::<P, true>(ctx, mode, target, job);
+        return;
+    }
+    match isa {
+        Isa::Baseline => samples_body::<P, false>(ctx, mode, target, job),
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: as in `run_tile`: `Isa::Avx2` exists only on CPUs with AVX2 and FMA.
+        Isa::Avx2 => unsafe { samples_avx2(ctx, mode, target, job) },
+    }
+}
+
+/// # Safety
+/// The CPU must support AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn samples_avx2<P: Pixel>(
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    target: &mut SampleTarget,
+    job: TileJob<'_, '_, P>,
+) {
+    samples_body::<P, false>(ctx, mode, target, job);
+}
+
+#[inline(always)]
+fn samples_body<P: Pixel, const AFFINE: bool>(
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    target: &mut SampleTarget,
+    job: TileJob<'_, '_, P>,
+) {
+    samples::sample_tile::<P, AFFINE>(ctx, mode, job.index, job.rect, target, job.color, job.depth);
 }
 
 /// The tile body; always inlined, so each variant above compiles all of it for its own

@@ -12,12 +12,13 @@ pub(crate) mod clip;
 pub(crate) mod isa;
 mod passes;
 pub(crate) mod raster;
+pub(crate) mod samples;
 pub(crate) mod setup;
 pub mod shade;
 pub(crate) mod tiles;
 pub(crate) mod vertex;
 
-pub(crate) use passes::{color_pass, coverage_counts, depth_pass};
+pub(crate) use passes::{color_pass, coverage_counts, depth_pass, Buffers};
 
 use std::time::Instant;
 
@@ -77,11 +78,12 @@ impl PrimitiveContext<'_> {
             dropped: 0,
         };
         let cull = self.options.cull_backfaces;
+        let margin = samples::margin(self.options.samples);
         // Sets up one triangle; a piece of a clipped triangle (`clipped_from` is the original's
         // vertices) is marked and remembers its original.
         let push =
             |s: [Snapped; 3], vv: [u32; 3], clipped_from: Option<[u32; 3]>, out: &mut ChunkOut| {
-                match setup::setup(s, vv, object, w, h, cull) {
+                match setup::setup(s, vv, object, (w, h), cull, margin) {
                     Setup::Draw(mut t) => {
                         if let Some(v) = clipped_from {
                             t.clipped = true;

@@ -15,15 +15,39 @@ use crate::frame::RenderStats;
 use crate::options::{Interpolation, RenderOptions, ShadingMode};
 use crate::scene::Scene;
 
+/// The row-major output buffers of a colour pass: `height·width·3` colour samples and,
+/// when asked for, `height·width` depths and coverages.
+pub(crate) struct Buffers<'a, P> {
+    pub color: &'a mut [Out<P>],
+    pub depth: Option<&'a mut [Out<f32>]>,
+    pub coverage: Option<&'a mut [Out<f32>]>,
+}
+
+/// Per-tile row lists of an optional single-channel output (`None` for every tile when the
+/// output is not wanted).
+fn tile_rows<T>(
+    buf: Option<&mut [T]>,
+    w: usize,
+    h: usize,
+    tiles: usize,
+) -> Vec<Option<Vec<&mut [T]>>> {
+    match buf {
+        Some(b) => tiles::split_rows(b, w, h, 1)
+            .into_iter()
+            .map(Some)
+            .collect(),
+        None => (0..tiles).map(|_| None).collect(),
+    }
+}
+
 /// Runs the whole pipeline into caller-provided row-major buffers. On success every sample
-/// of `color` and `depth` has been written (tiles cover the image, and each tile writes
-/// every pixel of its rows: background or shaded).
+/// of the colour, depth and coverage buffers has been written (tiles cover the image, and
+/// each tile writes every pixel of its rows: background or shaded).
 pub(crate) fn color_pass<P: Pixel>(
     scene: &Scene,
     camera: &Camera,
     options: &RenderOptions,
-    color: &mut [Out<P>],
-    depth: Option<&mut [Out<f32>]>,
+    out: Buffers<'_, P>,
 ) -> Result<RenderStats> {
     let mut prep = prepare(scene, camera, options, Needs::Color)?;
     // Phong reads them per pixel; flat and Gouraud have used them already (prelight).
@@ -33,14 +57,9 @@ pub(crate) fn color_pass<P: Pixel>(
     };
     let (w, h) = (options.width as usize, options.height as usize);
     let rects = tiles::tile_rects(w, h);
-    let mut color_rows = tiles::split_rows(color, w, h, 3);
-    let mut depth_rows: Vec<Option<Vec<&mut [Out<f32>]>>> = match depth {
-        Some(d) => tiles::split_rows(d, w, h, 1)
-            .into_iter()
-            .map(Some)
-            .collect(),
-        None => (0..rects.len()).map(|_| None).collect(),
-    };
+    let mut color_rows = tiles::split_rows(out.color, w, h, 3);
+    let mut depth_rows = tile_rows(out.depth, w, h, rects.len());
+    let mut coverage_rows = tile_rows(out.coverage, w, h, rects.len());
     let isa = isa::Isa::detect(options.baseline_isa);
     let screen = options.interpolation == Interpolation::Screen;
     let shade_ctx = ShadeContext {
@@ -62,16 +81,27 @@ pub(crate) fn color_pass<P: Pixel>(
         .par_iter()
         .zip(color_rows.par_iter_mut())
         .zip(depth_rows.par_iter_mut())
+        .zip(coverage_rows.par_iter_mut())
         .enumerate()
-        .for_each_init(TileBuffers::new, |buf, (i, ((rect, crows), drows))| {
-            let job = isa::TileJob {
-                index: i,
-                rect: *rect,
-                color: crows,
-                depth: drows.as_deref_mut(),
-            };
-            isa::run_tile(isa, &shade_ctx, options.shading, screen, buf, job);
-        });
+        .for_each_init(
+            || isa::Workspace::new(options.samples),
+            |work, (i, (((rect, crows), drows), vrows))| {
+                let job = isa::TileJob {
+                    index: i,
+                    rect: *rect,
+                    color: crows,
+                    depth: drows.as_deref_mut(),
+                };
+                let (mode, samples) = (options.shading, options.samples);
+                isa::run_tile(isa, &shade_ctx, mode, screen, samples, work, job);
+                if let Some(rows) = vrows {
+                    // After the tile's work, from its visibility (outside the tile bodies,
+                    // so a render without this output runs them unchanged).
+                    let empty = prep.tris.tile_is_empty(i);
+                    work.write_coverage(*rect, empty, rows);
+                }
+            },
+        );
     let mut stats = prep.stats;
     stats.timings.raster_shade = prep.t_start.elapsed();
     Ok(stats)

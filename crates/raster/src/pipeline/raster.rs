@@ -63,6 +63,20 @@ pub(crate) fn rasterize_tile(tris: &Binned, index: usize, rect: TileRect, buf: &
     for_each_span(tris.tile(index), rect, buf);
 }
 
+/// [`rasterize_tile`] with every pixel's sample point moved from the centre by `offset`
+/// (fixed-point units): one sample position of a multi-sample tile.
+#[inline(always)]
+pub(crate) fn rasterize_tile_at(
+    tris: &Binned,
+    index: usize,
+    rect: TileRect,
+    offset: (i64, i64),
+    buf: &mut TileBuffers,
+) {
+    buf.clear();
+    for_each_span_at(tris.tile(index), rect, offset, buf);
+}
+
 /// What [`for_each_span`] hands its spans to. A trait with an `#[inline(always)]` method
 /// rather than a closure, so the depth test is inlined into its caller's instruction set.
 pub(crate) trait SpanSink {
@@ -120,8 +134,9 @@ fn depth_test_span(s: &Span, depth: &mut [f32], ids: &mut [u32]) {
         let mut i = [0u32; LANES];
         d.copy_from_slice(dw);
         i.copy_from_slice(iw);
+        let z = s.z_window(k0_window);
         for k in 0..LANES {
-            let z = s.z_at(k0_window + k);
+            let z = z[k];
             let nearer = z > d[k];
             d[k] = if nearer { z } else { d[k] };
             i[k] = if nearer { s.id } else { i[k] };
@@ -158,6 +173,17 @@ impl Span {
         // Via i32: converts in one SIMD instruction; columns are < 2^16.
         self.z_row + self.dzdx * (self.offset + k) as i32 as f32
     }
+
+    /// [`Span::z_at`] of the 8 pixels from `k0`, bit-identical to it: the column of pixel
+    /// `k0 + k` is the exact f32 sum of `k0`'s and `k` (integers below 2^24), written with
+    /// a constant lane vector so the compiler vectorises it however the code around it is
+    /// partitioned (an unrolled per-lane conversion stayed scalar in some builds).
+    #[inline(always)]
+    fn z_window(&self, k0: usize) -> [f32; 8] {
+        const LANE: [f32; 8] = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0];
+        let base = (self.offset + k0) as i32 as f32;
+        LANE.map(|k| self.z_row + self.dzdx * (base + k))
+    }
 }
 
 /// Hands `sink` every covered pixel of the tile for each of `tris` (in the given order),
@@ -166,6 +192,18 @@ impl Span {
 pub(crate) fn for_each_span<'a>(
     tris: impl Iterator<Item = (u32, &'a SetupTri)>,
     rect: TileRect,
+    sink: &mut impl SpanSink,
+) {
+    for_each_span_at(tris, rect, (0, 0), sink);
+}
+
+/// [`for_each_span`] with the sample point of every pixel at its centre plus `offset`
+/// (fixed-point units, each component within half a pixel).
+#[inline(always)]
+pub(crate) fn for_each_span_at<'a>(
+    tris: impl Iterator<Item = (u32, &'a SetupTri)>,
+    rect: TileRect,
+    offset: (i64, i64),
     sink: &mut impl SpanSink,
 ) {
     let (tx0, ty0) = (rect.x0 as i64, rect.y0 as i64);
@@ -179,7 +217,7 @@ pub(crate) fn for_each_span<'a>(
             continue;
         }
         let e = t.edges();
-        let (px, py) = (x0 * ONE + HALF, y0 * ONE + HALF);
+        let (px, py) = (x0 * ONE + HALF + offset.0, y0 * ONE + HALF + offset.1);
         let mut row = [0i64; 3];
         let mut step_x = [0i64; 3];
         let mut step_y = [0i64; 3];

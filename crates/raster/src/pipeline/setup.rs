@@ -104,14 +104,16 @@ pub(crate) enum Setup {
     Culled,
 }
 
-/// Sets up one (already clipped) triangle of snapped vertices.
+/// Sets up one (already clipped) triangle of snapped vertices. `margin` (fixed-point units)
+/// is how far a pixel's sample points reach from its centre (0 with one sample): the pixel
+/// bounds include every pixel one of whose samples the triangle's box contains.
 pub(crate) fn setup(
     s: [Snapped; 3],
     v: [u32; 3],
     object: u32,
-    width: u32,
-    height: u32,
+    (width, height): (u32, u32),
     cull_backfaces: bool,
+    margin: i64,
 ) -> Setup {
     let (x0, y0) = (s[0].0 as i64, s[0].1 as i64);
     let area2 =
@@ -132,9 +134,10 @@ pub(crate) fn setup(
     let s = order.map(|k| s[k]);
     let xs = s.map(|p| p.0 as i64);
     let ys = s.map(|p| p.1 as i64);
-    // Pixel x is covered only if its centre x·ONE + HALF lies within the bounds.
-    let first = |lo: i64| (lo - HALF + ONE - 1).div_euclid(ONE);
-    let last = |hi: i64| (hi - HALF).div_euclid(ONE);
+    // Pixel x is covered only if a sample point x·ONE + HALF + o, |o| ≤ margin, lies within
+    // the bounds.
+    let first = |lo: i64| (lo - HALF - margin + ONE - 1).div_euclid(ONE);
+    let last = |hi: i64| (hi - HALF + margin).div_euclid(ONE);
     let px0 = first(*xs.iter().min().unwrap()).max(0);
     let py0 = first(*ys.iter().min().unwrap()).max(0);
     let px1 = last(*xs.iter().max().unwrap()).min(width as i64 - 1);
@@ -163,7 +166,7 @@ mod tests {
 
     fn tri(pts: [(i32, i32); 3]) -> SetupTri {
         let s = pts.map(|(x, y)| (x * ONE as i32, y * ONE as i32, 0.5, 1.0));
-        match setup(s, [0, 1, 2], 0, 100, 100, false) {
+        match setup(s, [0, 1, 2], 0, (100, 100), false, 0) {
             Setup::Draw(t) => t,
             _ => panic!("skipped"),
         }
@@ -211,7 +214,7 @@ mod tests {
             (640, 0, 0.0, 1.0),
             (128, 2560, 0.0, 1.0),
         ];
-        let Setup::Draw(t) = setup(s, [0, 1, 2], 0, 100, 100, false) else {
+        let Setup::Draw(t) = setup(s, [0, 1, 2], 0, (100, 100), false, 0) else {
             panic!()
         };
         assert_eq!(t.bbox, [0, 0, 2, 9]);

@@ -16,7 +16,7 @@ mod store;
 
 pub(crate) use program::Program;
 pub use store::Pixel;
-pub(crate) use store::{put, Out};
+pub(crate) use store::{fill_out, put, Out, RowColors, ROW_LANES};
 
 use glam::Vec3;
 
@@ -29,7 +29,6 @@ use crate::camera::Camera;
 use crate::effects::FogEffect;
 use crate::options::ShadingMode;
 use crate::shadows::ShadowEffect;
-use store::fill_out;
 
 /// Everything the shade pass reads, shared by all tiles.
 pub(crate) struct ShadeContext<'a> {

@@ -33,6 +33,50 @@ impl<'a> Current<'a> {
         }
     }
 
+    /// Perspective weights λ_k / w_k at the pixel centre (x, y) (pixel units). Their sum is
+    /// the interpolated 1/w.
+    #[inline(always)]
+    fn weights(&self, x: f64, y: f64) -> [f32; 3] {
+        let p = &self.plane;
+        // Written out: `array::map` here is not always inlined, and this runs per pixel.
+        [
+            (p[0][0] * x + p[0][1] * y + p[0][2]) as f32,
+            (p[1][0] * x + p[1][1] * y + p[1][2]) as f32,
+            (p[2][0] * x + p[2][1] * y + p[2][2]) as f32,
+        ]
+    }
+
+    /// The inputs of one pixel at (x, y) (pixel centre) with stored depth `z`: the normal
+    /// (not yet normalised; the face normal for a zero or unusable blend, flipped for the
+    /// back of a two-sided surface), the position and the eye depth (0 unless wanted). The
+    /// same operations in the same order as [`Current::lanes`] per lane.
+    #[inline(always)]
+    fn pixel<const AFFINE: bool>(
+        &self,
+        ctx: &ShadeContext<'_>,
+        t: &SetupTri,
+        (x, y): (f64, f64),
+        z: f32,
+        want_depth: bool,
+    ) -> (Vec3, Vec3, f32) {
+        let [q0, q1, q2] = self.weights(x, y);
+        let inv_w = q0 + q1 + q2;
+        let eye_depth = ctx.eye_depth::<AFFINE>(want_depth, z, inv_w);
+        let r = 1.0 / inv_w;
+        let (b0, b1, b2) = (q0 * r, q1 * r, q2 * r);
+        let a = &self.normal;
+        let n = a[0] * b0 + a[1] * b1 + a[2] * b2;
+        let len2 = n.length_squared();
+        let n = if len2 > 1e-30 && len2.is_finite() {
+            n
+        } else {
+            face_normal(t, &ctx.verts.world)
+        };
+        let n = if ctx.two_sided && !t.front { -n } else { n };
+        let p = self.pos[0] * b0 + self.pos[1] * b1 + self.pos[2] * b2;
+        (n, p, eye_depth)
+    }
+
     fn load<const AFFINE: bool>(
         ctx: &ShadeContext<'a>,
         id: u32,
@@ -191,6 +235,36 @@ fn blend_lanes(a: &[Vec3; 3], b: &[Lanes; 3], out: &mut [Lanes; 3]) {
 }
 
 impl<'a> PhongBatch<'a> {
+    /// Appends one pixel at tile slot (row, column) `at`, flushing when the batch fills.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn push<P: Pixel, const SHADOWS: bool>(
+        &mut self,
+        ctx: &ShadeContext<'_>,
+        rect: TileRect,
+        (m, g): (&'a Surface, Vec3),
+        (n, p, depth): (Vec3, Vec3, f32),
+        at: (usize, usize),
+        color: &mut [&mut [Out<P>]],
+    ) {
+        if self.len > 0 && !std::ptr::eq(m, self.material.unwrap_or(m)) {
+            self.flush::<P, SHADOWS>(ctx, rect, color);
+        }
+        self.material = Some(m);
+        let k = self.len;
+        (self.n[0][k], self.n[1][k], self.n[2][k]) = (n.x, n.y, n.z);
+        (self.p[0][k], self.p[1][k], self.p[2][k]) = (p.x, p.y, p.z);
+        if SHADOWS {
+            (self.g[0][k], self.g[1][k], self.g[2][k]) = (g.x, g.y, g.z);
+        }
+        self.at[k] = at;
+        self.depth[k] = depth;
+        self.len += 1;
+        if self.len == LANES {
+            self.flush::<P, SHADOWS>(ctx, rect, color);
+        }
+    }
+
     /// Appends the first `live` lanes of a run chunk starting at tile column `i` of row `j`,
     /// all of material `m`, flushing whenever the batch fills.
     #[allow(clippy::too_many_arguments)]
@@ -228,6 +302,9 @@ impl<'a> PhongBatch<'a> {
         }
     }
 }
+
+/// Runs of a triangle at least this long are interpolated a lane loop at a time.
+const LANE_RUN: usize = 4;
 
 /// Phong: interpolation over whole runs of a triangle's pixels in a row ([`LANES`] at a
 /// time), lighting [`LANES`] pixels at a time.
@@ -293,6 +370,20 @@ pub(super) fn shade_phong<
                 }
             }
             let m = cur.material.expect("loaded for phong");
+            if end - i < LANE_RUN {
+                // Short runs (small triangles) a pixel at a time: a whole lane loop for a
+                // few live lanes measured slower.
+                for k in i..end {
+                    let x = (rect.x0 + k) as f64 + 0.5;
+                    let px = cur.pixel::<AFFINE>(ctx, t, (x, y), zs[k], want_depth);
+                    if let Some(d) = depth.as_deref_mut() {
+                        d[j][k].write(px.2);
+                    }
+                    batch.push::<P, SHADOWS>(ctx, rect, (m, face), px, (j, k), color);
+                }
+                i = end;
+                continue;
+            }
             for s in (i..end).step_by(LANES) {
                 let live = (end - s).min(LANES);
                 let mut z = [0.0; LANES];
