@@ -40,6 +40,7 @@ mod pool;
 pub mod primitives;
 mod render;
 mod scene;
+pub mod texture;
 
 pub use camera::{Camera, Intrinsics, Projection};
 pub use effects::{Fog, FogMode};
@@ -62,3 +63,4 @@ pub use pool::{default_threads, MAX_THREADS};
 pub use pool::{max_in_flight, set_rendezvous};
 pub use render::{coverage_counts, render, render_depth_map, render_into};
 pub use scene::{Object, Scene};
+pub use texture::{Filter, Footprint, Maps, Procedural, Texture, Wrap};

@@ -1,0 +1,177 @@
+//! The sampler room: textures and how they are read at a point. It knows nothing of lighting
+//! or of the pipeline: a [`Texture`] answers "which colour at (u, v), seen with these
+//! screen-space derivatives".
+//!
+//! Conventions (OpenGL's): UV (0, 0) is the bottom-left of the image; texel (i, j) (column
+//! i, row j from the top of the image) has its centre at u = (i + 0.5)/W,
+//! v = 1 − (j + 0.5)/H. Filtering is exactly OpenGL 4.6 §8.14–8.15 (see [`sample`]); the
+//! level of detail comes from the exact derivatives the caller passes ([`Footprint`]).
+//!
+//! Rooms: [`image`] (linear texels and the mip pyramid), [`wrap`] (repeat, clamp, mirror),
+//! [`sample`] (nearest, bilinear, trilinear), [`procedural`] (checker, grid, stripes, noise),
+//! [`decode`] (image files through the `image` crate).
+
+mod decode;
+mod image;
+mod procedural;
+mod sample;
+mod wrap;
+
+use std::sync::Arc;
+
+use glam::Vec3;
+
+pub use self::image::{Image, MAX_TEXTURE_SIZE};
+pub use procedural::Procedural;
+pub use sample::{Filter, Footprint};
+pub use wrap::Wrap;
+
+use crate::error::Result;
+
+/// A texture: an image with its filter and wrap modes, or a procedural pattern evaluated at
+/// each point.
+#[derive(Debug, Clone)]
+pub struct Texture {
+    source: Source,
+}
+
+#[derive(Debug, Clone)]
+enum Source {
+    Image {
+        image: Arc<Image>,
+        filter: Filter,
+        wrap: [Wrap; 2],
+    },
+    Procedural(Procedural),
+}
+
+impl Texture {
+    /// An image texture sampled with `filter`, wrapped per axis with `wrap` (u, v).
+    pub fn from_image(image: Arc<Image>, filter: Filter, wrap: [Wrap; 2]) -> Self {
+        Texture {
+            source: Source::Image {
+                image,
+                filter,
+                wrap,
+            },
+        }
+    }
+
+    /// A procedural texture (no image, evaluated where it is sampled).
+    pub fn procedural(p: Procedural) -> Self {
+        Texture {
+            source: Source::Procedural(p),
+        }
+    }
+
+    /// Decodes an image file (PNG, JPEG, 16-bit PNG...): see [`Image::load`].
+    pub fn load(
+        path: impl AsRef<std::path::Path>,
+        filter: Filter,
+        wrap: [Wrap; 2],
+        srgb: bool,
+    ) -> Result<Self> {
+        let image = decode::load(path.as_ref(), srgb)?;
+        Ok(Texture::from_image(Arc::new(image), filter, wrap))
+    }
+
+    /// The image, if this is an image texture.
+    pub fn image(&self) -> Option<&Arc<Image>> {
+        match &self.source {
+            Source::Image { image, .. } => Some(image),
+            Source::Procedural(_) => None,
+        }
+    }
+
+    /// The filter (procedural textures report [`Filter::Nearest`]: evaluated at the point).
+    pub fn filter(&self) -> Filter {
+        match &self.source {
+            Source::Image { filter, .. } => *filter,
+            Source::Procedural(_) => Filter::Nearest,
+        }
+    }
+
+    /// The wrap modes (u, v).
+    pub fn wrap(&self) -> [Wrap; 2] {
+        match &self.source {
+            Source::Image { wrap, .. } => *wrap,
+            Source::Procedural(_) => [Wrap::Repeat; 2],
+        }
+    }
+
+    /// The procedural pattern, if this is one.
+    pub fn pattern(&self) -> Option<&Procedural> {
+        match &self.source {
+            Source::Procedural(p) => Some(p),
+            Source::Image { .. } => None,
+        }
+    }
+
+    /// The linear RGB colour at `(u, v)` with the footprint `fp` (the exact derivatives of
+    /// u and v along the screen's x and y). Non-finite coordinates read as 0.
+    #[inline]
+    pub fn sample(&self, u: f64, v: f64, fp: &Footprint) -> Vec3 {
+        let (u, v) = (finite_or_zero(u), finite_or_zero(v));
+        match &self.source {
+            Source::Image {
+                image,
+                filter,
+                wrap,
+            } => sample::sample(image, *filter, *wrap, u, v, fp),
+            Source::Procedural(p) => p.eval(u, v),
+        }
+    }
+}
+
+#[inline(always)]
+fn finite_or_zero(x: f64) -> f64 {
+    if x.is_finite() {
+        x
+    } else {
+        0.0
+    }
+}
+
+/// The texture maps of a material; each colour multiplies its coefficient per point.
+/// `ambient` defaults to `diffuse` (as in MTL) when it is not given.
+#[derive(Debug, Clone, Default)]
+pub struct Maps {
+    /// Multiplies the diffuse reflectance `kd`.
+    pub diffuse: Option<Arc<Texture>>,
+    /// Multiplies the ambient reflectance `ka` (the diffuse map when `None`).
+    pub ambient: Option<Arc<Texture>>,
+    /// Multiplies the specular reflectance `ks`.
+    pub specular: Option<Arc<Texture>>,
+    /// Multiplies the emission `ke`.
+    pub emission: Option<Arc<Texture>>,
+}
+
+impl Maps {
+    /// Whether no map is set.
+    pub fn is_empty(&self) -> bool {
+        self.diffuse.is_none()
+            && self.ambient.is_none()
+            && self.specular.is_none()
+            && self.emission.is_none()
+    }
+
+    /// The map that weighs the ambient term: its own, else the diffuse map.
+    pub fn ambient_or_diffuse(&self) -> Option<&Arc<Texture>> {
+        self.ambient.as_ref().or(self.diffuse.as_ref())
+    }
+}
+
+impl PartialEq for Maps {
+    /// The same textures (by identity: two loads of one file are two textures).
+    fn eq(&self, other: &Self) -> bool {
+        let same = |a: &Option<Arc<Texture>>, b: &Option<Arc<Texture>>| match (a, b) {
+            (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+            (None, None) => true,
+            _ => false,
+        };
+        same(&self.diffuse, &other.diffuse)
+            && same(&self.ambient, &other.ambient)
+            && same(&self.specular, &other.specular)
+            && same(&self.emission, &other.emission)
+    }
+}
