@@ -28,6 +28,8 @@ pub struct ObjPart {
     pub mesh: Mesh,
     /// Its MTL material, if the file named one that could be loaded.
     pub material: Option<Material>,
+    /// The MTL material's texture maps (`map_Kd`...), if it names any.
+    pub maps: Option<std::sync::Arc<crate::texture::Maps>>,
 }
 
 /// Loads every part of an OBJ file. A `mtllib` file is looked up next to the OBJ file.
@@ -116,6 +118,7 @@ pub fn parse_obj_parts(
             name: m.name,
             mesh: built,
             material,
+            maps: None,
         });
     }
     if parts.is_empty() {

@@ -153,6 +153,9 @@ pub(crate) struct Prepared {
     pub verts: Vertices,
     pub tris: Binned,
     pub materials: Vec<Sides>,
+    /// Textured scenes only (else empty): every object's unit surfaces
+    /// ([`Surface::unit`]), whose split terms the texture stage weighs per point.
+    pub units: Vec<Sides>,
     pub eye: Vec3,
     pub stats: RenderStats,
     t_start: Instant,
@@ -207,16 +210,51 @@ pub(crate) fn prepare(
     let eye = camera.eye().as_vec3();
     let view_proj = camera.projection_matrix(w as f64 / h as f64) * camera.view_matrix();
     let light_set = LightSet::new(scene.lights());
-    let prepare_material = |m: &Material| {
-        let pm = Surface::folded(m, scene.ambient(), &light_set, options.specular);
+    let viewer = |pm: Surface| {
         if scene.local_viewer() {
             pm
         } else {
             pm.with_infinite_viewer((camera.eye() - camera.target()).as_vec3())
         }
     };
+    let prepare_material = |m: &Material| {
+        viewer(Surface::folded(
+            m,
+            scene.ambient(),
+            &light_set,
+            options.specular,
+        ))
+    };
     let two_sided = scene.two_sided();
     let lit = needs == Needs::Color;
+    // Maps or vertex colours anywhere: the whole scene takes the textured shade path.
+    let textured = lit && scene.objects().iter().any(|o| o.is_textured());
+    if textured
+        && options.shading == ShadingMode::Gouraud
+        && options.gouraud == GouraudMethod::FaceIntensities
+    {
+        return Err(RasterError::invalid_field(
+            "gouraud",
+            "gouraud='face-intensities' does not support textures or vertex colours; use \
+             gouraud='normals' (the default)",
+        ));
+    }
+    let units: Vec<Sides> = scene
+        .objects()
+        .iter()
+        .filter(|_| textured)
+        .map(|o| {
+            let unit = |m: &Material| {
+                viewer(Surface::unit(
+                    m,
+                    scene.ambient(),
+                    &light_set,
+                    options.specular,
+                ))
+            };
+            [unit(o.material()), unit(o.material_for(true, two_sided))]
+        })
+        .collect();
     if lit {
         for o in scene.objects() {
             check_mirror(o.material(), options.specular)?;
@@ -239,12 +277,13 @@ pub(crate) fn prepare(
         })
         .collect();
     check_dynamic_range(scene, &materials)?;
+    check_dynamic_range(scene, &units)?;
     let planes = ClipPlanes::new(options.width, options.height);
     let mut verts = vertex::transform(
         scene,
         view_proj,
         if lit {
-            Attributes::for_mode(options.shading)
+            Attributes::for_scene(options.shading, scene)
         } else {
             Attributes::NONE
         },
@@ -299,7 +338,9 @@ pub(crate) fn prepare(
         stats.triangles_dropped += out.dropped;
     }
     verts.append(&mut extras);
-    if lit && options.shading == ShadingMode::Gouraud {
+    // Textured Gouraud lights its vertices' split terms in the tile stage (it keeps the
+    // world positions and normals for that).
+    if lit && options.shading == ShadingMode::Gouraud && !textured {
         match options.gouraud {
             GouraudMethod::Normals => prelight::light_vertices(scene, &mut verts, &materials, eye),
             GouraudMethod::FaceIntensities => {
@@ -318,6 +359,7 @@ pub(crate) fn prepare(
         verts,
         tris,
         materials,
+        units,
         eye,
         stats,
         t_start: t_setup,

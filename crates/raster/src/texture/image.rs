@@ -166,7 +166,10 @@ fn check_size(width: usize, height: usize) -> Result<()> {
 /// The next mip level of `up` by the box filter.
 fn downsample(up: &Level) -> Level {
     let (w, h) = ((up.width / 2).max(1), (up.height / 2).max(1));
-    let (sx, sy) = (if up.width > 1 { 2 } else { 1 }, if up.height > 1 { 2 } else { 1 });
+    let (sx, sy) = (
+        if up.width > 1 { 2 } else { 1 },
+        if up.height > 1 { 2 } else { 1 },
+    );
     let scale = 1.0 / (sx * sy) as f32;
     let mut texels = Vec::with_capacity(w * h);
     for j in 0..h {
@@ -226,10 +229,13 @@ mod tests {
         let e = |r: Result<Image>| r.unwrap_err().to_string();
         assert!(e(Image::from_top_rows(0, 3, 3, &[], false)).contains("at least one texel"));
         assert!(e(Image::from_top_rows(1, 1, 2, &[0.0; 2], false)).contains("channels"));
-        assert!(e(Image::from_top_rows(1, 1, 3, &[0.0, f32::NAN, 0.0], false))
-            .contains("channel 1 is NaN"));
-        assert!(e(Image::from_top_rows(MAX_TEXTURE_SIZE + 1, 1, 3, &[], false))
-            .contains("per side"));
+        assert!(
+            e(Image::from_top_rows(1, 1, 3, &[0.0, f32::NAN, 0.0], false))
+                .contains("channel 1 is NaN")
+        );
+        assert!(
+            e(Image::from_top_rows(MAX_TEXTURE_SIZE + 1, 1, 3, &[], false)).contains("per side")
+        );
     }
 
     #[test]

@@ -79,7 +79,10 @@ impl Procedural {
             if !c.is_finite() || c.min_element() < 0.0 {
                 return Err(RasterError::invalid_field(
                     name,
-                    format!("texture {name} must be finite and >= 0, got {:?}", c.to_array()),
+                    format!(
+                        "texture {name} must be finite and >= 0, got {:?}",
+                        c.to_array()
+                    ),
                 ));
             }
         }
@@ -87,7 +90,9 @@ impl Procedural {
             if !(width > 0.0 && width < 1.0) {
                 return Err(RasterError::invalid_field(
                     "width",
-                    format!("grid line width must be in (0, 1) (a fraction of a cell), got {width}"),
+                    format!(
+                        "grid line width must be in (0, 1) (a fraction of a cell), got {width}"
+                    ),
                 ));
             }
         }
@@ -182,7 +187,11 @@ fn value_noise(x: f64, y: f64, seed: u32) -> f64 {
 
 #[inline(always)]
 fn smooth(t: f64) -> f64 {
-    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 };
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     t * t * (3.0 - 2.0 * t)
 }
 
@@ -206,15 +215,28 @@ mod tests {
 
     #[test]
     fn checker_stripes_and_grid_cells() {
-        let c = Procedural::Checker { scale: 4.0, a: W, b: K };
+        let c = Procedural::Checker {
+            scale: 4.0,
+            a: W,
+            b: K,
+        };
         assert_eq!(c.eval(0.1, 0.1), W);
         assert_eq!(c.eval(0.3, 0.1), K);
         assert_eq!(c.eval(0.3, 0.3), W);
         assert_eq!(c.eval(-0.1, 0.1), K);
-        let s = Procedural::Stripes { scale: 2.0, a: W, b: K };
+        let s = Procedural::Stripes {
+            scale: 2.0,
+            a: W,
+            b: K,
+        };
         assert_eq!(s.eval(0.2, 0.9), W);
         assert_eq!(s.eval(0.7, 0.1), K);
-        let g = Procedural::Grid { scale: 2.0, width: 0.2, a: W, b: K };
+        let g = Procedural::Grid {
+            scale: 2.0,
+            width: 0.2,
+            a: W,
+            b: K,
+        };
         assert_eq!(g.eval(0.25, 0.25), W); // a cell's centre
         assert_eq!(g.eval(0.51, 0.25), K); // on the line at u = 0.5
         assert_eq!(g.eval(0.25, 0.97), K); // on the line at v = 1
@@ -222,7 +244,13 @@ mod tests {
 
     #[test]
     fn noise_is_in_range_continuous_and_seeded() {
-        let n = |seed| Procedural::Noise { scale: 5.0, octaves: 4, seed, a: K, b: W };
+        let n = |seed| Procedural::Noise {
+            scale: 5.0,
+            octaves: 4,
+            seed,
+            a: K,
+            b: W,
+        };
         let mut prev = n(0).eval(0.0, 0.3).x;
         for k in 1..2000 {
             let c = n(0).eval(k as f64 * 1e-4, 0.3).x;
@@ -236,9 +264,24 @@ mod tests {
     #[test]
     fn huge_coordinates_are_finite() {
         for p in [
-            Procedural::Checker { scale: 3.0, a: W, b: K },
-            Procedural::Grid { scale: 3.0, width: 0.1, a: W, b: K },
-            Procedural::Noise { scale: 3.0, octaves: 16, seed: 2, a: K, b: W },
+            Procedural::Checker {
+                scale: 3.0,
+                a: W,
+                b: K,
+            },
+            Procedural::Grid {
+                scale: 3.0,
+                width: 0.1,
+                a: W,
+                b: K,
+            },
+            Procedural::Noise {
+                scale: 3.0,
+                octaves: 16,
+                seed: 2,
+                a: K,
+                b: W,
+            },
         ] {
             for (u, v) in [(1e30, -1e30), (f64::MAX, 0.5), (-f64::MAX, -f64::MAX)] {
                 assert!(p.eval(u, v).is_finite(), "{p:?} {u} {v}");
@@ -248,11 +291,26 @@ mod tests {
 
     #[test]
     fn bad_parameters_are_named() {
-        let bad = Procedural::Grid { scale: 1.0, width: 1.5, a: W, b: K };
+        let bad = Procedural::Grid {
+            scale: 1.0,
+            width: 1.5,
+            a: W,
+            b: K,
+        };
         assert!(bad.validated().unwrap_err().to_string().contains("width"));
-        let bad = Procedural::Checker { scale: f64::NAN, a: W, b: K };
+        let bad = Procedural::Checker {
+            scale: f64::NAN,
+            a: W,
+            b: K,
+        };
         assert!(bad.validated().unwrap_err().to_string().contains("scale"));
-        let bad = Procedural::Noise { scale: 1.0, octaves: 0, seed: 0, a: W, b: K };
+        let bad = Procedural::Noise {
+            scale: 1.0,
+            octaves: 0,
+            seed: 0,
+            a: W,
+            b: K,
+        };
         assert!(bad.validated().unwrap_err().to_string().contains("octaves"));
     }
 }

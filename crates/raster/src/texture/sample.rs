@@ -119,10 +119,7 @@ pub(super) fn bilinear(l: &Level, wrap: [Wrap; 2], u: f64, v: f64) -> Vec3 {
     let y = v * l.height as f64 - 0.5;
     let (x0, y0) = (x.floor(), y.floor());
     let (a, b) = ((x - x0) as f32, (y - y0) as f32);
-    let (i0, i1) = (
-        wrap[0].index(x0, l.width),
-        wrap[0].index(x0 + 1.0, l.width),
-    );
+    let (i0, i1) = (wrap[0].index(x0, l.width), wrap[0].index(x0 + 1.0, l.width));
     let (j0, j1) = (
         wrap[1].index(y0, l.height),
         wrap[1].index(y0 + 1.0, l.height),
@@ -233,7 +230,12 @@ mod tests {
         for f in [Filter::Nearest, Filter::Bilinear, Filter::Trilinear] {
             for w in [Wrap::Repeat, Wrap::Clamp, Wrap::Mirror] {
                 let t = tex(&img, f, w);
-                for (u, v) in [(f64::NAN, 0.5), (1e30, -1e30), (f64::INFINITY, 0.2), (-3e300, 1e300)] {
+                for (u, v) in [
+                    (f64::NAN, 0.5),
+                    (1e30, -1e30),
+                    (f64::INFINITY, 0.2),
+                    (-3e300, 1e300),
+                ] {
                     let fp = Footprint {
                         du_dx: u,
                         dv_dy: v,

@@ -13,10 +13,12 @@ mod program;
 pub(crate) mod prelight;
 mod runs;
 mod store;
+mod textured;
 
 pub(crate) use program::Program;
 pub use store::Pixel;
 pub(crate) use store::{put, Out};
+pub(crate) use textured::{TexturedObject, TexturedScene};
 
 use glam::Vec3;
 
@@ -46,6 +48,9 @@ pub(crate) struct ShadeContext<'a> {
     pub fog: Option<FogEffect>,
     /// The per-pixel stages after lighting, chosen once per render ([`Program::for_scene`]).
     pub program: Program,
+    /// Scenes with texture maps or vertex colours: the texture stage's inputs (every mode
+    /// then shades through [`textured`]); `None` runs the untextured loops unchanged.
+    pub textured: Option<TexturedScene<'a>>,
 }
 
 impl ShadeContext<'_> {
@@ -122,6 +127,9 @@ pub(crate) fn shade_tile<P: Pixel, const AFFINE: bool>(
     color: &mut [&mut [Out<P>]],
     depth: Option<&mut [&mut [Out<f32>]]>,
 ) {
+    if let Some(tex) = &ctx.textured {
+        return textured::shade_textured::<P, AFFINE>(ctx, tex, mode, rect, buf, color, depth);
+    }
     // Flat and Gouraud: one monomorphised run loop per fog on/off (their run fast paths are
     // specialised); Phong: its effects are a per-render program, and its loop is specialised
     // only on whether that program reads the eye depth. A scene without fog pays nothing for
