@@ -122,6 +122,7 @@ pub fn mesh_state<'py>(py: Python<'py>, m: &core::Mesh) -> PyResult<Bound<'py, P
             opt(m.given_normals()),
             opt(m.loader_normals()),
             uvs,
+            opt(m.colors()),
         ],
     )
 }
@@ -135,7 +136,21 @@ type Arrays<'py> = (
 );
 
 fn restore_mesh(state: &Bound<'_, PyAny>) -> PyResult<PyMesh> {
-    let (vertices, faces, given, loader, uvs): Arrays<'_> = state.extract()?;
+    // Pickles from before vertex colours have five items.
+    let (vertices, faces, given, loader, uvs, colors) = match state.extract::<Arrays<'_>>() {
+        Ok((a, b, c, d, e)) => (a, b, c, d, e, None),
+        Err(_) => {
+            let (a, b, c, d, e, f): (
+                Bound<'_, PyAny>,
+                Bound<'_, PyAny>,
+                Option<Bound<'_, PyAny>>,
+                Option<Bound<'_, PyAny>>,
+                Option<Bound<'_, PyAny>>,
+                Option<Bound<'_, PyAny>>,
+            ) = state.extract()?;
+            (a, b, c, d, e, f)
+        }
+    };
     let positions = read_vec3s(&vertices, "vertices")?;
     let indices = match faces.extract::<PyReadonlyArray2<u32>>() {
         Ok(a) if a.shape()[1] == 3 && a.as_slice().is_ok() => a
@@ -157,6 +172,9 @@ fn restore_mesh(state: &Bound<'_, PyAny>) -> PyResult<PyMesh> {
     let mut mesh = core::Mesh::new(positions, indices, normals, uvs).map_err(to_py)?;
     if from_loader {
         mesh = mesh.with_generated_normals();
+    }
+    if let Some(c) = colors {
+        mesh = mesh.with_colors(read_vec3s(&c, "colors")?).map_err(to_py)?;
     }
     Ok(PyMesh {
         inner: Arc::new(mesh),
@@ -474,6 +492,11 @@ pub fn scene_state<'py>(py: Python<'py>, scene: &PyScene) -> PyResult<Bound<'py,
     let mut meshes: Vec<Arc<core::Mesh>> = Vec::new();
     let mut objects: Vec<ObjectState> = Vec::new();
     for o in s.objects() {
+        if o.maps().is_some() {
+            return Err(pyo3::exceptions::PyTypeError::new_err(
+                "a Scene with textured objects cannot be pickled yet",
+            ));
+        }
         let i = match meshes.iter().position(|m| Arc::ptr_eq(m, o.mesh())) {
             Some(i) => i,
             None => {
@@ -621,12 +644,12 @@ pub fn _restore<'py>(
         "Mesh" => Bound::new(py, restore_mesh(state).map_err(bad)?)?.into_any(),
         "Material" => Bound::new(
             py,
-            PyMaterial {
-                inner: state
+            PyMaterial::plain(
+                state
                     .extract()
                     .map_err(bad)
                     .and_then(|s| material(s).map_err(bad))?,
-            },
+            ),
         )?
         .into_any(),
         "Fog" => Bound::new(

@@ -33,6 +33,7 @@ mod lighting;
 mod lights;
 mod material;
 mod mesh;
+mod mtl_maps;
 mod obj;
 mod options;
 mod pipeline;

@@ -19,7 +19,7 @@ mod wrap;
 
 use std::sync::Arc;
 
-use glam::Vec3;
+use glam::{DVec2, Vec3};
 
 pub use self::image::{Image, MAX_TEXTURE_SIZE};
 pub use procedural::Procedural;
@@ -33,6 +33,9 @@ use crate::error::Result;
 #[derive(Debug, Clone)]
 pub struct Texture {
     source: Source,
+    /// (u, v) → (u, v)·scale + offset before sampling (MTL's `-s` and `-o`).
+    uv_scale: DVec2,
+    uv_offset: DVec2,
 }
 
 #[derive(Debug, Clone)]
@@ -54,6 +57,8 @@ impl Texture {
                 filter,
                 wrap,
             },
+            uv_scale: DVec2::ONE,
+            uv_offset: DVec2::ZERO,
         }
     }
 
@@ -61,6 +66,17 @@ impl Texture {
     pub fn procedural(p: Procedural) -> Self {
         Texture {
             source: Source::Procedural(p),
+            uv_scale: DVec2::ONE,
+            uv_offset: DVec2::ZERO,
+        }
+    }
+
+    /// The same texture read at (u, v)·`scale` + `offset` (finite; MTL's `-s` and `-o`).
+    pub fn with_uv_transform(self, scale: DVec2, offset: DVec2) -> Self {
+        Texture {
+            uv_scale: scale,
+            uv_offset: offset,
+            ..self
         }
     }
 
@@ -111,7 +127,20 @@ impl Texture {
     /// u and v along the screen's x and y). Non-finite coordinates read as 0.
     #[inline]
     pub fn sample(&self, u: f64, v: f64, fp: &Footprint) -> Vec3 {
-        let (u, v) = (finite_or_zero(u), finite_or_zero(v));
+        let (s, o) = (self.uv_scale, self.uv_offset);
+        let (u, v) = (finite_or_zero(u * s.x + o.x), finite_or_zero(v * s.y + o.y));
+        let scaled;
+        let fp = if s == DVec2::ONE {
+            fp
+        } else {
+            scaled = Footprint {
+                du_dx: fp.du_dx * s.x,
+                dv_dx: fp.dv_dx * s.y,
+                du_dy: fp.du_dy * s.x,
+                dv_dy: fp.dv_dy * s.y,
+            };
+            &scaled
+        };
         match &self.source {
             Source::Image {
                 image,

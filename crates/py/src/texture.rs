@@ -1,0 +1,319 @@
+//! `Texture`: image textures (arrays, Pillow images, files) and procedural ones.
+
+use std::sync::Arc;
+
+use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use shadelab_raster as core;
+use shadelab_raster::texture::Image;
+
+use crate::convert;
+use crate::errors::{to_py, type_error, value_error};
+
+/// A texture: an image sampled with a filter and wrap modes, or a procedural pattern.
+#[pyclass(name = "Texture", module = "shadelab_rs._core", frozen)]
+pub struct PyTexture {
+    pub inner: Arc<core::Texture>,
+}
+
+fn filter_arg(name: &str) -> PyResult<core::Filter> {
+    core::Filter::from_name(name).ok_or_else(|| {
+        value_error(
+            "filter",
+            format!("filter must be 'nearest', 'bilinear' or 'trilinear', got {name:?}"),
+        )
+    })
+}
+
+/// "repeat" | "clamp" | "mirror", or a (u, v) pair of them.
+fn wrap_arg(w: &Bound<'_, PyAny>) -> PyResult<[core::Wrap; 2]> {
+    let one = |s: &str| {
+        core::Wrap::from_name(s).ok_or_else(|| {
+            value_error(
+                "wrap",
+                format!("wrap must be 'repeat', 'clamp' or 'mirror' (or a (u, v) pair), got {s:?}"),
+            )
+        })
+    };
+    if let Ok(s) = w.extract::<String>() {
+        let m = one(&s)?;
+        return Ok([m, m]);
+    }
+    if let Ok((a, b)) = w.extract::<(String, String)>() {
+        return Ok([one(&a)?, one(&b)?]);
+    }
+    Err(type_error(
+        "wrap",
+        format!(
+            "wrap must be a str or a (u, v) pair of str, got {}",
+            w.get_type().name()?
+        ),
+    ))
+}
+
+fn anisotropy_arg(a: i64) -> PyResult<()> {
+    if a != 1 {
+        return Err(value_error(
+            "anisotropy",
+            format!("anisotropic filtering is not implemented yet: anisotropy must be 1, got {a}"),
+        ));
+    }
+    Ok(())
+}
+
+/// An (H, W, 3|4) array (or anything `numpy.asarray` makes one of, such as a Pillow image)
+/// as f32 values in their own scale: uint8 / 255, uint16 / 65535, floats as they are.
+fn texels(obj: &Bound<'_, PyAny>) -> PyResult<(usize, usize, usize, Vec<f32>)> {
+    let py = obj.py();
+    let np = py.import("numpy")?;
+    let arr = np.call_method1("asarray", (obj,)).map_err(|e| {
+        type_error(
+            "array",
+            format!("a texture needs an (H, W, 3|4) array or a Pillow image: {e}"),
+        )
+    })?;
+    let dtype: String = arr.getattr("dtype")?.getattr("name")?.extract()?;
+    let scale =
+        match dtype.as_str() {
+            "uint8" => 1.0 / 255.0,
+            "uint16" => 1.0 / 65535.0,
+            "float32" | "float64" => 1.0,
+            _ => return Err(type_error(
+                "array",
+                format!(
+                    "texture arrays must be uint8, uint16, float32 or float64, got dtype {dtype}"
+                ),
+            )),
+        };
+    let shape: Vec<usize> = arr.getattr("shape")?.extract()?;
+    if shape.len() != 3 || !(shape[2] == 3 || shape[2] == 4) {
+        return Err(value_error(
+            "array",
+            format!(
+                "a texture array must have shape (H, W, 3) or (H, W, 4), got {shape:?} (a \
+                 grey or palette Pillow image: convert it with .convert('RGB'))"
+            ),
+        ));
+    }
+    let kwargs = PyDict::new(py);
+    kwargs.set_item("dtype", "float64")?;
+    let c = np.call_method("ascontiguousarray", (arr,), Some(&kwargs))?;
+    let ro: PyReadonlyArrayDyn<f64> = c.extract()?;
+    let data = ro
+        .as_slice()
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    if let Some(k) = data.iter().position(|v| !v.is_finite()) {
+        let (w, ch) = (shape[1], shape[2]);
+        return Err(value_error(
+            "array",
+            format!(
+                "texture array[{}, {}, {}] = {} is not finite",
+                k / (w * ch),
+                (k / ch) % w,
+                k % ch,
+                data[k]
+            ),
+        ));
+    }
+    let _ = ro.shape();
+    Ok((
+        shape[0],
+        shape[1],
+        shape[2],
+        data.iter().map(|&v| (v * scale) as f32).collect(),
+    ))
+}
+
+impl PyTexture {
+    /// Wraps a core texture.
+    pub fn of(inner: Arc<core::Texture>) -> Self {
+        PyTexture { inner }
+    }
+}
+
+#[pymethods]
+impl PyTexture {
+    #[new]
+    #[pyo3(signature = (array, filter="trilinear", wrap=None, srgb=false, anisotropy=1))]
+    fn new(
+        py: Python<'_>,
+        array: &Bound<'_, PyAny>,
+        filter: &str,
+        wrap: Option<&Bound<'_, PyAny>>,
+        srgb: bool,
+        anisotropy: i64,
+    ) -> PyResult<Self> {
+        let filter = filter_arg(filter)?;
+        let wrap = wrap.map_or(Ok([core::Wrap::Repeat; 2]), wrap_arg)?;
+        anisotropy_arg(anisotropy)?;
+        let (h, w, ch, data) = texels(array)?;
+        let image = py
+            .detach(|| {
+                crate::errors::no_panic("Texture", || Image::from_top_rows(w, h, ch, &data, srgb))
+            })?
+            .map_err(|e| crate::errors::with_field(to_py(e), "array"))?;
+        Ok(PyTexture {
+            inner: Arc::new(core::Texture::from_image(Arc::new(image), filter, wrap)),
+        })
+    }
+
+    /// Decodes an image file (PNG 8/16-bit, JPEG) into a texture.
+    #[staticmethod]
+    #[pyo3(signature = (path, filter="trilinear", wrap=None, srgb=false, anisotropy=1))]
+    fn load(
+        py: Python<'_>,
+        path: std::path::PathBuf,
+        filter: &str,
+        wrap: Option<&Bound<'_, PyAny>>,
+        srgb: bool,
+        anisotropy: i64,
+    ) -> PyResult<Self> {
+        let filter = filter_arg(filter)?;
+        let wrap = wrap.map_or(Ok([core::Wrap::Repeat; 2]), wrap_arg)?;
+        anisotropy_arg(anisotropy)?;
+        let tex = py
+            .detach(|| {
+                crate::errors::no_panic("Texture.load", || {
+                    core::Texture::load(&path, filter, wrap, srgb)
+                })
+            })?
+            .map_err(to_py)?;
+        Ok(PyTexture {
+            inner: Arc::new(tex),
+        })
+    }
+
+    /// A procedural texture by name: "checker", "grid", "stripes" or "noise" (value noise
+    /// with octaves), with `scale` cells per unit of u and v, colours `color_a` and
+    /// `color_b`, the grid's line `width` (a fraction of a cell), the noise's `octaves` and
+    /// `seed`.
+    #[staticmethod]
+    #[pyo3(signature = (name, scale=8.0, color_a=None, color_b=None, width=0.1, octaves=4, seed=0))]
+    #[allow(clippy::too_many_arguments)]
+    fn procedural(
+        name: &str,
+        scale: f64,
+        color_a: Option<&Bound<'_, PyAny>>,
+        color_b: Option<&Bound<'_, PyAny>>,
+        width: f64,
+        octaves: i64,
+        seed: i64,
+    ) -> PyResult<Self> {
+        let a = color_a.map_or(Ok(glam::Vec3::ONE), |c| convert::vec3(c, "color_a"))?;
+        let b = color_b.map_or(Ok(glam::Vec3::ZERO), |c| convert::vec3(c, "color_b"))?;
+        let p = match name {
+            "checker" => core::Procedural::Checker { scale, a, b },
+            "stripes" => core::Procedural::Stripes { scale, a, b },
+            "grid" => core::Procedural::Grid { scale, width, a, b },
+            "noise" => core::Procedural::Noise {
+                scale,
+                octaves: u32::try_from(octaves).unwrap_or(0),
+                seed: u32::try_from(seed).map_err(|_| {
+                    value_error("seed", format!("seed must be in 0..2^32, got {seed}"))
+                })?,
+                a,
+                b,
+            },
+            _ => {
+                return Err(value_error(
+                    "name",
+                    format!(
+                        "procedural texture must be 'checker', 'grid', 'stripes' or 'noise', \
+                         got {name:?}"
+                    ),
+                ))
+            }
+        };
+        let p = p.validated().map_err(to_py)?;
+        Ok(PyTexture {
+            inner: Arc::new(core::Texture::procedural(p)),
+        })
+    }
+
+    /// "image" or the procedural pattern's name.
+    #[getter]
+    fn kind(&self) -> &'static str {
+        self.inner.pattern().map_or("image", |p| p.name())
+    }
+
+    /// Width of the image in texels (None for a procedural texture).
+    #[getter]
+    fn width(&self) -> Option<usize> {
+        self.inner.image().map(|i| i.width())
+    }
+
+    /// Height of the image in texels (None for a procedural texture).
+    #[getter]
+    fn height(&self) -> Option<usize> {
+        self.inner.image().map(|i| i.height())
+    }
+
+    /// Number of mip levels (1 for a procedural texture).
+    #[getter]
+    fn levels(&self) -> usize {
+        self.inner.image().map_or(1, |i| i.levels().len())
+    }
+
+    /// The filter's name.
+    #[getter]
+    fn filter(&self) -> &'static str {
+        self.inner.filter().name()
+    }
+
+    /// The wrap modes (u, v).
+    #[getter]
+    fn wrap(&self) -> (&'static str, &'static str) {
+        let [u, v] = self.inner.wrap();
+        (u.name(), v.name())
+    }
+
+    /// Level 0 as linear float32 RGB, shape (H, W, 3), row 0 the top of the image (None for
+    /// a procedural texture).
+    fn to_array<'py>(&self, py: Python<'py>) -> Option<Bound<'py, numpy::PyArray3<f32>>> {
+        use numpy::IntoPyArray;
+        self.inner.image().map(|img| {
+            numpy::ndarray::Array3::from_shape_vec((img.height(), img.width(), 3), img.top_rows())
+                .expect("length matches")
+                .into_pyarray(py)
+        })
+    }
+
+    /// The colour at (u, v) as the renderer reads it with the screen-space derivatives
+    /// `derivatives` = (du/dx, dv/dx, du/dy, dv/dy) (zero: the sharpest level).
+    #[pyo3(signature = (u, v, derivatives=(0.0, 0.0, 0.0, 0.0)))]
+    fn sample(&self, u: f64, v: f64, derivatives: (f64, f64, f64, f64)) -> (f32, f32, f32) {
+        let (du_dx, dv_dx, du_dy, dv_dy) = derivatives;
+        let fp = core::Footprint {
+            du_dx,
+            dv_dx,
+            du_dy,
+            dv_dy,
+        };
+        self.inner.sample(u, v, &fp).into()
+    }
+
+    fn __reduce__(&self) -> PyResult<()> {
+        Err(PyTypeError::new_err(
+            "a Texture cannot be pickled yet (keep the array or file and rebuild it)",
+        ))
+    }
+
+    fn __repr__(&self) -> String {
+        match self.inner.image() {
+            Some(img) => {
+                let [u, v] = self.inner.wrap();
+                format!(
+                    "Texture({}x{}, filter={:?}, wrap=({:?}, {:?}))",
+                    img.width(),
+                    img.height(),
+                    self.inner.filter().name(),
+                    u.name(),
+                    v.name(),
+                )
+            }
+            None => format!("Texture.procedural({:?})", self.kind()),
+        }
+    }
+}
