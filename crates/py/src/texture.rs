@@ -75,18 +75,19 @@ fn texels(obj: &Bound<'_, PyAny>) -> PyResult<(usize, usize, usize, Vec<f32>)> {
         )
     })?;
     let dtype: String = arr.getattr("dtype")?.getattr("name")?.extract()?;
-    let scale =
-        match dtype.as_str() {
-            "uint8" => 1.0 / 255.0,
-            "uint16" => 1.0 / 65535.0,
-            "float32" | "float64" => 1.0,
-            _ => return Err(type_error(
+    let scale = match dtype.as_str() {
+        "uint8" => 1.0 / 255.0,
+        "uint16" => 1.0 / 65535.0,
+        "float32" | "float64" => 1.0,
+        _ => {
+            return Err(type_error(
                 "array",
                 format!(
                     "texture arrays must be uint8, uint16, float32 or float64, got dtype {dtype}"
                 ),
-            )),
-        };
+            ))
+        }
+    };
     let shape: Vec<usize> = arr.getattr("shape")?.extract()?;
     if shape.len() != 3 || !(shape[2] == 3 || shape[2] == 4) {
         return Err(value_error(
