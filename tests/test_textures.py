@@ -374,7 +374,7 @@ def write_obj(tmp_path: Path, mtl: str, with_png: bool = True) -> Path:
 
 def test_mtl_maps_load_with_the_obj(tmp_path):
     obj = write_obj(tmp_path, "newmtl a\nKd 1 1 1\nmap_Kd -s 2 2 t.png\nmap_Ks t.png\n")
-    [(name, mesh, mat)] = sl.load_obj_parts(obj)
+    [(_name, _mesh, mat)] = sl.load_obj_parts(obj)
     assert mat.diffuse_map is not None and mat.specular_map is not None
     assert mat.ambient_map is None
     scene = sl.Scene()
@@ -461,10 +461,10 @@ def test_bad_texture_options_and_files(tmp_path):
         sl.Texture(img, wrap=3)  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="anisotrop"):
         sl.Texture(img, anisotropy=4)
-    with pytest.raises(FileNotFoundError, match="nope.png"):
+    with pytest.raises(FileNotFoundError, match=r"nope\.png"):
         sl.Texture.load(tmp_path / "nope.png")
     (tmp_path / "bad.png").write_bytes(b"\x89PNG garbage")
-    with pytest.raises(ValueError, match="bad.png"):
+    with pytest.raises(ValueError, match=r"bad\.png"):
         sl.Texture.load(tmp_path / "bad.png")
     with pytest.raises(ValueError, match="procedural texture must be"):
         sl.Texture.procedural("marble")  # type: ignore[arg-type]
@@ -477,7 +477,7 @@ def test_bad_texture_options_and_files(tmp_path):
 
 
 def test_bad_vertex_colors_and_maps_without_uvs():
-    v, f, n, uv = floor_mesh(1)
+    v, f, _n, _uv = floor_mesh(1)
     with pytest.raises(ValueError, match="colors must have shape"):
         sl.Mesh(v, f, colors=np.zeros((len(v), 2)))
     with pytest.raises(ValueError, match="colors has"):
@@ -523,7 +523,7 @@ def test_trimesh_vertex_colors_and_texture_visuals():
     box.visual.vertex_colors = np.tile([255, 0, 0, 255], (len(box.vertices), 1))
     mesh = sl.Mesh.from_trimesh(box)
     assert mesh.colors is not None and np.allclose(mesh.colors, [1, 0, 0])
-    v, f, n, uv = floor_mesh(1)
+    v, f, _n, uv = floor_mesh(1)
     tm = trimesh.Trimesh(v, f, process=False)
     img = Image.fromarray(np.full((4, 4, 3), 255, np.uint8))
     tm.visual = trimesh.visual.TextureVisuals(uv=uv, image=img)
