@@ -163,7 +163,7 @@ class Material:
     (``diffuse_map``, ``ambient_map`` (default: the diffuse map), ``specular_map``,
     ``emission_map``) multiply their coefficient per point; the specular term is added after
     the texture. Materials compare equal when all their values are equal and they hold the
-    same Texture objects (and are not hashable); a textured material cannot be pickled."""
+    same Texture objects (and are not hashable)."""
 
     def __copy__(self) -> Material: ...
     def __deepcopy__(self, _memo: Any) -> Material:
@@ -305,7 +305,9 @@ class Texture:
     ) -> _Vec3:
         """The colour at (u, v) as the renderer reads it, with the screen-space
         derivatives (du/dx, dv/dx, du/dy, dv/dy) that set the level of detail."""
-    def __reduce__(self) -> None: ...
+    def __copy__(self) -> Texture: ...
+    def __deepcopy__(self, _memo: Any) -> Texture:
+        """Pickling and copying keep every texel exactly (textures are immutable)."""
 
 @final
 class DirectionalLight:

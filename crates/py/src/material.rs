@@ -52,10 +52,12 @@ fn shininess_f32(s: Option<f64>, default: f32) -> PyResult<f32> {
 impl PyMaterial {
     /// Pickle support: `_core._restore("Material", state)` rebuilds this value exactly.
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
-        if self.maps.is_some() {
-            return Err(pyo3::exceptions::PyTypeError::new_err(
-                "a Material with texture maps cannot be pickled yet",
-            ));
+        if let Some(maps) = &self.maps {
+            let state = (
+                crate::pickle::material_state(&self.inner),
+                crate::texture::maps_state(maps),
+            );
+            return crate::pickle::reduce(py, "TexturedMaterial", state);
         }
         crate::pickle::reduce(py, "Material", crate::pickle::material_state(&self.inner))
     }

@@ -491,12 +491,9 @@ pub fn scene_state<'py>(py: Python<'py>, scene: &PyScene) -> PyResult<Bound<'py,
     let s = &scene.inner;
     let mut meshes: Vec<Arc<core::Mesh>> = Vec::new();
     let mut objects: Vec<ObjectState> = Vec::new();
+    let mut maps = Vec::new();
     for o in s.objects() {
-        if o.maps().is_some() {
-            return Err(pyo3::exceptions::PyTypeError::new_err(
-                "a Scene with textured objects cannot be pickled yet",
-            ));
-        }
+        maps.push(o.maps().map(|m| crate::texture::maps_state(m)));
         let i = match meshes.iter().position(|m| Arc::ptr_eq(m, o.mesh())) {
             Some(i) => i,
             None => {
@@ -521,9 +518,7 @@ pub fn scene_state<'py>(py: Python<'py>, scene: &PyScene) -> PyResult<Bound<'py,
         .zip(&scene.given_directions)
         .map(|(l, given)| light_object(py, l, *given))
         .collect::<PyResult<Vec<_>>>()?;
-    PyTuple::new(
-        py,
-        [
+    let mut items = vec![
             V3::from(s.ambient()).into_pyobject(py)?.into_any(),
             s.fog().map(fog_state).into_pyobject(py)?.into_any(),
             s.two_sided().into_pyobject(py)?.to_owned().into_any(),
@@ -536,8 +531,12 @@ pub fn scene_state<'py>(py: Python<'py>, scene: &PyScene) -> PyResult<Bound<'py,
                 .into_pyobject(py)?
                 .to_owned()
                 .into_any(),
-        ],
-    )
+    ];
+    // Per-object texture maps, only when there are any: untextured scenes pickle as before.
+    if maps.iter().any(Option::is_some) {
+        items.push(maps.into_pyobject(py)?.into_any());
+    }
+    PyTuple::new(py, items)
 }
 
 fn transform(cols: &[f32]) -> PyResult<Mat4> {
@@ -549,6 +548,23 @@ fn transform(cols: &[f32]) -> PyResult<Mat4> {
 
 #[allow(clippy::type_complexity)]
 fn restore_scene(state: &Bound<'_, PyAny>) -> PyResult<PyScene> {
+    // A ninth item holds the objects' texture maps (scenes with textures only).
+    let maps: Vec<Option<Arc<core::Maps>>> = match state.len()? {
+        9 => state
+            .get_item(8)?
+            .try_iter()?
+            .map(|m| {
+                let m = m?;
+                if m.is_none() {
+                    Ok(None)
+                } else {
+                    crate::texture::restore_maps(&m)
+                }
+            })
+            .collect::<PyResult<_>>()?,
+        _ => Vec::new(),
+    };
+    let state = &state.get_item(pyo3::types::PySlice::new(state.py(), 0, 8, 1))?;
     let (ambient, fog_s, two_sided, local_viewer, meshes, objects, lights, default_lights): (
         V3,
         Option<FogState>,
@@ -563,14 +579,17 @@ fn restore_scene(state: &Bound<'_, PyAny>) -> PyResult<PyScene> {
     scene.set_fog(fog_s.map(fog).transpose()?);
     scene.set_two_sided(two_sided);
     scene.set_local_viewer(local_viewer);
-    for (i, m, back, t) in objects {
+    for (k, (i, m, back, t)) in objects.into_iter().enumerate() {
         let mesh = meshes
             .get(i)
             .ok_or_else(|| PyValueError::new_err(format!("a pickled object names mesh {i}")))?;
         let back = back.map(material).transpose()?;
         let object = core::Object::new(mesh.inner.clone(), material(m)?, transform(&t)?)
-            .map_err(to_py)?
-            .with_back_material(back);
+            .and_then(|o| {
+                o.with_back_material(back)
+                    .with_maps(maps.get(k).cloned().flatten())
+            })
+            .map_err(to_py)?;
         scene.add_object(object);
     }
     let mut given_directions = Vec::with_capacity(lights.len());
@@ -706,6 +725,24 @@ pub fn _restore<'py>(
             },
         )?
         .into_any(),
+        "Texture" => Bound::new(py, crate::texture::restore_texture(state).map_err(bad)?)?
+            .into_any(),
+        "TexturedMaterial" => {
+            let restore = || -> PyResult<PyMaterial> {
+                let inner = material(state.get_item(0)?.extract()?)?;
+                let maps = crate::texture::restore_maps(&state.get_item(1)?)?;
+                Ok(PyMaterial { inner, maps })
+            };
+            Bound::new(py, restore().map_err(bad)?)?.into_any()
+        }
+        "TexturedSceneObject" => {
+            let restore = || -> PyResult<PySceneObject> {
+                let base = restore_scene_object(&state.get_item(0)?)?;
+                let maps = crate::texture::restore_maps(&state.get_item(1)?)?;
+                base.with_maps(maps)
+            };
+            Bound::new(py, restore().map_err(bad)?)?.into_any()
+        }
         "Scene" => Bound::new(py, restore_scene(state).map_err(bad)?)?.into_any(),
         "SceneObject" => Bound::new(py, restore_scene_object(state).map_err(bad)?)?.into_any(),
         // The state is the constructor's keywords (`RenderOptions.to_dict`): checked by it.

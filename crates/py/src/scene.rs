@@ -31,6 +31,17 @@ pub struct PySceneObject {
 }
 
 impl PySceneObject {
+    /// The same snapshot with texture maps (checked against the mesh's UVs).
+    pub fn with_maps(self, maps: Option<Arc<core::Maps>>) -> PyResult<Self> {
+        if maps.is_some() && self.mesh.uvs().is_none() {
+            return Err(crate::errors::value_error(
+                "uvs",
+                "the material has texture maps but the mesh has no UVs",
+            ));
+        }
+        Ok(PySceneObject { maps, ..self })
+    }
+
     /// The snapshot of a scene's object.
     pub fn from_object(o: &core::Object) -> Self {
         PySceneObject {
@@ -47,10 +58,16 @@ impl PySceneObject {
 impl PySceneObject {
     /// Pickle support: `_core._restore("SceneObject", state)` rebuilds this value exactly.
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
-        if self.maps.is_some() {
-            return Err(PyTypeError::new_err(
-                "a SceneObject with texture maps cannot be pickled yet",
-            ));
+        if let Some(maps) = &self.maps {
+            let base = crate::pickle::scene_object_state(
+                py,
+                &self.mesh,
+                &self.material,
+                self.back_material.as_ref(),
+                &self.transform,
+            )?;
+            let state = (base, crate::texture::maps_state(maps));
+            return crate::pickle::reduce(py, "TexturedSceneObject", state);
         }
         crate::pickle::reduce(
             py,

@@ -3,9 +3,9 @@
 use std::sync::Arc;
 
 use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyTuple};
 use shadelab_raster as core;
 use shadelab_raster::texture::Image;
 
@@ -295,10 +295,19 @@ impl PyTexture {
         self.inner.sample(u, v, &fp).into()
     }
 
-    fn __reduce__(&self) -> PyResult<()> {
-        Err(PyTypeError::new_err(
-            "a Texture cannot be pickled yet (keep the array or file and rebuild it)",
-        ))
+    /// Pickle support: `_core._restore("Texture", state)` rebuilds this texture exactly
+    /// (an image from its linear level 0, so the pyramid is the same bit for bit).
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        crate::pickle::reduce(py, "Texture", texture_state(py, &self.inner)?)
+    }
+
+    fn __copy__(&self) -> Self {
+        PyTexture::of(self.inner.clone())
+    }
+
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
+        // Immutable: a copy may share the texels.
+        PyTexture::of(self.inner.clone())
     }
 
     fn __repr__(&self) -> String {
@@ -317,4 +326,158 @@ impl PyTexture {
             None => format!("Texture.procedural({:?})", self.kind()),
         }
     }
+}
+
+type V3 = (f32, f32, f32);
+
+/// The pickled state of a texture: `("image", w, h, texels, filter, wrap, uv)` or
+/// `("procedural", name, scale, a, b, width, octaves, seed, uv)`, `uv` = (scale, offset).
+pub fn texture_state<'py>(py: Python<'py>, t: &core::Texture) -> PyResult<Bound<'py, PyTuple>> {
+    use numpy::IntoPyArray;
+    let (s, o) = t.uv_transform();
+    let uv = ((s.x, s.y), (o.x, o.y)).into_pyobject(py)?.into_any();
+    if let Some(img) = t.image() {
+        let [wu, wv] = t.wrap();
+        return PyTuple::new(
+            py,
+            [
+                "image".into_pyobject(py)?.into_any(),
+                img.width().into_pyobject(py)?.into_any(),
+                img.height().into_pyobject(py)?.into_any(),
+                img.top_rows().into_pyarray(py).into_any(),
+                t.filter().name().into_pyobject(py)?.into_any(),
+                (wu.name(), wv.name()).into_pyobject(py)?.into_any(),
+                uv,
+            ],
+        );
+    }
+    let p = t.pattern().expect("a texture is an image or a pattern");
+    let (scale, a, b, width, octaves, seed) = match *p {
+        core::Procedural::Checker { scale, a, b } | core::Procedural::Stripes { scale, a, b } => {
+            (scale, a, b, 0.1, 4, 0)
+        }
+        core::Procedural::Grid { scale, width, a, b } => (scale, a, b, width, 4, 0),
+        core::Procedural::Noise {
+            scale,
+            octaves,
+            seed,
+            a,
+            b,
+        } => (scale, a, b, 0.1, octaves, seed),
+    };
+    let (a, b): (V3, V3) = (a.into(), b.into());
+    PyTuple::new(
+        py,
+        [
+            "procedural".into_pyobject(py)?.into_any(),
+            p.name().into_pyobject(py)?.into_any(),
+            scale.into_pyobject(py)?.into_any(),
+            a.into_pyobject(py)?.into_any(),
+            b.into_pyobject(py)?.into_any(),
+            width.into_pyobject(py)?.into_any(),
+            octaves.into_pyobject(py)?.into_any(),
+            seed.into_pyobject(py)?.into_any(),
+            uv,
+        ],
+    )
+}
+
+type Uv = ((f64, f64), (f64, f64));
+
+/// Rebuilds a texture from [`texture_state`].
+pub fn restore_texture(state: &Bound<'_, PyAny>) -> PyResult<PyTexture> {
+    let kind: String = state.get_item(0)?.extract()?;
+    let tex = if kind == "image" {
+        let (_, w, h, data, filter, (wu, wv), uv): (
+            String,
+            usize,
+            usize,
+            numpy::PyReadonlyArray1<'_, f32>,
+            String,
+            (String, String),
+            Uv,
+        ) = state.extract()?;
+        let wrap = |n: &str| {
+            core::Wrap::from_name(n)
+                .ok_or_else(|| PyValueError::new_err(format!("unknown wrap {n:?}")))
+        };
+        let data = data
+            .as_slice()
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let image = Image::from_top_rows(w, h, 3, data, false).map_err(to_py)?;
+        core::Texture::from_image(Arc::new(image), filter_arg(&filter)?, [wrap(&wu)?, wrap(&wv)?])
+            .with_uv_transform(uv.0.into(), uv.1.into())
+    } else {
+        let (_, name, scale, a, b, width, octaves, seed, uv): (
+            String,
+            String,
+            f64,
+            V3,
+            V3,
+            f64,
+            u32,
+            u32,
+            Uv,
+        ) = state.extract()?;
+        let (a, b) = (glam::Vec3::from(a), glam::Vec3::from(b));
+        let p = match name.as_str() {
+            "checker" => core::Procedural::Checker { scale, a, b },
+            "stripes" => core::Procedural::Stripes { scale, a, b },
+            "grid" => core::Procedural::Grid { scale, width, a, b },
+            "noise" => core::Procedural::Noise {
+                scale,
+                octaves,
+                seed,
+                a,
+                b,
+            },
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "unknown procedural texture {other:?}"
+                )))
+            }
+        };
+        core::Texture::procedural(p.validated().map_err(to_py)?)
+            .with_uv_transform(uv.0.into(), uv.1.into())
+    };
+    Ok(PyTexture::of(Arc::new(tex)))
+}
+
+/// The pickled form of a material's maps: (diffuse, ambient, specular, emission), each a
+/// Texture or None.
+#[allow(clippy::type_complexity)]
+pub fn maps_state(
+    maps: &core::Maps,
+) -> (
+    Option<PyTexture>,
+    Option<PyTexture>,
+    Option<PyTexture>,
+    Option<PyTexture>,
+) {
+    let t = |m: &Option<Arc<core::Texture>>| m.clone().map(PyTexture::of);
+    (
+        t(&maps.diffuse),
+        t(&maps.ambient),
+        t(&maps.specular),
+        t(&maps.emission),
+    )
+}
+
+/// Maps from [`maps_state`].
+pub fn restore_maps(state: &Bound<'_, PyAny>) -> PyResult<Option<Arc<core::Maps>>> {
+    #[allow(clippy::type_complexity)]
+    let (d, a, s, e): (
+        Option<PyRef<'_, PyTexture>>,
+        Option<PyRef<'_, PyTexture>>,
+        Option<PyRef<'_, PyTexture>>,
+        Option<PyRef<'_, PyTexture>>,
+    ) = state.extract()?;
+    let t = |x: Option<PyRef<'_, PyTexture>>| x.map(|x| x.inner.clone());
+    let maps = core::Maps {
+        diffuse: t(d),
+        ambient: t(a),
+        specular: t(s),
+        emission: t(e),
+    };
+    Ok((!maps.is_empty()).then(|| Arc::new(maps)))
 }

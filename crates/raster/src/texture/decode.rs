@@ -8,8 +8,13 @@ use crate::error::{RasterError, Result};
 
 /// Decodes the file at `path` (values scaled to [0, 1]; `srgb` decodes them to linear).
 pub(super) fn load(path: &Path, srgb: bool) -> Result<Image> {
-    if !path.exists() {
-        return Err(RasterError::NotFound(path.to_path_buf()));
+    let meta = std::fs::metadata(path).map_err(|_| RasterError::NotFound(path.to_path_buf()))?;
+    // A device or pipe (an MTL naming /dev/stdin) could block or never end.
+    if !meta.is_file() {
+        return Err(RasterError::Io {
+            path: path.to_path_buf(),
+            message: "not a regular file".into(),
+        });
     }
     let parse = |message: String| RasterError::Parse {
         path: path.to_path_buf(),

@@ -91,6 +91,11 @@ impl Texture {
         Ok(Texture::from_image(Arc::new(image), filter, wrap))
     }
 
+    /// The (scale, offset) applied to (u, v) before sampling.
+    pub fn uv_transform(&self) -> (DVec2, DVec2) {
+        (self.uv_scale, self.uv_offset)
+    }
+
     /// The image, if this is an image texture.
     pub fn image(&self) -> Option<&Arc<Image>> {
         match &self.source {

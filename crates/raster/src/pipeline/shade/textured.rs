@@ -242,7 +242,9 @@ impl Batch {
     }
 }
 
-/// Shades one tile of a textured scene (any mode).
+/// Shades one tile of a textured scene (any mode). Never inlined: the untextured tile
+/// bodies that branch past it keep their own code layout.
+#[inline(never)]
 pub(super) fn shade_textured<P: Pixel, const AFFINE: bool>(
     ctx: &ShadeContext<'_>,
     tex: &TexturedScene<'_>,
