@@ -135,19 +135,22 @@ type Arrays<'py> = (
     Option<Bound<'py, PyAny>>,
 );
 
+/// [`Arrays`] and the vertex colours.
+type Arrays6<'py> = (
+    Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
+    Option<Bound<'py, PyAny>>,
+    Option<Bound<'py, PyAny>>,
+    Option<Bound<'py, PyAny>>,
+    Option<Bound<'py, PyAny>>,
+);
+
 fn restore_mesh(state: &Bound<'_, PyAny>) -> PyResult<PyMesh> {
     // Pickles from before vertex colours have five items.
     let (vertices, faces, given, loader, uvs, colors) = match state.extract::<Arrays<'_>>() {
         Ok((a, b, c, d, e)) => (a, b, c, d, e, None),
         Err(_) => {
-            let (a, b, c, d, e, f): (
-                Bound<'_, PyAny>,
-                Bound<'_, PyAny>,
-                Option<Bound<'_, PyAny>>,
-                Option<Bound<'_, PyAny>>,
-                Option<Bound<'_, PyAny>>,
-                Option<Bound<'_, PyAny>>,
-            ) = state.extract()?;
+            let (a, b, c, d, e, f): Arrays6<'_> = state.extract()?;
             (a, b, c, d, e, f)
         }
     };
@@ -519,18 +522,18 @@ pub fn scene_state<'py>(py: Python<'py>, scene: &PyScene) -> PyResult<Bound<'py,
         .map(|(l, given)| light_object(py, l, *given))
         .collect::<PyResult<Vec<_>>>()?;
     let mut items = vec![
-            V3::from(s.ambient()).into_pyobject(py)?.into_any(),
-            s.fog().map(fog_state).into_pyobject(py)?.into_any(),
-            s.two_sided().into_pyobject(py)?.to_owned().into_any(),
-            s.local_viewer().into_pyobject(py)?.to_owned().into_any(),
-            PyList::new(py, meshes)?.into_any(),
-            objects.into_pyobject(py)?.into_any(),
-            PyList::new(py, lights)?.into_any(),
-            scene
-                .default_lights
-                .into_pyobject(py)?
-                .to_owned()
-                .into_any(),
+        V3::from(s.ambient()).into_pyobject(py)?.into_any(),
+        s.fog().map(fog_state).into_pyobject(py)?.into_any(),
+        s.two_sided().into_pyobject(py)?.to_owned().into_any(),
+        s.local_viewer().into_pyobject(py)?.to_owned().into_any(),
+        PyList::new(py, meshes)?.into_any(),
+        objects.into_pyobject(py)?.into_any(),
+        PyList::new(py, lights)?.into_any(),
+        scene
+            .default_lights
+            .into_pyobject(py)?
+            .to_owned()
+            .into_any(),
     ];
     // Per-object texture maps, only when there are any: untextured scenes pickle as before.
     if maps.iter().any(Option::is_some) {
@@ -725,8 +728,9 @@ pub fn _restore<'py>(
             },
         )?
         .into_any(),
-        "Texture" => Bound::new(py, crate::texture::restore_texture(state).map_err(bad)?)?
-            .into_any(),
+        "Texture" => {
+            Bound::new(py, crate::texture::restore_texture(state).map_err(bad)?)?.into_any()
+        }
         "TexturedMaterial" => {
             let restore = || -> PyResult<PyMaterial> {
                 let inner = material(state.get_item(0)?.extract()?)?;

@@ -405,8 +405,12 @@ pub fn restore_texture(state: &Bound<'_, PyAny>) -> PyResult<PyTexture> {
             .as_slice()
             .map_err(|e| PyValueError::new_err(e.to_string()))?;
         let image = Image::from_top_rows(w, h, 3, data, false).map_err(to_py)?;
-        core::Texture::from_image(Arc::new(image), filter_arg(&filter)?, [wrap(&wu)?, wrap(&wv)?])
-            .with_uv_transform(uv.0.into(), uv.1.into())
+        core::Texture::from_image(
+            Arc::new(image),
+            filter_arg(&filter)?,
+            [wrap(&wu)?, wrap(&wv)?],
+        )
+        .with_uv_transform(uv.0.into(), uv.1.into())
     } else {
         let (_, name, scale, a, b, width, octaves, seed, uv): (
             String,

@@ -195,6 +195,7 @@ impl Batch {
         }
         let m = &obj.material[back as usize];
         let mut c = [[0.0; LANES]; 3];
+        #[allow(clippy::needless_range_loop)] // lane k of several arrays
         for k in 0..self.len {
             let (u, v) = self.uv[k];
             let fp = &self.fp[k];
@@ -287,7 +288,7 @@ pub(super) fn shade_textured<P: Pixel, const AFFINE: bool>(
                 continue;
             }
             let t = ctx.tris.get(id);
-            if cur.as_ref().is_none_or(|c| c.id != id) {
+            if cur.as_ref().map_or(true, |c| c.id != id) {
                 cur = Some(Current::load::<AFFINE>(ctx, tex, mode, id, t, &mut planes));
             }
             let c = cur.as_ref().expect("loaded");
