@@ -19,6 +19,7 @@ from typing_extensions import TypeAlias, Unpack
 __all__ = [
     "MAX_AREA_SAMPLES",
     "MAX_IMAGE_SIZE",
+    "MAX_TEXTURE_SIZE",
     "MAX_THREADS",
     "AreaLight",
     "Camera",
@@ -32,6 +33,7 @@ __all__ = [
     "Scene",
     "SceneObject",
     "SpotLight",
+    "Texture",
     "__version__",
     "load_obj",
     "load_obj_parts",

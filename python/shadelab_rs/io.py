@@ -124,7 +124,7 @@ def _trimesh_uvs(tm: Any) -> np.ndarray | None:
 def _trimesh_colors(tm: Any) -> np.ndarray | None:
     """Per-vertex colours of a trimesh (``ColorVisuals`` of kind ``"vertex"``), or None."""
     visual = getattr(tm, "visual", None)
-    if getattr(visual, "kind", None) != "vertex":
+    if visual is None or getattr(visual, "kind", None) != "vertex":
         return None
     c = np.asarray(visual.vertex_colors)
     return c if len(c) == len(tm.vertices) else None

@@ -5,11 +5,13 @@ renderer then filters like any image."""
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
 from ._core import MAX_TEXTURE_SIZE, Texture
+
+_Wrap = Literal["repeat", "clamp", "mirror"]
 
 
 def texel_centres(width: int, height: int) -> tuple[np.ndarray, np.ndarray]:
@@ -26,8 +28,8 @@ def bake_texture(
     func: Callable[[np.ndarray, np.ndarray], Any],
     width: int,
     height: int,
-    filter: str = "trilinear",
-    wrap: str | tuple[str, str] = "repeat",
+    filter: Literal["nearest", "bilinear", "trilinear"] = "trilinear",
+    wrap: _Wrap | tuple[_Wrap, _Wrap] = "repeat",
     srgb: bool = False,
 ) -> Texture:
     """A texture from ``func(u, v)``, called once with the (height, width) arrays of

@@ -282,10 +282,10 @@ impl PyTexture {
     }
 
     /// The colour at (u, v) as the renderer reads it with the screen-space derivatives
-    /// `derivatives` = (du/dx, dv/dx, du/dy, dv/dy) (zero: the sharpest level).
-    #[pyo3(signature = (u, v, derivatives=(0.0, 0.0, 0.0, 0.0)))]
-    fn sample(&self, u: f64, v: f64, derivatives: (f64, f64, f64, f64)) -> (f32, f32, f32) {
-        let (du_dx, dv_dx, du_dy, dv_dy) = derivatives;
+    /// `derivatives` = (du/dx, dv/dx, du/dy, dv/dy) (None: zero, the sharpest level).
+    #[pyo3(signature = (u, v, derivatives=None))]
+    fn sample(&self, u: f64, v: f64, derivatives: Option<(f64, f64, f64, f64)>) -> (f32, f32, f32) {
+        let (du_dx, dv_dx, du_dy, dv_dy) = derivatives.unwrap_or_default();
         let fp = core::Footprint {
             du_dx,
             dv_dx,

@@ -246,4 +246,38 @@ mod tests {
             }
         }
     }
+
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Every filter is a convex combination of texels: each channel stays within the
+        /// image's range, for any finite coordinates and footprint, in every wrap mode.
+        #[test]
+        fn samples_stay_within_the_texel_range(
+            u in -1e6f64..1e6, v in -1e6f64..1e6,
+            d in prop::array::uniform4(-1e3f64..1e3),
+            f in 0usize..3, w in 0usize..3,
+        ) {
+            let img = ramp(7, 5);
+            let filter = [Filter::Nearest, Filter::Bilinear, Filter::Trilinear][f];
+            let wrap = [Wrap::Repeat, Wrap::Clamp, Wrap::Mirror][w];
+            let fp = Footprint { du_dx: d[0], dv_dx: d[1], du_dy: d[2], dv_dy: d[3] };
+            let c = tex(&img, filter, wrap).sample(u, v, &fp);
+            prop_assert!(c.x >= -1e-4 && c.x <= 6.0 + 1e-4, "{c}");
+            prop_assert!(c.y >= -1e-4 && c.y <= 4.0 + 1e-4, "{c}");
+        }
+
+        /// Repeat is periodic: (u + k, v + m) reads what (u, v) reads, for integer k, m
+        /// (coordinates that are exact multiples of the texel size, so no rounding differs).
+        #[test]
+        fn repeat_is_periodic(i in 0u32..64, j in 0u32..64, k in -50i32..50, m in -50i32..50) {
+            let img = ramp(8, 4);
+            let (u, v) = (i as f64 / 64.0, j as f64 / 64.0);
+            for filter in [Filter::Nearest, Filter::Bilinear] {
+                let t = tex(&img, filter, Wrap::Repeat);
+                let fp = Footprint::default();
+                prop_assert_eq!(t.sample(u, v, &fp), t.sample(u + k as f64, v + m as f64, &fp));
+            }
+        }
+    }
 }
