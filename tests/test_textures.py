@@ -539,3 +539,52 @@ def test_trimesh_vertex_colors_and_texture_visuals():
     scene = sl.Scene()
     scene.add(tm)
     assert scene.objects[0].material.diffuse_map is not None
+
+
+def test_cli_texture_flag(tmp_path):
+    from PIL import Image
+
+    red = tmp_path / "red.png"
+    Image.fromarray(np.tile(np.uint8([255, 0, 0]), (4, 4, 1))).save(red)
+    spot = sl.data_path("spot/spot_triangulated.obj")
+    out = tmp_path / "red_spot.png"
+    cmd = [sys.executable, "-m", "shadelab_rs", "render", str(spot), "--size", "80x60"]
+    r = subprocess.run(
+        [*cmd, "--texture", str(red), "-o", str(out)], capture_output=True, text=True
+    )
+    assert r.returncode == 0, r.stderr
+    img = np.asarray(Image.open(out))[..., :3].astype(int)
+    cow = img.sum(axis=2) > 0
+    # A white material under a red map: no green where there is no highlight.
+    assert (img[cow][:, 0] > img[cow][:, 1]).mean() > 0.9
+    # A model without UVs, a missing image, a scene file: one-line errors, exit status 1.
+    stl = tmp_path / "box.obj"
+    stl.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    for args, match in (
+        ([str(stl), "--texture", str(red)], "no UVs"),
+        ([str(spot), "--texture", str(tmp_path / "nope.png")], "nope.png"),
+    ):
+        r = subprocess.run(
+            [sys.executable, "-m", "shadelab_rs", "render", *args, "-o", str(out)],
+            capture_output=True,
+            text=True,
+        )
+        assert r.returncode == 1 and match in r.stderr, r.stderr
+    toml = tmp_path / "s.toml"
+    toml.write_text('version = 1\n[[objects]]\nmesh = "cube"\n')
+    r = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "shadelab_rs",
+            "render",
+            str(toml),
+            "--texture",
+            str(red),
+            "-o",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+    )
+    assert r.returncode == 1 and "--texture" in r.stderr, r.stderr
