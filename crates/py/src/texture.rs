@@ -233,6 +233,41 @@ impl PyTexture {
         })
     }
 
+    /// The image file this texture was loaded from (None when made from an array or
+    /// procedural).
+    #[getter]
+    fn path(&self) -> Option<std::path::PathBuf> {
+        self.inner.file().map(|(p, _)| p.to_path_buf())
+    }
+
+    /// Whether the image file was decoded as sRGB (False when not loaded from a file).
+    #[getter]
+    fn srgb(&self) -> bool {
+        self.inner.file().is_some_and(|(_, s)| s)
+    }
+
+    /// The (scale, offset) applied to (u, v) before sampling (MTL's -s and -o).
+    #[getter]
+    fn uv_transform(&self) -> ((f64, f64), (f64, f64)) {
+        let (s, o) = self.inner.uv_transform();
+        ((s.x, s.y), (o.x, o.y))
+    }
+
+    /// The same texture read at (u, v)·scale + offset (each a finite (u, v) pair).
+    fn with_uv_transform(&self, scale: (f64, f64), offset: (f64, f64)) -> PyResult<Self> {
+        let all = [scale.0, scale.1, offset.0, offset.1];
+        if all.iter().any(|v| !v.is_finite()) {
+            return Err(value_error(
+                "uv_transform",
+                format!("uv scale and offset must be finite, got {scale:?}, {offset:?}"),
+            ));
+        }
+        let t = (*self.inner)
+            .clone()
+            .with_uv_transform(scale.into(), offset.into());
+        Ok(PyTexture::of(Arc::new(t)))
+    }
+
     /// "image" or the procedural pattern's name.
     #[getter]
     fn kind(&self) -> &'static str {
@@ -348,6 +383,10 @@ pub fn texture_state<'py>(py: Python<'py>, t: &core::Texture) -> PyResult<Bound<
                 t.filter().name().into_pyobject(py)?.into_any(),
                 (wu.name(), wv.name()).into_pyobject(py)?.into_any(),
                 uv,
+                t.file()
+                    .map(|(p, s)| (p.to_path_buf(), s))
+                    .into_pyobject(py)?
+                    .into_any(),
             ],
         );
     }
@@ -388,7 +427,8 @@ type Uv = ((f64, f64), (f64, f64));
 pub fn restore_texture(state: &Bound<'_, PyAny>) -> PyResult<PyTexture> {
     let kind: String = state.get_item(0)?.extract()?;
     let tex = if kind == "image" {
-        let (_, w, h, data, filter, (wu, wv), uv): (
+        #[allow(clippy::type_complexity)]
+        let (_, w, h, data, filter, (wu, wv), uv, file): (
             String,
             usize,
             usize,
@@ -396,6 +436,7 @@ pub fn restore_texture(state: &Bound<'_, PyAny>) -> PyResult<PyTexture> {
             String,
             (String, String),
             Uv,
+            Option<(std::path::PathBuf, bool)>,
         ) = state.extract()?;
         let wrap = |n: &str| {
             core::Wrap::from_name(n)
@@ -405,12 +446,16 @@ pub fn restore_texture(state: &Bound<'_, PyAny>) -> PyResult<PyTexture> {
             .as_slice()
             .map_err(|e| PyValueError::new_err(e.to_string()))?;
         let image = Image::from_top_rows(w, h, 3, data, false).map_err(to_py)?;
-        core::Texture::from_image(
+        let t = core::Texture::from_image(
             Arc::new(image),
             filter_arg(&filter)?,
             [wrap(&wu)?, wrap(&wv)?],
         )
-        .with_uv_transform(uv.0.into(), uv.1.into())
+        .with_uv_transform(uv.0.into(), uv.1.into());
+        match file {
+            Some((p, srgb)) => t.with_file(p, srgb),
+            None => t,
+        }
     } else {
         let (_, name, scale, a, b, width, octaves, seed, uv): (
             String,

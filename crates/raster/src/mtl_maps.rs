@@ -187,7 +187,7 @@ pub(crate) fn load_maps(
             }
         };
         let wrap = if m.clamp { Wrap::Clamp } else { Wrap::Repeat };
-        let tex = Texture::from_image(image, Filter::Trilinear, [wrap; 2])
+        let tex = Texture::load_shared(image, dir.join(&m.file), Filter::Trilinear, [wrap; 2])
             .with_uv_transform(m.scale, m.offset);
         let slot = match m.slot {
             Slot::Diffuse => &mut maps.diffuse,

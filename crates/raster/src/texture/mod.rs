@@ -36,6 +36,8 @@ pub struct Texture {
     /// (u, v) → (u, v)·scale + offset before sampling (MTL's `-s` and `-o`).
     uv_scale: DVec2,
     uv_offset: DVec2,
+    /// The file it was loaded from and whether it was decoded as sRGB (for writing it back).
+    file: Option<(std::path::PathBuf, bool)>,
 }
 
 #[derive(Debug, Clone)]
@@ -59,6 +61,7 @@ impl Texture {
             },
             uv_scale: DVec2::ONE,
             uv_offset: DVec2::ZERO,
+            file: None,
         }
     }
 
@@ -68,6 +71,7 @@ impl Texture {
             source: Source::Procedural(p),
             uv_scale: DVec2::ONE,
             uv_offset: DVec2::ZERO,
+            file: None,
         }
     }
 
@@ -88,7 +92,35 @@ impl Texture {
         srgb: bool,
     ) -> Result<Self> {
         let image = decode::load(path.as_ref(), srgb)?;
-        Ok(Texture::from_image(Arc::new(image), filter, wrap))
+        let mut t = Texture::from_image(Arc::new(image), filter, wrap);
+        t.file = Some((path.as_ref().to_path_buf(), srgb));
+        Ok(t)
+    }
+
+    /// An image already decoded from `path` (linear, not sRGB), shared by several
+    /// textures (MTL maps naming one file).
+    pub(crate) fn load_shared(
+        image: Arc<Image>,
+        path: std::path::PathBuf,
+        filter: Filter,
+        wrap: [Wrap; 2],
+    ) -> Self {
+        let mut t = Texture::from_image(image, filter, wrap);
+        t.file = Some((path, false));
+        t
+    }
+
+    /// The same texture recording `path` (decoded as sRGB when `srgb`) as its source, for
+    /// writers that name files (scene files, pickles); nothing is read.
+    pub fn with_file(mut self, path: std::path::PathBuf, srgb: bool) -> Self {
+        self.file = Some((path, srgb));
+        self
+    }
+
+    /// The file an image texture was loaded from (as given to [`Texture::load`]) and whether
+    /// it was decoded as sRGB; `None` for textures made from memory or procedural ones.
+    pub fn file(&self) -> Option<(&std::path::Path, bool)> {
+        self.file.as_ref().map(|(p, s)| (p.as_path(), *s))
     }
 
     /// The (scale, offset) applied to (u, v) before sampling.
