@@ -297,13 +297,24 @@ class Texture:
     @property
     def wrap(self) -> tuple[str, str]:
         """The wrap modes (u, v)."""
+    @property
+    def path(self) -> str | None:
+        """The image file this texture was loaded from (None for arrays and patterns)."""
+    @property
+    def srgb(self) -> bool:
+        """Whether the image file was decoded as sRGB."""
+    @property
+    def uv_transform(self) -> tuple[tuple[float, float], tuple[float, float]]:
+        """(scale, offset) applied to (u, v) before sampling (MTL's ``-s`` and ``-o``)."""
+    def with_uv_transform(self, scale: tuple[float, float], offset: tuple[float, float]) -> Texture:
+        """The same texture read at (u, v) * scale + offset."""
     def to_array(self) -> NDArray[np.float32] | None:
         """The full-size image as linear float32 (H, W, 3), row 0 the top."""
     def sample(
         self,
         u: float,
         v: float,
-        derivatives: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0),
+        derivatives: tuple[float, float, float, float] | None = None,
     ) -> _Vec3:
         """The colour at (u, v) as the renderer reads it, with the screen-space
         derivatives (du/dx, dv/dx, du/dy, dv/dy) that set the level of detail."""

@@ -348,7 +348,7 @@ def cmd_render_scene(args: argparse.Namespace) -> None:
     _check_cameras_flags(args)
     if args.texture is not None:
         raise ValueError(
-            "--texture cannot be used with a scene file (scene files hold no textures yet)"
+            "--texture cannot be used with a scene file; give its material a diffuse_map"
         )
     given = [k for k in _MODEL_ONLY if getattr(args, k) is not None]
     if given:
