@@ -49,7 +49,8 @@ pub(crate) struct ShadeContext<'a> {
     /// The per-pixel stages after lighting, chosen once per render ([`Program::for_scene`]).
     pub program: Program,
     /// Scenes with texture maps or vertex colours: the texture stage's inputs (every mode
-    /// then shades through [`textured`]); `None` runs the untextured loops unchanged.
+    /// then shades through [`shade_textured_tile`], reached from `isa::run_tile` outside the
+    /// untextured tile bodies); `None` runs the untextured loops unchanged.
     pub textured: Option<TexturedScene<'a>>,
 }
 
@@ -127,9 +128,6 @@ pub(crate) fn shade_tile<P: Pixel, const AFFINE: bool>(
     color: &mut [&mut [Out<P>]],
     depth: Option<&mut [&mut [Out<f32>]]>,
 ) {
-    if let Some(tex) = &ctx.textured {
-        return textured::shade_textured::<P, AFFINE>(ctx, tex, mode, rect, buf, color, depth);
-    }
     // Flat and Gouraud: one monomorphised run loop per fog on/off (their run fast paths are
     // specialised); Phong: its effects are a per-render program, and its loop is specialised
     // only on whether that program reads the eye depth. A scene without fog pays nothing for
@@ -153,4 +151,18 @@ pub(crate) fn shade_tile<P: Pixel, const AFFINE: bool>(
             true => phong::shade_phong::<P, true, AFFINE>(ctx, rect, buf, color, depth),
         },
     }
+}
+
+/// Shades one tile of a textured scene (maps or vertex colours: [`ShadeContext::textured`]),
+/// any mode. `AFFINE` as for [`shade_tile`].
+pub(crate) fn shade_textured_tile<P: Pixel, const AFFINE: bool>(
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    rect: TileRect,
+    buf: &TileBuffers,
+    color: &mut [&mut [Out<P>]],
+    depth: Option<&mut [&mut [Out<f32>]]>,
+) {
+    let tex = ctx.textured.as_ref().expect("a textured scene");
+    textured::shade_textured::<P, AFFINE>(ctx, tex, mode, rect, buf, color, depth);
 }
