@@ -82,7 +82,41 @@ def _bilinear(level, u, v, wrap):
     )
 
 
-def sample(levels, u, v, derivs, filter: str, wrap=("repeat", "repeat")) -> np.ndarray:
+def sample(levels, u, v, derivs, filter: str, wrap=("repeat", "repeat"), anisotropy: int = 1):
+    """The filtered colour with up to ``anisotropy`` probes: with P_x, P_y the footprint's
+    lengths along x and y in texels (as for lambda), N = min(ceil(P_max/P_min), anisotropy)
+    probes (anisotropy when P_min = 0) at (u, v) + ((i + 1/2)/N - 1/2)(du, dv) along the
+    major axis, each filtered with lambda = log2(P_max/N), averaged."""
+    if anisotropy <= 1:
+        return _sample(levels, u, v, derivs, filter, wrap)
+    u, v = np.asarray(u, np.float64), np.asarray(v, np.float64)
+    h, w = levels[0].shape[:2]
+    dudx, dvdx, dudy, dvdy = (np.asarray(d, np.float64) for d in derivs)
+    px, py = np.hypot(w * dudx, h * dvdx), np.hypot(w * dudy, h * dvdy)
+    major_x = px >= py
+    pmax, pmin = np.maximum(px, py), np.minimum(px, py)
+    du, dv = np.where(major_x, dudx, dudy), np.where(major_x, dvdx, dvdy)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.ceil(pmax / pmin)
+    n = np.where(np.isfinite(ratio), np.clip(ratio, 1, anisotropy), anisotropy).astype(np.int64)
+    # One isotropic probe with footprint scaled so that its lambda is log2(P_max / N).
+    out = np.zeros((*u.shape, 3))
+    for k in range(1, anisotropy + 1):
+        sel = n == k
+        if not sel.any():
+            continue
+        s = 1.0 / k
+        probe = (dudx[sel] * s, dvdx[sel] * s, dudy[sel] * s, dvdy[sel] * s)
+        # lambda of the scaled footprint = log2(max(px, py) / k) = log2(P_max / N).
+        acc = np.zeros((sel.sum(), 3))
+        for i in range(k):
+            t = (i + 0.5) / k - 0.5
+            acc += _sample(levels, u[sel] + t * du[sel], v[sel] + t * dv[sel], probe, filter, wrap)
+        out[sel] = acc / k
+    return out
+
+
+def _sample(levels, u, v, derivs, filter: str, wrap=("repeat", "repeat")) -> np.ndarray:
     """The filtered colour at arrays ``u``, ``v`` with ``derivs`` = (du/dx, dv/dx, du/dy,
     dv/dy): "nearest" and "bilinear" on level 0; "trilinear" bilinear on level 0 when
     lambda <= 0, else the blend of levels floor(lambda) and +1 (the last level beyond it),
@@ -180,6 +214,7 @@ def render_textured_reference(
     image,
     filter: str,
     wrap=("repeat", "repeat"),
+    anisotropy: int = 1,
     material: ref.Material,
     **kwargs,
 ):
@@ -202,7 +237,7 @@ def render_textured_reference(
     u, v, derivs = uv_and_derivatives(
         r, vertices, faces, uvs, kwargs["camera"], kwargs.get("transform")
     )
-    tex = sample(mip_pyramid(image), u, v, derivs, filter, wrap)
+    tex = sample(mip_pyramid(image), u, v, derivs, filter, wrap, anisotropy)
     ys, xs = np.nonzero(r.mask)
     ka, kd, ks = (
         np.asarray(c, np.float64) for c in (material.ambient, material.diffuse, material.specular)

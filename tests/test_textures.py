@@ -64,7 +64,7 @@ MATERIAL = ref.Material((0.3, 0.3, 0.3), (0.8, 0.7, 0.6), (0.4, 0.4, 0.4), 20.0,
 W, H = 160, 120
 
 
-def render_pair(shading: str, filt: str, wrap, image=IMAGE, size=(W, H)):
+def render_pair(shading: str, filt: str, wrap, image=IMAGE, size=(W, H), anisotropy=1):
     v, f, n, uv = floor_mesh()
     w, h = size
     color, r = rtex.render_textured_reference(
@@ -74,6 +74,7 @@ def render_pair(shading: str, filt: str, wrap, image=IMAGE, size=(W, H)):
         image=image,
         filter=filt,
         wrap=wrap,
+        anisotropy=anisotropy,
         material=MATERIAL,
         camera=CAMERA,
         width=w,
@@ -83,7 +84,7 @@ def render_pair(shading: str, filt: str, wrap, image=IMAGE, size=(W, H)):
         normals=n,
         shading=shading,
     )
-    tex = sl.Texture(image.astype(np.float32), filter=filt, wrap=wrap)
+    tex = sl.Texture(image.astype(np.float32), filter=filt, wrap=wrap, anisotropy=anisotropy)
     m = MATERIAL
     mat = sl.Material(m.ambient, m.diffuse, m.specular, m.shininess, m.emission, diffuse_map=tex)
     scene = sl.Scene(ambient=(0.2, 0.2, 0.2))
@@ -125,6 +126,25 @@ def test_wrap_modes_match_the_reference(wrap, filt):
     assert frac >= MIN_FRACTION_1LSB, f"{wrap} {filt}: {frac:.5f} within 1 level"
 
 
+@pytest.mark.parametrize("shading", ["flat", "phong"])
+@pytest.mark.parametrize("anisotropy", [2, 4, 16])
+@pytest.mark.parametrize("filt", ["bilinear", "trilinear"])
+def test_anisotropic_renders_match_the_reference(shading, anisotropy, filt):
+    img, want, r = render_pair(shading, filt, "repeat", anisotropy=anisotropy)
+    frac = within_one_level(img, want, r)
+    assert frac >= MIN_FRACTION_1LSB, f"{shading} x{anisotropy}: {frac:.5f} within 1 level"
+
+
+def test_anisotropy_sharpens_the_grazing_floor():
+    """More probes along the major axis: the trilinear floor keeps more contrast."""
+    checker = ((np.indices((16, 16)) // 4).sum(axis=0) % 2)[..., None] * np.ones(3)
+    iso, _, r = render_pair("phong", "trilinear", "repeat", image=checker)
+    aniso, _, _ = render_pair("phong", "trilinear", "repeat", image=checker, anisotropy=16)
+    far = r.mask.copy()
+    far[int(0.45 * H) :] = False  # the far half of the floor
+    assert aniso[far].std() > 1.2 * iso[far].std()
+
+
 def test_minification_reaches_coarse_levels():
     """The grazing floor really is minified: the trilinear render differs from the
     bilinear one (so the comparison above tests the pyramid, not only level 0)."""
@@ -164,18 +184,24 @@ def test_array_row_zero_is_the_top_of_the_image():
     aniso=st.floats(0.2, 5),
     filt=st.sampled_from(FILTERS),
     wrap=st.sampled_from(WRAPS),
+    probes=st.sampled_from([1, 1, 2, 5, 16]),
 )
-def test_sampler_equals_the_reference_definition(u, v, scale, aniso, filt, wrap):
+def test_sampler_equals_the_reference_definition(u, v, scale, aniso, filt, wrap, probes):
     levels = rtex.mip_pyramid(IMAGE)
     d = (2.0**scale / 37, 0.0, 0.0, aniso * 2.0**scale / 23)
-    want = rtex.sample(
-        levels, np.array([u]), np.array([v]), [np.array([x]) for x in d], filt, wrap
-    )[0]
-    t = sl.Texture(IMAGE.astype(np.float32), filter=filt, wrap=wrap)
+    arrays = [np.array([x]) for x in d]
+    want = rtex.sample(levels, np.array([u]), np.array([v]), arrays, filt, wrap, probes)[0]
+    t = sl.Texture(IMAGE.astype(np.float32), filter=filt, wrap=wrap, anisotropy=probes)
     got = np.array(t.sample(u, v, d))
+    # The probe positions (the definition's), for the boundary test of nearest.
+    px, py = 37 * d[0], 23 * d[3]
+    n = min(math.ceil(max(px, py) / min(px, py)), probes)
+    du, dv = (d[0], 0.0) if px >= py else (0.0, d[3])
+    ts = [(i + 0.5) / n - 0.5 for i in range(n)]
+    pts = [(u + t_ * du, v + t_ * dv) for t_ in ts]
     # f32 texels and weights; a texel boundary hit within 1e-9 may go either way.
-    near_boundary = (
-        filt == "nearest" and min(abs(x * n - round(x * n)) for x, n in ((u, 37), (v, 23))) < 1e-9
+    near_boundary = filt == "nearest" and any(
+        min(abs(x * k - round(x * k)) for x, k in ((a, 37), (b, 23))) < 1e-9 for a, b in pts
     )
     if not near_boundary:
         np.testing.assert_allclose(got, want, atol=2e-6)
@@ -468,8 +494,9 @@ def test_bad_texture_options_and_files(tmp_path):
         sl.Texture(img, wrap="border")  # type: ignore[arg-type]
     with pytest.raises(TypeError, match="wrap"):
         sl.Texture(img, wrap=3)  # type: ignore[arg-type]
-    with pytest.raises(ValueError, match="anisotrop"):
-        sl.Texture(img, anisotropy=4)
+    for bad in (0, 17, -1):
+        with pytest.raises(ValueError, match="anisotropy must be 1"):
+            sl.Texture(img, anisotropy=bad)
     with pytest.raises(FileNotFoundError, match=r"nope\.png"):
         sl.Texture.load(tmp_path / "nope.png")
     (tmp_path / "bad.png").write_bytes(b"\x89PNG garbage")

@@ -84,15 +84,17 @@ FLOOR_CAM = sl.Camera.look_at((0, 1.0, 2.0), (0, 0, -8), fov_y=60)
 
 
 def filters() -> Image.Image:
-    """A checkerboard floor to the horizon: nearest and bilinear alias, trilinear greys."""
+    """A checkerboard floor to the horizon: nearest and bilinear alias, trilinear greys,
+    anisotropic filtering keeps the checks further."""
     panels = []
-    for f in ("nearest", "bilinear", "trilinear"):
-        tex = sl.Texture(checker_image(), filter=f)
+    for f, aniso in (("nearest", 1), ("bilinear", 1), ("trilinear", 1), ("trilinear", 16)):
+        tex = sl.Texture(checker_image(), filter=f, anisotropy=aniso)
         scene = lit(sl.Scene())
         scene.add(
             floor(), material=sl.Material((0.3,) * 3, (0.8,) * 3, (0, 0, 0), 1, diffuse_map=tex)
         )
-        panels.append((f'filter="{f}"', render(scene, FLOOR_CAM)))
+        label = f'filter="{f}"' + (f", anisotropy={aniso}" if aniso > 1 else "")
+        panels.append((label, render(scene, FLOOR_CAM)))
     return labelled_row(panels)
 
 

@@ -243,8 +243,9 @@ class Texture:
     the full-size image at every distance, "trilinear" (default) the mip levels around the
     exact level of detail. ``wrap``: "repeat" (default), "clamp" (to the edge) or "mirror",
     or a (u, v) pair. ``srgb``: decode sRGB-encoded values to linear (default False: values
-    used as stored, as classic OpenGL). ``anisotropy`` must be 1 (anisotropic filtering is
-    not implemented yet). Sizes up to MAX_TEXTURE_SIZE per side and 2**26 texels.
+    used as stored, as classic OpenGL). ``anisotropy``: 1 (off) to 16 probes along the
+    footprint's major axis (see the user guide). Sizes up to MAX_TEXTURE_SIZE per side and
+    2**26 texels.
     """
 
     def __new__(
@@ -291,6 +292,9 @@ class Texture:
     @property
     def levels(self) -> int:
         """Number of mip levels (1 for a procedural texture)."""
+    @property
+    def anisotropy(self) -> int:
+        """Probes of anisotropic filtering (1: off)."""
     @property
     def filter(self) -> str:
         """The filter's name."""

@@ -206,7 +206,7 @@ def _call(
 
 _MAP_KEYS = ("diffuse_map", "ambient_map", "specular_map", "emission_map")
 _MATERIAL_KEYS = ("preset", "ambient", "diffuse", "specular", "shininess", "emission", *_MAP_KEYS)
-_IMAGE_KEYS = ("filter", "wrap", "srgb", "uv_scale", "uv_offset")
+_IMAGE_KEYS = ("filter", "wrap", "srgb", "anisotropy", "uv_scale", "uv_offset")
 _PROCEDURAL_KEYS = ("scale", "color_a", "color_b", "width", "octaves", "seed")
 
 #: Base directory of relative texture paths while a document is read.
@@ -261,12 +261,15 @@ def _texture(v: Any, where: str) -> Texture:
             opts["wrap"] = _choice(w, _at(where, "wrap"), wraps)
     if "srgb" in t:
         opts["srgb"] = _boolean(t["srgb"], _at(where, "srgb"))
+    if "anisotropy" in t:
+        opts["anisotropy"] = _integer(t["anisotropy"], _at(where, "anisotropy"))
     if not p.exists():
         raise SceneFileError(f"no such file: '{p}'", _at(where, "file"))
     try:
         tex = Texture.load(p, **opts)
     except (ValueError, OSError) as e:
-        raise SceneFileError(str(e), _at(where, "file")) from e
+        key = getattr(e, "field", None)
+        raise SceneFileError(str(e), _at(where, key if key in _IMAGE_KEYS else "file")) from e
     if "uv_scale" in t or "uv_offset" in t:
         scale = _pair(t["uv_scale"], _at(where, "uv_scale")) if "uv_scale" in t else (1.0, 1.0)
         offset = _pair(t["uv_offset"], _at(where, "uv_offset")) if "uv_offset" in t else (0.0, 0.0)
@@ -287,6 +290,8 @@ def texture_to_dict(tex: Texture) -> dict[str, Any]:
         d: dict[str, Any] = {"file": str(tex.path), "filter": tex.filter, "wrap": list(tex.wrap)}
         if tex.srgb:
             d["srgb"] = True
+        if tex.anisotropy != 1:
+            d["anisotropy"] = tex.anisotropy
         scale, offset = tex.uv_transform
         if scale != (1.0, 1.0):
             d["uv_scale"] = list(scale)

@@ -53,14 +53,10 @@ fn wrap_arg(w: &Bound<'_, PyAny>) -> PyResult<[core::Wrap; 2]> {
     ))
 }
 
-fn anisotropy_arg(a: i64) -> PyResult<()> {
-    if a != 1 {
-        return Err(value_error(
-            "anisotropy",
-            format!("anisotropic filtering is not implemented yet: anisotropy must be 1, got {a}"),
-        ));
-    }
-    Ok(())
+/// The same texture with `a` probes of anisotropic filtering (1 to 16).
+fn with_anisotropy(t: core::Texture, a: i64) -> PyResult<core::Texture> {
+    let a = u32::try_from(a).unwrap_or(0);
+    t.with_anisotropy(a).map_err(to_py)
 }
 
 /// An (H, W, 3|4) array (or anything `numpy.asarray` makes one of, such as a Pillow image)
@@ -148,15 +144,15 @@ impl PyTexture {
     ) -> PyResult<Self> {
         let filter = filter_arg(filter)?;
         let wrap = wrap.map_or(Ok([core::Wrap::Repeat; 2]), wrap_arg)?;
-        anisotropy_arg(anisotropy)?;
         let (h, w, ch, data) = texels(array)?;
         let image = py
             .detach(|| {
                 crate::errors::no_panic("Texture", || Image::from_top_rows(w, h, ch, &data, srgb))
             })?
             .map_err(|e| crate::errors::with_field(to_py(e), "array"))?;
+        let tex = core::Texture::from_image(Arc::new(image), filter, wrap);
         Ok(PyTexture {
-            inner: Arc::new(core::Texture::from_image(Arc::new(image), filter, wrap)),
+            inner: Arc::new(with_anisotropy(tex, anisotropy)?),
         })
     }
 
@@ -173,7 +169,6 @@ impl PyTexture {
     ) -> PyResult<Self> {
         let filter = filter_arg(filter)?;
         let wrap = wrap.map_or(Ok([core::Wrap::Repeat; 2]), wrap_arg)?;
-        anisotropy_arg(anisotropy)?;
         let tex = py
             .detach(|| {
                 crate::errors::no_panic("Texture.load", || {
@@ -182,7 +177,7 @@ impl PyTexture {
             })?
             .map_err(to_py)?;
         Ok(PyTexture {
-            inner: Arc::new(tex),
+            inner: Arc::new(with_anisotropy(tex, anisotropy)?),
         })
     }
 
@@ -292,6 +287,12 @@ impl PyTexture {
         self.inner.image().map_or(1, |i| i.levels().len())
     }
 
+    /// Probes of anisotropic filtering (1: off).
+    #[getter]
+    fn anisotropy(&self) -> u32 {
+        self.inner.anisotropy()
+    }
+
     /// The filter's name.
     #[getter]
     fn filter(&self) -> &'static str {
@@ -350,12 +351,13 @@ impl PyTexture {
             Some(img) => {
                 let [u, v] = self.inner.wrap();
                 format!(
-                    "Texture({}x{}, filter={:?}, wrap=({:?}, {:?}))",
+                    "Texture({}x{}, filter={:?}, wrap=({:?}, {:?}), anisotropy={})",
                     img.width(),
                     img.height(),
                     self.inner.filter().name(),
                     u.name(),
                     v.name(),
+                    self.inner.anisotropy(),
                 )
             }
             None => format!("Texture.procedural({:?})", self.kind()),
@@ -387,6 +389,7 @@ pub fn texture_state<'py>(py: Python<'py>, t: &core::Texture) -> PyResult<Bound<
                     .map(|(p, s)| (p.to_path_buf(), s))
                     .into_pyobject(py)?
                     .into_any(),
+                t.anisotropy().into_pyobject(py)?.into_any(),
             ],
         );
     }
@@ -428,7 +431,7 @@ pub fn restore_texture(state: &Bound<'_, PyAny>) -> PyResult<PyTexture> {
     let kind: String = state.get_item(0)?.extract()?;
     let tex = if kind == "image" {
         #[allow(clippy::type_complexity)]
-        let (_, w, h, data, filter, (wu, wv), uv, file): (
+        let (_, w, h, data, filter, (wu, wv), uv, file, aniso): (
             String,
             usize,
             usize,
@@ -437,6 +440,7 @@ pub fn restore_texture(state: &Bound<'_, PyAny>) -> PyResult<PyTexture> {
             (String, String),
             Uv,
             Option<(std::path::PathBuf, bool)>,
+            u32,
         ) = state.extract()?;
         let wrap = |n: &str| {
             core::Wrap::from_name(n)
@@ -451,7 +455,9 @@ pub fn restore_texture(state: &Bound<'_, PyAny>) -> PyResult<PyTexture> {
             filter_arg(&filter)?,
             [wrap(&wu)?, wrap(&wv)?],
         )
-        .with_uv_transform(uv.0.into(), uv.1.into());
+        .with_uv_transform(uv.0.into(), uv.1.into())
+        .with_anisotropy(aniso)
+        .map_err(to_py)?;
         match file {
             Some((p, srgb)) => t.with_file(p, srgb),
             None => t,

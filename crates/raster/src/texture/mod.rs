@@ -23,7 +23,7 @@ use glam::{DVec2, Vec3};
 
 pub use self::image::{Image, MAX_TEXTURE_SIZE};
 pub use procedural::Procedural;
-pub use sample::{Filter, Footprint};
+pub use sample::{Filter, Footprint, MAX_ANISOTROPY};
 pub use wrap::Wrap;
 
 use crate::error::Result;
@@ -46,6 +46,8 @@ enum Source {
         image: Arc<Image>,
         filter: Filter,
         wrap: [Wrap; 2],
+        /// Probes along the footprint's major axis, 1 (isotropic) to [`MAX_ANISOTROPY`].
+        aniso: u32,
     },
     Procedural(Procedural),
 }
@@ -58,6 +60,7 @@ impl Texture {
                 image,
                 filter,
                 wrap,
+                aniso: 1,
             },
             uv_scale: DVec2::ONE,
             uv_offset: DVec2::ZERO,
@@ -123,6 +126,30 @@ impl Texture {
         self.file.as_ref().map(|(p, s)| (p.as_path(), *s))
     }
 
+    /// The same image texture with anisotropic filtering of up to `aniso` probes (1, the
+    /// default, is off; at most [`MAX_ANISOTROPY`]); see `sample::sample` for the
+    /// definition. Procedural textures ignore it (they are not filtered).
+    pub fn with_anisotropy(mut self, aniso: u32) -> Result<Self> {
+        if !(1..=MAX_ANISOTROPY).contains(&aniso) {
+            return Err(crate::error::RasterError::invalid_field(
+                "anisotropy",
+                format!("anisotropy must be 1 (off) to {MAX_ANISOTROPY}, got {aniso}"),
+            ));
+        }
+        if let Source::Image { aniso: a, .. } = &mut self.source {
+            *a = aniso;
+        }
+        Ok(self)
+    }
+
+    /// The anisotropy (1 for procedural textures).
+    pub fn anisotropy(&self) -> u32 {
+        match &self.source {
+            Source::Image { aniso, .. } => *aniso,
+            Source::Procedural(_) => 1,
+        }
+    }
+
     /// The (scale, offset) applied to (u, v) before sampling.
     pub fn uv_transform(&self) -> (DVec2, DVec2) {
         (self.uv_scale, self.uv_offset)
@@ -183,7 +210,8 @@ impl Texture {
                 image,
                 filter,
                 wrap,
-            } => sample::sample(image, *filter, *wrap, u, v, fp),
+                aniso,
+            } => sample::sample(image, *filter, *wrap, *aniso, u, v, fp),
             Source::Procedural(p) => p.eval(u, v),
         }
     }
