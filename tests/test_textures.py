@@ -477,6 +477,8 @@ def test_spot_renders_with_its_own_texture(tmp_path):
         (np.full((2, 2, 3), np.nan, np.float32), ValueError, r"array\[0, 0, 0\] = NaN"),
         (np.array([[[0, np.inf, 0]]]), ValueError, "not finite"),
         (np.zeros((0, 4, 3), np.uint8), ValueError, "at least one texel"),
+        (np.full((2, 2, 3), -0.5, np.float32), ValueError, r"must be in \[0, 1e6\]"),
+        (np.full((2, 2, 3), 2e6, np.float32), ValueError, r"must be in \[0, 1e6\]"),
         (np.zeros((1, sl.MAX_TEXTURE_SIZE + 1, 3), np.uint8), ValueError, "per side"),
         ("not an image", TypeError, "dtype"),
     ],
@@ -668,3 +670,15 @@ def test_scene_files_hold_textures_and_vertex_colors(tmp_path):
     )
     with pytest.raises(ValueError, match="array cannot be written"):
         s2.to_dict()
+
+
+def test_textured_lighting_beyond_float32_is_refused():
+    """Texture values weigh the lighting: a bright light times a bright map that could
+    overflow float32 is an error, as for untextured scenes."""
+    v, f, n, uv = floor_mesh(1)
+    scene = sl.Scene()
+    tex = sl.Texture(np.full((1, 1, 3), 1e6, np.float32))
+    scene.add(sl.Mesh(v, f, n, uv), material=sl.Material(diffuse_map=tex))
+    scene.add_light(sl.DirectionalLight((0, -1, 0), intensity=1e33))
+    with pytest.raises(ValueError, match="textured lighting can reach"):
+        sl.render(scene, sl.Camera.look_at((0, 2, 3), (0, 0, 0)), width=8, height=8)

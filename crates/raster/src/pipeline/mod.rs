@@ -277,7 +277,7 @@ pub(crate) fn prepare(
         })
         .collect();
     check_dynamic_range(scene, &materials)?;
-    check_dynamic_range(scene, &units)?;
+    check_textured_range(scene, &units)?;
     let planes = ClipPlanes::new(options.width, options.height);
     let mut verts = vertex::transform(
         scene,
@@ -370,6 +370,48 @@ pub(crate) fn prepare(
 /// (3.4·10³⁸), so Gouraud interpolation and fog, which never exceed their inputs by more
 /// than rounding, stay finite too.
 pub const MAX_RADIANCE: f64 = 1e37;
+
+/// [`check_dynamic_range`] for textured objects: each unit surface's bound times the largest
+/// coefficient a map or vertex colour can make (`ka·Ta`, `kd·Td`, `ks·Ts`), plus the
+/// emission times its map's largest value.
+fn check_textured_range(scene: &Scene, units: &[Sides]) -> Result<()> {
+    for (i, (o, sides)) in scene.objects().iter().zip(units).enumerate() {
+        let tmax = |t: Option<&std::sync::Arc<crate::texture::Texture>>| {
+            t.map_or(1.0, |t| t.max_value() as f64)
+        };
+        let maps = o.maps().map(|m| &**m);
+        let (td, ta, ts, te) = match maps {
+            Some(m) => (
+                tmax(m.diffuse.as_ref()),
+                tmax(m.ambient_or_diffuse()),
+                tmax(m.specular.as_ref()),
+                tmax(m.emission.as_ref()),
+            ),
+            None => (1.0, 1.0, 1.0, 1.0),
+        };
+        let vmax = o.mesh().colors().map(|c| {
+            c.iter()
+                .map(|v| v.max_element() as f64)
+                .fold(0.0, f64::max)
+        });
+        for (side, m) in [(0, o.material()), (1, o.material_for(true, scene.two_sided()))] {
+            let (ka, kd) = match vmax {
+                Some(v) => (v, v),
+                None => (m.ambient.max_element() as f64, m.diffuse.max_element() as f64),
+            };
+            let k = (ka * ta).max(kd * td).max(m.specular.max_element() as f64 * ts);
+            let bound = sides[side].max_value() * k + m.emission.max_element() as f64 * te;
+            if bound > MAX_RADIANCE || bound.is_nan() {
+                return Err(RasterError::invalid(format!(
+                    "object {i}: its textured lighting can reach {bound:.3e}, beyond the \
+                     {MAX_RADIANCE:e} that float32 colours can safely hold; scale down light \
+                     intensities, material colours or texture values"
+                )));
+            }
+        }
+    }
+    Ok(())
+}
 
 /// Refuses scenes whose lighting could overflow f32: an overflowed term is `inf`, and
 /// `inf · 0` (a zero fog factor, barycentric or spot factor) is NaN.

@@ -9,6 +9,10 @@ pub const MAX_TEXTURE_SIZE: usize = 16384;
 /// Largest number of texels of a texture image (level 0): 2^26, 768 MiB of f32 RGB.
 pub const MAX_TEXELS: usize = 1 << 26;
 
+/// Largest texel value (linear): texture colours weigh reflectances, so with the lighting
+/// bound (`MAX_RADIANCE`) this keeps every shaded value finite in f32.
+pub const MAX_TEXEL_VALUE: f32 = 1e6;
+
 /// One level of the pyramid: `width × height` RGB texels, row 0 at the bottom (v = 0).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Level {
@@ -70,6 +74,20 @@ impl Image {
             let (texel, ch) = (k / channels, k % channels);
             return Err(RasterError::invalid(format!(
                 "texture value at row {}, column {}, channel {ch} is {} (must be finite)",
+                texel / width,
+                texel % width,
+                data[k]
+            )));
+        }
+        // Colour channels only: alpha is dropped, whatever its value.
+        if let Some(k) = (0..data.len())
+            .filter(|k| k % channels < 3)
+            .find(|&k| !(0.0..=MAX_TEXEL_VALUE).contains(&data[k]))
+        {
+            let (texel, ch) = (k / channels, k % channels);
+            return Err(RasterError::invalid(format!(
+                "texture value at row {}, column {}, channel {ch} is {}; texture colours must \
+                 be in [0, {MAX_TEXEL_VALUE:e}]",
                 texel / width,
                 texel % width,
                 data[k]

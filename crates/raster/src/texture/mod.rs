@@ -21,7 +21,7 @@ use std::sync::Arc;
 
 use glam::{DVec2, Vec3};
 
-pub use self::image::{Image, MAX_TEXTURE_SIZE};
+pub use self::image::{Image, MAX_TEXEL_VALUE, MAX_TEXTURE_SIZE};
 pub use procedural::Procedural;
 pub use sample::{Filter, Footprint, MAX_ANISOTROPY};
 pub use wrap::Wrap;
@@ -147,6 +147,14 @@ impl Texture {
         match &self.source {
             Source::Image { aniso, .. } => *aniso,
             Source::Procedural(_) => 1,
+        }
+    }
+
+    /// An upper bound on every channel the texture returns.
+    pub fn max_value(&self) -> f32 {
+        match &self.source {
+            Source::Image { .. } => MAX_TEXEL_VALUE,
+            Source::Procedural(p) => p.max_value(),
         }
     }
 

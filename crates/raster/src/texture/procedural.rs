@@ -107,6 +107,15 @@ impl Procedural {
         Ok(self)
     }
 
+    /// The largest channel of its colours (every value it returns is a mix of them).
+    pub fn max_value(&self) -> f32 {
+        let (Procedural::Checker { a, b, .. }
+        | Procedural::Stripes { a, b, .. }
+        | Procedural::Grid { a, b, .. }
+        | Procedural::Noise { a, b, .. }) = *self;
+        a.max(b).max_element()
+    }
+
     /// The pattern's name ("checker", "grid", "stripes", "noise").
     pub fn name(&self) -> &'static str {
         match self {
