@@ -9,6 +9,7 @@ Errors: ``ValueError`` (bad values, with the offending element named, e.g.
 """
 
 import os
+import pathlib
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any, ClassVar, Final, Literal, TypedDict, final, overload
 
@@ -302,7 +303,7 @@ class Texture:
     def wrap(self) -> tuple[str, str]:
         """The wrap modes (u, v)."""
     @property
-    def path(self) -> str | None:
+    def path(self) -> pathlib.Path | None:
         """The image file this texture was loaded from (None for arrays and patterns)."""
     @property
     def srgb(self) -> bool:

@@ -389,17 +389,24 @@ fn check_textured_range(scene: &Scene, units: &[Sides]) -> Result<()> {
             ),
             None => (1.0, 1.0, 1.0, 1.0),
         };
-        let vmax = o.mesh().colors().map(|c| {
-            c.iter()
-                .map(|v| v.max_element() as f64)
-                .fold(0.0, f64::max)
-        });
-        for (side, m) in [(0, o.material()), (1, o.material_for(true, scene.two_sided()))] {
+        let vmax = o
+            .mesh()
+            .colors()
+            .map(|c| c.iter().map(|v| v.max_element() as f64).fold(0.0, f64::max));
+        for (side, m) in [
+            (0, o.material()),
+            (1, o.material_for(true, scene.two_sided())),
+        ] {
             let (ka, kd) = match vmax {
                 Some(v) => (v, v),
-                None => (m.ambient.max_element() as f64, m.diffuse.max_element() as f64),
+                None => (
+                    m.ambient.max_element() as f64,
+                    m.diffuse.max_element() as f64,
+                ),
             };
-            let k = (ka * ta).max(kd * td).max(m.specular.max_element() as f64 * ts);
+            let k = (ka * ta)
+                .max(kd * td)
+                .max(m.specular.max_element() as f64 * ts);
             let bound = sides[side].max_value() * k + m.emission.max_element() as f64 * te;
             if bound > MAX_RADIANCE || bound.is_nan() {
                 return Err(RasterError::invalid(format!(
