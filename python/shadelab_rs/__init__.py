@@ -13,6 +13,7 @@ from . import distributed
 from ._core import (
     MAX_AREA_SAMPLES,
     MAX_IMAGE_SIZE,
+    MAX_TEXTURE_SIZE,
     MAX_THREADS,
     AreaLight,
     Camera,
@@ -26,6 +27,7 @@ from ._core import (
     Scene,
     SceneObject,
     SpotLight,
+    Texture,
     __version__,
     load_obj,
     load_obj_parts,
@@ -64,10 +66,12 @@ from .scene_file import (
     to_toml,
 )
 from .swatch import material_sheet
+from .textures import bake_texture, texel_centres
 
 __all__ = [
     "MAX_AREA_SAMPLES",
     "MAX_IMAGE_SIZE",
+    "MAX_TEXTURE_SIZE",
     "MAX_THREADS",
     "VIEWS",
     "AreaLight",
@@ -86,7 +90,9 @@ __all__ = [
     "SceneFileError",
     "SceneObject",
     "SpotLight",
+    "Texture",
     "__version__",
+    "bake_texture",
     "camera_from_intrinsics",
     "camera_from_matrix",
     "data_path",
@@ -115,6 +121,7 @@ __all__ = [
     "scene_to_dict",
     "smooth_normals",
     "srgb_encode",
+    "texel_centres",
     "to_toml",
     "to_uint8",
     "view_direction",

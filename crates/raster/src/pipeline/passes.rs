@@ -6,7 +6,7 @@
 use rayon::prelude::*;
 
 use super::raster::{self, TileBuffers};
-use super::shade::{put, Out, Pixel, Program, ShadeContext};
+use super::shade::{put, Out, Pixel, Program, ShadeContext, TexturedObject, TexturedScene};
 use super::{isa, prepare, tiles, Needs};
 use crate::camera::Camera;
 use crate::effects::FogEffect;
@@ -70,6 +70,18 @@ pub(crate) fn color_pass<P: Pixel>(
             .fog()
             .map(|f| FogEffect::new(*f, camera.eye_distance(options.width, options.height))),
         program: Program::for_scene(scene.fog().is_some()),
+        textured: (!prep.units.is_empty()).then(|| TexturedScene {
+            units: &prep.units,
+            objects: scene
+                .objects()
+                .iter()
+                .map(|o| TexturedObject {
+                    material: [*o.material(), *o.material_for(true, scene.two_sided())],
+                    maps: o.maps().map(|m| &**m),
+                    colors: o.mesh().colors().is_some(),
+                })
+                .collect(),
+        }),
     };
     rects
         .par_iter()
