@@ -90,10 +90,11 @@ bench-aa: build  ## anti-aliasing only: edge error against exact coverage, time 
 bench-batch: build  ## many views only: render_batch vs loop vs 2 processes, pickling -> docs/BENCHMARKS.md (~2 min)
 	$(BENCH_ENV) $(PY) bench/bench_batch.py --write docs/BENCHMARKS.md
 
-docs-images: build  ## render the guides' images -> docs/lighting/*.png, docs/first_minutes/*.png, docs/antialiasing/*.png
+docs-images: build  ## render the guides' images -> docs/lighting/*.png, docs/first_minutes/*.png, docs/antialiasing/*.png, docs/textures/*.png
 	$(PY) docs/lighting/make_images.py
 	$(PY) docs/first_minutes/make_images.py
 	$(PY) docs/antialiasing/make_images.py
+	$(PY) docs/textures/make_gallery.py
 
 # manylinux2014 (glibc 2.17: Ubuntu 18.04+, RHEL 7+) through zig as the linker, from the
 # ziglang package on PyPI: no Docker. Without --zig the wheel would need this machine's glibc.

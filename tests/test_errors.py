@@ -542,22 +542,25 @@ def test_obj_polygons_and_relative_indices_load_as_documented(tmp_path):
     "mtl",
     [
         None,  # the MTL file named by mtllib does not exist
-        "newmtl red\nKd 0.5 0.25 0\nmap_Kd missing-texture.png\n",  # texture missing
         "newmtl red\nKd 0.5 zero 0\n",  # malformed MTL
     ],
 )
 def test_obj_with_missing_or_broken_mtl_loads_the_geometry(tmp_path, mtl):
-    """Documented recovery: a missing or malformed MTL leaves the part without material; a
-    texture the MTL names is ignored (the renderer has no textures), the material stays."""
+    """Documented recovery: a missing or malformed MTL leaves the part without material."""
     if mtl is not None:
         (tmp_path / "m.mtl").write_text(mtl)
     text = "mtllib m.mtl\n" + TRIANGLE_OBJ + "usemtl red\nf 1 2 3\n"
     [(_name, mesh, material)] = sl.load_obj_parts(_write(tmp_path, "x.obj", text))
     assert mesh.n_faces == 1
-    if mtl is not None and "map_Kd" in mtl:
-        np.testing.assert_array_equal(material.diffuse, np.float32([0.5, 0.25, 0]))
-    else:
-        assert material is None
+    assert material is None
+
+
+def test_obj_whose_mtl_names_a_missing_texture_is_an_error(tmp_path):
+    """A texture map the MTL names must load: no silent fallback (file and line named)."""
+    (tmp_path / "m.mtl").write_text("newmtl red\nKd 0.5 0.25 0\nmap_Kd missing-texture.png\n")
+    text = "mtllib m.mtl\n" + TRIANGLE_OBJ + "usemtl red\nf 1 2 3\n"
+    with pytest.raises(sl.ObjParseError, match=r"m\.mtl:3: .*missing-texture\.png"):
+        sl.load_obj_parts(_write(tmp_path, "x.obj", text))
 
 
 def test_lighting_beyond_float32_range_is_an_error():

@@ -52,6 +52,13 @@ def _rich_scene() -> tuple[sl.Scene, sl.Camera]:
     return scene, camera
 
 
+_TEXTURE = sl.Texture(
+    np.random.default_rng(3).random((5, 7, 3)).astype(np.float32),
+    filter="nearest",
+    wrap=("mirror", "clamp"),
+)
+
+
 def _objects() -> list[object]:
     scene, camera = _rich_scene()
     verts = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.float32)
@@ -60,6 +67,9 @@ def _objects() -> list[object]:
         sl.Mesh.ico_sphere(2),
         sl.Material.preset("brass"),
         sl.Material(ambient=(0.1, 0.2, 0.3), shininess=7.5, emission=(0.01, 0.02, 0.03)),
+        _TEXTURE,
+        sl.Texture.procedural("noise", scale=3.5, color_a=(1, 0, 0), octaves=3, seed=7),
+        sl.Material(diffuse_map=_TEXTURE, specular_map=sl.Texture.procedural("grid", width=0.2)),
         sl.DirectionalLight((1, -2, 3), color=(0.5, 0.6, 0.7), intensity=0.9),
         sl.PointLight((1, 2, 3), attenuation=(1, 0.5, 0.25), diffuse=(0.2, 0.3, 0.4)),
         sl.SpotLight((0, 1, 0), (0.3, -1, 0.1), cutoff=180),
@@ -127,7 +137,9 @@ def _state(obj: object) -> object:
             return tuple(plain(x) for x in v)
         if isinstance(v, dict):
             return tuple(sorted((k, plain(x)) for k, x in v.items()))
-        if isinstance(v, (sl.Mesh, sl.DirectionalLight, sl.PointLight, sl.SpotLight, sl.AreaLight)):
+        if isinstance(
+            v, (sl.Mesh, sl.DirectionalLight, sl.PointLight, sl.SpotLight, sl.AreaLight, sl.Texture)
+        ):
             return plain(v.__reduce__()[1])
         return v
 

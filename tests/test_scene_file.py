@@ -139,7 +139,7 @@ def rich_scene() -> sl.Scene:
 def test_to_dict_is_plain_and_from_dict_renders_bit_identically(rich_scene, camera):
     d = rich_scene.to_dict()
     assert is_plain(d)
-    assert d["version"] == 1
+    assert d["version"] == 2
     back = sl.Scene.from_dict(d)
     assert_same_render(rich_scene, back, camera)
     # A fixed point: writing the rebuilt scene gives the same data.
@@ -545,7 +545,7 @@ def test_ico_sphere_primitive():
 # Every error path: (where to put the bad value, the value, the key path, message part)
 
 ERRORS = [
-    (("version",), 2, "version", "expected 1 (the schema version"),
+    (("version",), 3, "version", "expected 1 or 2 (the schema versions"),
     (("version",), True, "version", "got True"),
     (("version",), "1", "version", "got '1'"),
     (("version",), DELETE, "version", "missing required key"),
@@ -882,7 +882,7 @@ ERRORS = [
         "objects[1].mesh.uvs",
         "uvs must have shape (N, 2), got (3, 3)",
     ),
-    (("objects", 1, "mesh", "colors"), [], "objects[1].mesh.colors", "unknown key 'colors'"),
+    (("objects", 1, "mesh", "colours"), [], "objects[1].mesh.colours", "unknown key 'colours'"),
 ]
 
 

@@ -668,3 +668,14 @@ def test_shadow_map_memory_is_bounded():
     with pytest.raises(ValueError, match="texels") as e:
         sl.render(scene, cam, width=32, height=24)
     assert getattr(e.value, "field", None) == "shadows"
+
+
+def test_shadows_with_textured_scenes_are_refused_clearly():
+    """The texture stage does not read visibility yet: a clear error, not silent light."""
+    v, f = box((0, 0.5, 0), 0.5)
+    scene = sl.Scene(ambient=(0.1, 0.1, 0.1))
+    scene.add(sl.Mesh(v, f, colors=np.full((len(v), 3), 0.5)), material="gold")
+    scene.add_light(sl.DirectionalLight((-1, -2, -1), shadows="exact"))
+    with pytest.raises(ValueError, match="texture") as e:
+        sl.render(scene, sl.Camera.look_at((3, 3, 4), (0, 0, 0)), width=32, height=24)
+    assert getattr(e.value, "field", None) == "shadows"

@@ -14,6 +14,7 @@ from ._core import (
     MAX_AREA_SAMPLES,
     MAX_IMAGE_SIZE,
     MAX_SHADOW_RESOLUTION,
+    MAX_TEXTURE_SIZE,
     MAX_THREADS,
     AreaLight,
     Camera,
@@ -28,6 +29,7 @@ from ._core import (
     SceneObject,
     ShadowSettings,
     SpotLight,
+    Texture,
     __version__,
     load_obj,
     load_obj_parts,
@@ -66,11 +68,13 @@ from .scene_file import (
     to_toml,
 )
 from .swatch import material_sheet
+from .textures import bake_texture, texel_centres
 
 __all__ = [
     "MAX_AREA_SAMPLES",
     "MAX_IMAGE_SIZE",
     "MAX_SHADOW_RESOLUTION",
+    "MAX_TEXTURE_SIZE",
     "MAX_THREADS",
     "VIEWS",
     "AreaLight",
@@ -90,7 +94,9 @@ __all__ = [
     "SceneObject",
     "ShadowSettings",
     "SpotLight",
+    "Texture",
     "__version__",
+    "bake_texture",
     "camera_from_intrinsics",
     "camera_from_matrix",
     "data_path",
@@ -119,6 +125,7 @@ __all__ = [
     "scene_to_dict",
     "smooth_normals",
     "srgb_encode",
+    "texel_centres",
     "to_toml",
     "to_uint8",
     "view_direction",

@@ -9,6 +9,7 @@ Errors: ``ValueError`` (bad values, with the offending element named, e.g.
 """
 
 import os
+import pathlib
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any, ClassVar, Final, Literal, TypedDict, final, overload
 
@@ -20,6 +21,7 @@ __all__ = [
     "MAX_AREA_SAMPLES",
     "MAX_IMAGE_SIZE",
     "MAX_SHADOW_RESOLUTION",
+    "MAX_TEXTURE_SIZE",
     "MAX_THREADS",
     "AreaLight",
     "Camera",
@@ -34,6 +36,7 @@ __all__ = [
     "SceneObject",
     "ShadowSettings",
     "SpotLight",
+    "Texture",
     "__version__",
     "load_obj",
     "load_obj_parts",
@@ -70,6 +73,9 @@ MAX_IMAGE_SIZE: Final[int]
 MAX_THREADS: Final[int]
 #: Largest ``samples`` per side of an :class:`AreaLight` (64, i.e. 4096 point sources).
 MAX_AREA_SAMPLES: Final[int]
+#: Largest texture image width or height in texels (16384).
+MAX_TEXTURE_SIZE: Final[int]
+
 #: Largest :class:`ShadowSettings` ``resolution`` (8192 texels a side).
 MAX_SHADOW_RESOLUTION: Final[int]
 
@@ -123,8 +129,11 @@ class Mesh:
     ``vertices``: (N, 3) positions; ``faces``: (M, 3) vertex indices of any integer dtype,
     counter-clockwise = front; ``normals``: optional (N, 3) vertex normals (normalised
     before use; when omitted, each vertex gets the normalised average of the unit normals of
-    its faces); ``uvs``: optional (N, 2) texture coordinates. Values must be finite in
-    float32 and indices in ``[0, N)``; the mesh needs at least one triangle.
+    its faces); ``uvs``: optional (N, 2) texture coordinates (OpenGL's: (0, 0) is the
+    bottom-left of an image); ``colors``: optional (N, 3) or (N, 4) vertex colours, uint8
+    (divided by 255) or float (linear, >= 0; alpha is ignored), which replace the material's
+    ambient and diffuse colour. Values must be finite in float32 and indices in ``[0, N)``;
+    the mesh needs at least one triangle.
     """
 
     def __copy__(self) -> Mesh: ...
@@ -137,6 +146,7 @@ class Mesh:
         faces: ArrayLike,
         normals: ArrayLike | None = None,
         uvs: ArrayLike | None = None,
+        colors: ArrayLike | None = None,
     ) -> Mesh: ...
     @classmethod
     def from_trimesh(
@@ -178,6 +188,9 @@ class Mesh:
     def uvs(self) -> NDArray[np.float32] | None:
         """Texture coordinates, float32 (N, 2), or None."""
     @property
+    def colors(self) -> NDArray[np.float32] | None:
+        """Per-vertex linear RGB colours, float32 (N, 3), or None."""
+    @property
     def n_vertices(self) -> int:
         """Number of vertices."""
     @property
@@ -190,8 +203,11 @@ class Material:
     specular exponent, >= 0; ``float("inf")`` is the lectures' perfect mirror: specular only
     where the lobe's base is exactly 1, so none on a rasterized surface in practice, and
     refused with ``specular="blinn-normalized"``) and emission (RGB >= 0, added unlit; black
-    by default). Omitted arguments take the default grey plastic's values. Materials compare
-    equal when all their values are equal (and are not hashable)."""
+    by default). Omitted arguments take the default grey plastic's values. Texture maps
+    (``diffuse_map``, ``ambient_map`` (default: the diffuse map), ``specular_map``,
+    ``emission_map``) multiply their coefficient per point; the specular term is added after
+    the texture. Materials compare equal when all their values are equal and they hold the
+    same Texture objects (and are not hashable)."""
 
     def __copy__(self) -> Material: ...
     def __deepcopy__(self, _memo: Any) -> Material:
@@ -204,7 +220,31 @@ class Material:
         specular: _Vec3Like | None = None,
         shininess: float | None = None,
         emission: _Vec3Like | None = None,
+        diffuse_map: Texture | None = None,
+        ambient_map: Texture | None = None,
+        specular_map: Texture | None = None,
+        emission_map: Texture | None = None,
     ) -> Material: ...
+    def with_maps(
+        self,
+        diffuse_map: Texture | None = None,
+        ambient_map: Texture | None = None,
+        specular_map: Texture | None = None,
+        emission_map: Texture | None = None,
+    ) -> Material:
+        """The same material with these texture maps (the others dropped)."""
+    @property
+    def diffuse_map(self) -> Texture | None:
+        """The diffuse map, or None."""
+    @property
+    def ambient_map(self) -> Texture | None:
+        """The ambient map, or None (the diffuse map then weighs the ambient term)."""
+    @property
+    def specular_map(self) -> Texture | None:
+        """The specular map, or None."""
+    @property
+    def emission_map(self) -> Texture | None:
+        """The emission map, or None."""
     @staticmethod
     def preset(name: str) -> Material:
         """The named classic preset (case-insensitive; "polished_silver" = "polished silver").
@@ -232,6 +272,101 @@ class Material:
     def __eq__(self, value: object, /) -> bool: ...
     def __ne__(self, value: object, /) -> bool: ...
     __hash__: None  # type: ignore[assignment]
+
+_Wrap: TypeAlias = Literal["repeat", "clamp", "mirror"]
+
+@final
+class Texture:
+    """A texture for a Material's maps: an image or a procedural pattern.
+
+    ``array``: (H, W, 3) or (H, W, 4) uint8 (divided by 255), uint16 (by 65535) or float
+    (linear values as given) array, or a Pillow RGB/RGBA image; ``array[0]`` is the top row
+    of the picture (v near 1); alpha is ignored. ``filter``: "nearest" and "bilinear" read
+    the full-size image at every distance, "trilinear" (default) the mip levels around the
+    exact level of detail. ``wrap``: "repeat" (default), "clamp" (to the edge) or "mirror",
+    or a (u, v) pair. ``srgb``: decode sRGB-encoded values to linear (default False: values
+    used as stored, as classic OpenGL). ``anisotropy``: 1 (off) to 16 probes along the
+    footprint's major axis (see the user guide). Sizes up to MAX_TEXTURE_SIZE per side and
+    2**26 texels.
+    """
+
+    def __new__(
+        cls,
+        array: ArrayLike | Any,
+        filter: Literal["nearest", "bilinear", "trilinear"] = "trilinear",
+        wrap: _Wrap | tuple[_Wrap, _Wrap] | None = None,
+        srgb: bool = False,
+        anisotropy: int = 1,
+    ) -> Texture: ...
+    @staticmethod
+    def load(
+        path: str | os.PathLike[str],
+        filter: Literal["nearest", "bilinear", "trilinear"] = "trilinear",
+        wrap: _Wrap | tuple[_Wrap, _Wrap] | None = None,
+        srgb: bool = False,
+        anisotropy: int = 1,
+    ) -> Texture:
+        """Decodes an image file (PNG 8 or 16 bit, JPEG); a missing file is
+        ``FileNotFoundError``, an undecodable one ``ObjParseError`` naming it."""
+    @staticmethod
+    def procedural(
+        name: Literal["checker", "grid", "stripes", "noise"],
+        scale: float = 8.0,
+        color_a: _Vec3Like | None = None,
+        color_b: _Vec3Like | None = None,
+        width: float = 0.1,
+        octaves: int = 4,
+        seed: int = 0,
+    ) -> Texture:
+        """A pattern evaluated at each shaded point (not filtered): ``scale`` cells per unit
+        of u and v, ``color_a`` (default white) and ``color_b`` (default black); the grid's
+        line ``width`` (fraction of a cell); value noise with ``octaves`` (1 to 16) and
+        ``seed``."""
+    @property
+    def kind(self) -> str:
+        """ "image", or the procedural pattern's name."""
+    @property
+    def width(self) -> int | None:
+        """Image width in texels (None for a procedural texture)."""
+    @property
+    def height(self) -> int | None:
+        """Image height in texels (None for a procedural texture)."""
+    @property
+    def levels(self) -> int:
+        """Number of mip levels (1 for a procedural texture)."""
+    @property
+    def anisotropy(self) -> int:
+        """Probes of anisotropic filtering (1: off)."""
+    @property
+    def filter(self) -> str:
+        """The filter's name."""
+    @property
+    def wrap(self) -> tuple[str, str]:
+        """The wrap modes (u, v)."""
+    @property
+    def path(self) -> pathlib.Path | None:
+        """The image file this texture was loaded from (None for arrays and patterns)."""
+    @property
+    def srgb(self) -> bool:
+        """Whether the image file was decoded as sRGB."""
+    @property
+    def uv_transform(self) -> tuple[tuple[float, float], tuple[float, float]]:
+        """(scale, offset) applied to (u, v) before sampling (MTL's ``-s`` and ``-o``)."""
+    def with_uv_transform(self, scale: tuple[float, float], offset: tuple[float, float]) -> Texture:
+        """The same texture read at (u, v) * scale + offset."""
+    def to_array(self) -> NDArray[np.float32] | None:
+        """The full-size image as linear float32 (H, W, 3), row 0 the top."""
+    def sample(
+        self,
+        u: float,
+        v: float,
+        derivatives: tuple[float, float, float, float] | None = None,
+    ) -> _Vec3:
+        """The colour at (u, v) as the renderer reads it, with the screen-space
+        derivatives (du/dx, dv/dx, du/dy, dv/dy) that set the level of detail."""
+    def __copy__(self) -> Texture: ...
+    def __deepcopy__(self, _memo: Any) -> Texture:
+        """Pickling and copying keep every texel exactly (textures are immutable)."""
 
 @final
 class DirectionalLight:

@@ -403,6 +403,10 @@ def _check_cameras_flags(args: argparse.Namespace) -> None:
 def cmd_render_scene(args: argparse.Namespace) -> None:
     _check_values(args)
     _check_cameras_flags(args)
+    if args.texture is not None:
+        raise ValueError(
+            "--texture cannot be used with a scene file; give its material a diffuse_map"
+        )
     given = [k for k in _MODEL_ONLY if getattr(args, k) is not None]
     if given:
         flags = ", ".join("--" + k for k in given)
@@ -415,19 +419,28 @@ def cmd_render_scene(args: argparse.Namespace) -> None:
     _render(sf.scene, camera, args, sf.render_options)
 
 
-def _add_model(scene: core.Scene, path: str, preset: str | None) -> np.ndarray:
+def _add_model(
+    scene: core.Scene, path: str, preset: str | None, texture: str | None = None
+) -> np.ndarray:
     """Adds the model at ``path`` to ``scene``; returns all its vertices (for framing).
 
-    An OBJ keeps its MTL materials, one per group and ``usemtl`` run, unless a preset is
-    given; parts without one (and other formats) get the preset, gold by default."""
+    An OBJ keeps its MTL materials (and their texture maps), one per group and ``usemtl``
+    run, unless a preset is given; parts without one (and other formats) get the preset,
+    gold by default. ``texture``: an image file made every part's diffuse map (which also
+    weighs ambient), in place of the MTL's maps; the model needs UVs."""
     fallback = core.Material.preset(preset or "gold")
+    tex = None if texture is None else core.Texture.load(texture)
+
+    def with_texture(m: core.Material) -> core.Material:
+        return m if tex is None else m.with_maps(diffuse_map=tex)
+
     if os.fspath(path).lower().endswith(".obj"):
         parts = core.load_obj_parts(path)
         for _, mesh, mtl in parts:
-            scene.add(mesh, material=fallback if preset or mtl is None else mtl)
+            scene.add(mesh, material=with_texture(fallback if preset or mtl is None else mtl))
         return np.concatenate([mesh.vertices for _, mesh, _ in parts])
     mesh = load_mesh(path)
-    scene.add(mesh, material=fallback)
+    scene.add(mesh, material=with_texture(fallback))
     return mesh.vertices
 
 
@@ -441,7 +454,7 @@ def cmd_render(args: argparse.Namespace) -> None:
         ambient=args.ambient if args.ambient is not None else (0.2, 0.2, 0.2),
         two_sided=bool(args.two_sided),
     )
-    _add_model(scene, args.model, args.material)
+    _add_model(scene, args.model, args.material, args.texture)
     # No --light: the default rig, which moves with the camera.
     _lights(scene, args)
     camera = _camera(scene, None, args, file_up_axis(args.model))
@@ -491,6 +504,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         default=None,
         help="preset for the whole model (see 'shadelab materials'); default: the OBJ's MTL "
         "materials, gold where it has none",
+    )
+    r.add_argument(
+        "--texture",
+        default=None,
+        metavar="IMAGE",
+        help="image file (PNG, JPEG) as the model's diffuse map, in place of its MTL maps "
+        "(the model needs UVs; it multiplies the material's ambient and diffuse colour)",
     )
     r.add_argument("--ambient", type=_triple, default=None, help="scene ambient r,g,b (0.2,...)")
     r.add_argument("--fov", type=float, default=None, help="vertical field of view, degrees (35)")

@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from ._core import Material, Mesh, load_obj
+from ._core import Material, Mesh, Texture, load_obj
 
 #: Default crease angle of the mesh loaders, degrees: an edge between faces whose normals
 #: differ by more stays sharp (a box's 90-degree edges), smaller ones are smoothed (the
@@ -121,6 +121,15 @@ def _trimesh_uvs(tm: Any) -> np.ndarray | None:
     return None if uv is None else np.asarray(uv)
 
 
+def _trimesh_colors(tm: Any) -> np.ndarray | None:
+    """Per-vertex colours of a trimesh (``ColorVisuals`` of kind ``"vertex"``), or None."""
+    visual = getattr(tm, "visual", None)
+    if visual is None or getattr(visual, "kind", None) != "vertex":
+        return None
+    c = np.asarray(visual.vertex_colors)
+    return c if len(c) == len(tm.vertices) else None
+
+
 def mesh_from_trimesh(
     tm: Any, use_normals: bool = False, crease_angle: float | None = CREASE_ANGLE
 ) -> Mesh:
@@ -131,17 +140,44 @@ def mesh_from_trimesh(
             f"{type(tm).__name__}"
         )
     uvs = _trimesh_uvs(tm)
+    colors = _trimesh_colors(tm)
     if use_normals:
-        return Mesh(tm.vertices, tm.faces, np.asarray(tm.vertex_normals), uvs)
+        return Mesh(tm.vertices, tm.faces, np.asarray(tm.vertex_normals), uvs, colors)
     if uvs is not None and len(uvs) != len(tm.vertices):
         uvs = None  # a per-face or broken UV array is not a vertex attribute
-    v, f, n, uv = smooth_normals(tm.vertices, tm.faces, crease_angle, uvs)
-    return Mesh(v, f, n, uv)
+    if colors is None:
+        v, f, n, uv = smooth_normals(tm.vertices, tm.faces, crease_angle, uvs)
+        return Mesh(v, f, n, uv)
+    # Vertex colours ride through the split as the source vertex index in the UV slot
+    # (which also keeps the file's vertices, as real UVs do), exact below 2^53.
+    index = np.stack([np.arange(len(tm.vertices), dtype=np.float64)] * 2, axis=1)
+    v, f, n, src = smooth_normals(tm.vertices, tm.faces, crease_angle, index)
+    assert src is not None
+    k = src[:, 0].astype(np.int64)
+    return Mesh(v, f, n, None if uvs is None else np.asarray(uvs)[k], colors[k])
+
+
+def _texture_of(visual: Any) -> Texture | None:
+    """The image of a trimesh ``TextureVisuals``' material (``SimpleMaterial.image`` or
+    ``PBRMaterial.baseColorTexture``) as a Texture, when the mesh has UVs."""
+    if getattr(visual, "kind", None) != "texture" or getattr(visual, "uv", None) is None:
+        return None
+    mat = getattr(visual, "material", None)
+    img = getattr(mat, "image", None)
+    if img is None:
+        img = getattr(mat, "baseColorTexture", None)
+    if img is None:
+        return None
+    return Texture(np.asarray(img.convert("RGB")))
 
 
 def _material_of(tm: Any) -> Material | None:
-    """The diffuse colour of a trimesh's material or face colours, as a Material."""
+    """The diffuse colour of a trimesh's material or face colours, as a Material, with its
+    texture image as the diffuse map."""
     visual = getattr(tm, "visual", None)
+    tex = _texture_of(visual)
+    if tex is not None:
+        return Material(ambient=(1.0, 1.0, 1.0), diffuse=(1.0, 1.0, 1.0), diffuse_map=tex)
     mat = getattr(visual, "material", None)
     rgba = None
     for attr in ("baseColorFactor", "main_color", "diffuse"):

@@ -12,6 +12,7 @@ it as TOML (with tomli-w).
 
 from __future__ import annotations
 
+import contextvars
 import math
 import os
 import sys
@@ -36,6 +37,7 @@ from ._core import (
     Scene,
     ShadowSettings,
     SpotLight,
+    Texture,
     load_obj_parts,
 )
 from .io import load_mesh
@@ -45,8 +47,11 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - exercised on Python < 3.11 only
     import tomli as tomllib
 
-#: The schema version this release reads and writes.
-SCHEMA_VERSION = 1
+#: The schema version this release writes; it reads this one and every earlier one (1:
+#: no textures; 2: texture maps in materials and vertex colours in inline meshes).
+SCHEMA_VERSION = 2
+#: The schema versions this release reads.
+READ_VERSIONS = (1, 2)
 
 _PathLike = Union[str, "os.PathLike[str]"]
 _Light = Union[DirectionalLight, PointLight, SpotLight, AreaLight]
@@ -200,7 +205,111 @@ def _call(
 # Materials
 
 
-_MATERIAL_KEYS = ("preset", "ambient", "diffuse", "specular", "shininess", "emission")
+_MAP_KEYS = ("diffuse_map", "ambient_map", "specular_map", "emission_map")
+_MATERIAL_KEYS = ("preset", "ambient", "diffuse", "specular", "shininess", "emission", *_MAP_KEYS)
+_IMAGE_KEYS = ("filter", "wrap", "srgb", "anisotropy", "uv_scale", "uv_offset")
+_PROCEDURAL_KEYS = ("scale", "color_a", "color_b", "width", "octaves", "seed")
+
+#: Base directory of relative texture paths while a document is read.
+_BASE_DIR: contextvars.ContextVar[Path] = contextvars.ContextVar("_BASE_DIR", default=Path("."))
+
+
+def _pair(v: Any, where: str) -> tuple[float, float]:
+    n = _numbers(v, where) if isinstance(v, list) else None
+    if n is None or len(n) != 2:
+        raise _fail(where, "two numbers [u, v]", v)
+    return (float(n[0]), float(n[1]))
+
+
+def _texture(v: Any, where: str) -> Texture:
+    """A texture table: ``{file = "wood.png", filter, wrap, srgb, uv_scale, uv_offset}`` or
+    ``{procedural = "checker", scale, color_a, color_b, width, octaves, seed}``."""
+    if isinstance(v, Mapping) and "procedural" in v:
+        t = _table(v, where, ("procedural",), _PROCEDURAL_KEYS)
+        name = _choice(
+            t["procedural"], _at(where, "procedural"), ("checker", "grid", "stripes", "noise")
+        )
+        kw: dict[str, Any] = {}
+        for k in ("scale", "width"):
+            if k in t:
+                kw[k] = _number(t[k], _at(where, k))
+        for k in ("octaves", "seed"):
+            if k in t:
+                kw[k] = _integer(t[k], _at(where, k))
+        for k in ("color_a", "color_b"):
+            if k in t:
+                kw[k] = _numbers(t[k], _at(where, k))
+        return _call(where, lambda: Texture.procedural(name, **kw))  # type: ignore[arg-type]
+    if not (isinstance(v, Mapping) and "file" in v):
+        raise _fail(where, "a texture table {file = ...} or {procedural = ...}", v)
+    t = _table(v, where, ("file",), _IMAGE_KEYS)
+    p = Path(_string(t["file"], _at(where, "file")))
+    if not p.is_absolute():
+        p = _BASE_DIR.get() / p
+    opts: dict[str, Any] = {}
+    if "filter" in t:
+        opts["filter"] = _choice(
+            t["filter"], _at(where, "filter"), ("nearest", "bilinear", "trilinear")
+        )
+    if "wrap" in t:
+        w = t["wrap"]
+        wraps = ("repeat", "clamp", "mirror")
+        if isinstance(w, list) and len(w) == 2:
+            opts["wrap"] = tuple(
+                _choice(x, _at(_at(where, "wrap"), i), wraps) for i, x in enumerate(w)
+            )
+        else:
+            opts["wrap"] = _choice(w, _at(where, "wrap"), wraps)
+    if "srgb" in t:
+        opts["srgb"] = _boolean(t["srgb"], _at(where, "srgb"))
+    if "anisotropy" in t:
+        opts["anisotropy"] = _integer(t["anisotropy"], _at(where, "anisotropy"))
+    if not p.exists():
+        raise SceneFileError(f"no such file: '{p}'", _at(where, "file"))
+    try:
+        tex = Texture.load(p, **opts)
+    except (ValueError, OSError) as e:
+        key = getattr(e, "field", None)
+        raise SceneFileError(str(e), _at(where, key if key in _IMAGE_KEYS else "file")) from e
+    if "uv_scale" in t or "uv_offset" in t:
+        scale = _pair(t["uv_scale"], _at(where, "uv_scale")) if "uv_scale" in t else (1.0, 1.0)
+        offset = _pair(t["uv_offset"], _at(where, "uv_offset")) if "uv_offset" in t else (0.0, 0.0)
+        tex = _call(where, lambda: tex.with_uv_transform(scale, offset))
+    return tex
+
+
+def texture_to_dict(tex: Texture) -> dict[str, Any]:
+    """A texture as a scene-file table: its file and options, or its pattern. A texture
+    made from an array has no file to name: ``ValueError`` (save the image and use
+    :meth:`Texture.load`)."""
+    if tex.kind == "image":
+        if tex.path is None:
+            raise ValueError(
+                "a Texture made from an array cannot be written to a scene file; save the "
+                "image to a file and use Texture.load"
+            )
+        d: dict[str, Any] = {"file": str(tex.path), "filter": tex.filter, "wrap": list(tex.wrap)}
+        if tex.srgb:
+            d["srgb"] = True
+        if tex.anisotropy != 1:
+            d["anisotropy"] = tex.anisotropy
+        scale, offset = tex.uv_transform
+        if scale != (1.0, 1.0):
+            d["uv_scale"] = list(scale)
+        if offset != (0.0, 0.0):
+            d["uv_offset"] = list(offset)
+        return d
+    # The pattern's parameters, as its pickled state holds them:
+    # ("procedural", name, scale, color_a, color_b, width, octaves, seed, uv).
+    p = tex.__reduce__()[1][1]
+    out: dict[str, Any] = {"procedural": p[1], "scale": p[2], "color_a": list(p[3])}
+    out["color_b"] = list(p[4])
+    if p[1] == "grid":
+        out["width"] = p[5]
+    if p[1] == "noise":
+        out["octaves"] = p[6]
+        out["seed"] = p[7]
+    return out
 
 
 def _material_table(v: Any, where: str) -> Material:
@@ -222,6 +331,9 @@ def _material_table(v: Any, where: str) -> Material:
             values[k] = _numbers(t[k], _at(where, k))
     if "shininess" in t:
         values["shininess"] = _number(t["shininess"], _at(where, "shininess"))
+    for k in _MAP_KEYS:
+        if k in t:
+            values[k] = _texture(t[k], _at(where, k))
     return _call(where, lambda: Material(**values))
 
 
@@ -272,14 +384,20 @@ def _named_materials(v: Any, where: str) -> dict[str, Material]:
 
 
 def material_to_dict(m: Material) -> dict[str, Any]:
-    """A material as explicit values (exact: its float32 values as Python floats)."""
-    return {
+    """A material as explicit values (exact: its float32 values as Python floats), with its
+    texture maps (see :func:`texture_to_dict`)."""
+    d: dict[str, Any] = {
         "ambient": list(m.ambient),
         "diffuse": list(m.diffuse),
         "specular": list(m.specular),
         "shininess": float(m.shininess),
         "emission": list(m.emission),
     }
+    for k in _MAP_KEYS:
+        tex = getattr(m, k)
+        if tex is not None:
+            d[k] = texture_to_dict(tex)
+    return d
 
 
 # ---------------------------------------------------------------------------------------
@@ -520,7 +638,9 @@ _PRIMITIVES = ("sphere", "ico_sphere", "cube", "plane")
 
 
 def _inline_mesh(t: dict[str, Any], where: str) -> Mesh:
-    kw = {k: _rows(t[k], _at(where, k), integer=k == "faces") for k in t}
+    kw: dict[str, Any] = {k: _rows(t[k], _at(where, k), integer=k == "faces") for k in t}
+    if "colors" in kw:  # linear float colours (TOML writes 0 and 1 as integers)
+        kw["colors"] = np.asarray(kw["colors"], dtype=np.float64)
     return _call(where, lambda: Mesh(**kw))
 
 
@@ -557,7 +677,7 @@ def _mesh(v: Any, where: str, base_dir: Path) -> list[tuple[Mesh, Material | Non
         return [(_primitive(dict(v), where), None)]
     if "vertices" not in v and "faces" not in v:
         raise _fail(where, "a {primitive = ...} table or an inline {vertices, faces} table", v)
-    t = _table(v, where, ("vertices", "faces"), ("normals", "uvs"))
+    t = _table(v, where, ("vertices", "faces"), ("normals", "uvs", "colors"))
     return [(_inline_mesh(t, where), None)]
 
 
@@ -684,9 +804,14 @@ def load_scene_dict(d: Any, base_dir: _PathLike | None = None) -> SceneFile:
     version = d["version"]
     if (
         not (isinstance(version, int) and not isinstance(version, bool))
-        or version != SCHEMA_VERSION
+        or version not in READ_VERSIONS
     ):
-        raise _fail("version", f"{SCHEMA_VERSION} (the schema version this release reads)", version)
+        raise _fail(
+            "version",
+            " or ".join(map(str, READ_VERSIONS)) + " (the schema versions this release reads)",
+            version,
+        )
+    _BASE_DIR.set(base)
     t = _table(d, "", ("version",), _TOP_KEYS)
     # Every section is checked even after an error, so that all are reported at once.
     errors: list[SceneFileError] = []
@@ -828,6 +953,8 @@ def mesh_to_dict(mesh: Mesh) -> dict[str, Any]:
         d["normals"] = mesh.normals.tolist()
     if mesh.uvs is not None:
         d["uvs"] = mesh.uvs.tolist()
+    if mesh.colors is not None:
+        d["colors"] = mesh.colors.tolist()
     return d
 
 

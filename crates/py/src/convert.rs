@@ -236,3 +236,35 @@ fn faces_unnamed(obj: &Bound<'_, PyAny>, n_vertices: usize) -> PyResult<Vec<[u32
     };
     Ok(flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
 }
+
+/// Vertex colours: an (N, 3) or (N, 4) array (alpha dropped), uint8 (/ 255) or float.
+pub fn colors(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Vec3>> {
+    let name = "colors";
+    let (_, kind, dname) = as_array(obj, name).map_err(|e| with_field(e, name))?;
+    let a = floats(obj, name).map_err(|e| with_field(e, name))?;
+    if a.shape.len() != 2 || !(a.shape[1] == 3 || a.shape[1] == 4) {
+        return Err(with_field(
+            PyValueError::new_err(format!(
+                "colors must have shape (N, 3) or (N, 4), got {}",
+                shape_str(&a.shape)
+            )),
+            name,
+        ));
+    }
+    let cols = a.shape[1];
+    first_non_finite(name, &a.data, cols).map_err(|e| with_field(e, name))?;
+    let scale = match (kind.as_str(), dname.as_str()) {
+        (_, "uint8") => 1.0 / 255.0,
+        ("f", _) => 1.0,
+        _ => {
+            return Err(with_field(
+                PyTypeError::new_err(format!("colors must be uint8 or float, got dtype {dname}")),
+                name,
+            ))
+        }
+    };
+    Ok(a.data
+        .chunks_exact(cols)
+        .map(|c| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32) * scale)
+        .collect())
+}

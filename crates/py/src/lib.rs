@@ -15,6 +15,7 @@ mod pickle;
 mod render;
 mod scene;
 mod shadow;
+mod texture;
 
 use pyo3::prelude::*;
 
@@ -26,6 +27,11 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ObjParseError", m.py().get_type::<errors::ObjParseError>())?;
     m.add_class::<mesh::PyMesh>()?;
     m.add_class::<material::PyMaterial>()?;
+    m.add_class::<texture::PyTexture>()?;
+    m.add(
+        "MAX_TEXTURE_SIZE",
+        shadelab_raster::texture::MAX_TEXTURE_SIZE,
+    )?;
     m.add_class::<light::PyDirectionalLight>()?;
     m.add_class::<light::PyPointLight>()?;
     m.add_class::<light::PySpotLight>()?;

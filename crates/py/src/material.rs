@@ -3,14 +3,34 @@
 use pyo3::prelude::*;
 use shadelab_raster as core;
 
+use std::sync::Arc;
+
 use crate::convert;
 use crate::errors::{to_py, value_error};
+use crate::texture::PyTexture;
 
 /// OpenGL-style material: ambient, diffuse, specular RGB and shininess.
 #[pyclass(name = "Material", module = "shadelab_rs._core", frozen, eq)]
 #[derive(Clone, PartialEq)]
 pub struct PyMaterial {
     pub inner: core::Material,
+    /// Texture maps (`None`: untextured); equal when they hold the same textures.
+    pub maps: Option<Arc<core::Maps>>,
+}
+
+impl PyMaterial {
+    /// An untextured material.
+    pub fn plain(inner: core::Material) -> Self {
+        PyMaterial { inner, maps: None }
+    }
+}
+
+fn map_arg(t: Option<PyRef<'_, PyTexture>>) -> Option<Arc<core::Texture>> {
+    t.map(|t| t.inner.clone())
+}
+
+fn map_out(t: Option<&Arc<core::Texture>>) -> Option<PyTexture> {
+    t.map(|t| PyTexture::of(t.clone()))
 }
 
 /// The shininess as float32; a finite value beyond float32's range is refused rather than
@@ -32,6 +52,13 @@ fn shininess_f32(s: Option<f64>, default: f32) -> PyResult<f32> {
 impl PyMaterial {
     /// Pickle support: `_core._restore("Material", state)` rebuilds this value exactly.
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        if let Some(maps) = &self.maps {
+            let state = (
+                crate::pickle::material_state(&self.inner),
+                crate::texture::maps_state(maps),
+            );
+            return crate::pickle::reduce(py, "TexturedMaterial", state);
+        }
         crate::pickle::reduce(py, "Material", crate::pickle::material_state(&self.inner))
     }
 
@@ -43,13 +70,19 @@ impl PyMaterial {
         self.clone()
     }
     #[new]
-    #[pyo3(signature = (ambient=None, diffuse=None, specular=None, shininess=None, emission=None))]
+    #[pyo3(signature = (ambient=None, diffuse=None, specular=None, shininess=None, emission=None,
+                         diffuse_map=None, ambient_map=None, specular_map=None, emission_map=None))]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         ambient: Option<&Bound<'_, PyAny>>,
         diffuse: Option<&Bound<'_, PyAny>>,
         specular: Option<&Bound<'_, PyAny>>,
         shininess: Option<f64>,
         emission: Option<&Bound<'_, PyAny>>,
+        diffuse_map: Option<PyRef<'_, PyTexture>>,
+        ambient_map: Option<PyRef<'_, PyTexture>>,
+        specular_map: Option<PyRef<'_, PyTexture>>,
+        emission_map: Option<PyRef<'_, PyTexture>>,
     ) -> PyResult<Self> {
         let d = core::Material::default();
         let pick = |v: Option<&Bound<'_, PyAny>>, name: &str, dflt| -> PyResult<glam::Vec3> {
@@ -64,15 +97,70 @@ impl PyMaterial {
         )
         .and_then(|m| m.with_emission(emission))
         .map_err(to_py)?;
-        Ok(PyMaterial { inner })
+        let maps = core::Maps {
+            diffuse: map_arg(diffuse_map),
+            ambient: map_arg(ambient_map),
+            specular: map_arg(specular_map),
+            emission: map_arg(emission_map),
+        };
+        Ok(PyMaterial {
+            inner,
+            maps: (!maps.is_empty()).then(|| Arc::new(maps)),
+        })
+    }
+
+    /// The same material with other texture maps (each a Texture or None; the others
+    /// are dropped).
+    #[pyo3(signature = (diffuse_map=None, ambient_map=None, specular_map=None, emission_map=None))]
+    fn with_maps(
+        &self,
+        diffuse_map: Option<PyRef<'_, PyTexture>>,
+        ambient_map: Option<PyRef<'_, PyTexture>>,
+        specular_map: Option<PyRef<'_, PyTexture>>,
+        emission_map: Option<PyRef<'_, PyTexture>>,
+    ) -> Self {
+        let maps = core::Maps {
+            diffuse: map_arg(diffuse_map),
+            ambient: map_arg(ambient_map),
+            specular: map_arg(specular_map),
+            emission: map_arg(emission_map),
+        };
+        PyMaterial {
+            inner: self.inner,
+            maps: (!maps.is_empty()).then(|| Arc::new(maps)),
+        }
+    }
+
+    /// The diffuse map (a Texture) or None.
+    #[getter]
+    fn diffuse_map(&self) -> Option<PyTexture> {
+        map_out(self.maps.as_ref().and_then(|m| m.diffuse.as_ref()))
+    }
+
+    /// The ambient map or None (None with a diffuse map: the diffuse map weighs ambient).
+    #[getter]
+    fn ambient_map(&self) -> Option<PyTexture> {
+        map_out(self.maps.as_ref().and_then(|m| m.ambient.as_ref()))
+    }
+
+    /// The specular map or None.
+    #[getter]
+    fn specular_map(&self) -> Option<PyTexture> {
+        map_out(self.maps.as_ref().and_then(|m| m.specular.as_ref()))
+    }
+
+    /// The emission map or None.
+    #[getter]
+    fn emission_map(&self) -> Option<PyTexture> {
+        map_out(self.maps.as_ref().and_then(|m| m.emission.as_ref()))
     }
 
     /// The named classic preset (case-insensitive; "polished_silver" = "polished silver").
     #[staticmethod]
     fn preset(name: &str) -> PyResult<Self> {
-        Ok(PyMaterial {
-            inner: core::Material::preset(name).map_err(to_py)?,
-        })
+        Ok(PyMaterial::plain(
+            core::Material::preset(name).map_err(to_py)?,
+        ))
     }
 
     /// Names of all presets.
@@ -113,8 +201,20 @@ impl PyMaterial {
 
     fn __repr__(&self) -> String {
         let m = &self.inner;
+        let maps = self.maps.as_ref().map_or(String::new(), |mp| {
+            [
+                ("diffuse_map", &mp.diffuse),
+                ("ambient_map", &mp.ambient),
+                ("specular_map", &mp.specular),
+                ("emission_map", &mp.emission),
+            ]
+            .iter()
+            .filter(|(_, t)| t.is_some())
+            .map(|(n, _)| format!(", {n}=Texture(...)"))
+            .collect()
+        });
         format!(
-            "Material(ambient={:?}, diffuse={:?}, specular={:?}, shininess={}, emission={:?})",
+            "Material(ambient={:?}, diffuse={:?}, specular={:?}, shininess={}, emission={:?}{maps})",
             m.ambient.to_array(),
             m.diffuse.to_array(),
             m.specular.to_array(),

@@ -47,12 +47,13 @@ impl PyMesh {
         }
     }
     #[new]
-    #[pyo3(signature = (vertices, faces, normals=None, uvs=None))]
+    #[pyo3(signature = (vertices, faces, normals=None, uvs=None, colors=None))]
     fn new(
         vertices: &Bound<'_, PyAny>,
         faces: &Bound<'_, PyAny>,
         normals: Option<&Bound<'_, PyAny>>,
         uvs: Option<&Bound<'_, PyAny>>,
+        colors: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let positions = convert::vec3_rows(vertices, "vertices")?;
         let indices = convert::faces(faces, positions.len())?;
@@ -60,10 +61,22 @@ impl PyMesh {
             .map(|n| convert::vec3_rows(n, "normals"))
             .transpose()?;
         let uvs = uvs.map(|u| convert::vec2_rows(u, "uvs")).transpose()?;
-        let mesh = core::Mesh::new(positions, indices, normals, uvs).map_err(to_py)?;
+        let colors = colors.map(convert::colors).transpose()?;
+        let mut mesh = core::Mesh::new(positions, indices, normals, uvs).map_err(to_py)?;
+        if let Some(c) = colors {
+            mesh = mesh
+                .with_colors(c)
+                .map_err(|e| crate::errors::with_field(to_py(e), "colors"))?;
+        }
         Ok(PyMesh {
             inner: Arc::new(mesh),
         })
+    }
+
+    /// Per-vertex linear RGB colours as float32 (N, 3), or None.
+    #[getter]
+    fn colors<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray2<f32>>> {
+        self.inner.colors().map(|c| rows3(py, c))
     }
 
     /// Builds a mesh from a `trimesh.Trimesh` (its vertices, faces and, when present,
@@ -234,9 +247,10 @@ pub fn load_obj_parts<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Vec<Bound
                     inner: Arc::new(p.mesh),
                 },
             )?;
+            let maps = p.maps;
             let mat = p
                 .material
-                .map(|m| Py::new(py, PyMaterial { inner: m }))
+                .map(|m| Py::new(py, PyMaterial { inner: m, maps }))
                 .transpose()?;
             PyTuple::new(
                 py,

@@ -123,6 +123,7 @@ pub fn mesh_state<'py>(py: Python<'py>, m: &core::Mesh) -> PyResult<Bound<'py, P
             opt(m.given_normals()),
             opt(m.loader_normals()),
             uvs,
+            opt(m.colors()),
         ],
     )
 }
@@ -135,8 +136,25 @@ type Arrays<'py> = (
     Option<Bound<'py, PyAny>>,
 );
 
+/// [`Arrays`] and the vertex colours.
+type Arrays6<'py> = (
+    Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
+    Option<Bound<'py, PyAny>>,
+    Option<Bound<'py, PyAny>>,
+    Option<Bound<'py, PyAny>>,
+    Option<Bound<'py, PyAny>>,
+);
+
 fn restore_mesh(state: &Bound<'_, PyAny>) -> PyResult<PyMesh> {
-    let (vertices, faces, given, loader, uvs): Arrays<'_> = state.extract()?;
+    // Pickles from before vertex colours have five items.
+    let (vertices, faces, given, loader, uvs, colors) = match state.extract::<Arrays<'_>>() {
+        Ok((a, b, c, d, e)) => (a, b, c, d, e, None),
+        Err(_) => {
+            let (a, b, c, d, e, f): Arrays6<'_> = state.extract()?;
+            (a, b, c, d, e, f)
+        }
+    };
     let positions = read_vec3s(&vertices, "vertices")?;
     let indices = match faces.extract::<PyReadonlyArray2<u32>>() {
         Ok(a) if a.shape()[1] == 3 && a.as_slice().is_ok() => a
@@ -158,6 +176,9 @@ fn restore_mesh(state: &Bound<'_, PyAny>) -> PyResult<PyMesh> {
     let mut mesh = core::Mesh::new(positions, indices, normals, uvs).map_err(to_py)?;
     if from_loader {
         mesh = mesh.with_generated_normals();
+    }
+    if let Some(c) = colors {
+        mesh = mesh.with_colors(read_vec3s(&c, "colors")?).map_err(to_py)?;
     }
     Ok(PyMesh {
         inner: Arc::new(mesh),
@@ -481,7 +502,9 @@ pub fn scene_state<'py>(py: Python<'py>, scene: &PyScene) -> PyResult<Bound<'py,
     let s = &scene.inner;
     let mut meshes: Vec<Arc<core::Mesh>> = Vec::new();
     let mut objects: Vec<ObjectState> = Vec::new();
+    let mut maps = Vec::new();
     for o in s.objects() {
+        maps.push(o.maps().map(|m| crate::texture::maps_state(m)));
         let i = match meshes.iter().position(|m| Arc::ptr_eq(m, o.mesh())) {
             Some(i) => i,
             None => {
@@ -506,23 +529,25 @@ pub fn scene_state<'py>(py: Python<'py>, scene: &PyScene) -> PyResult<Bound<'py,
         .zip(&scene.given_directions)
         .map(|(l, given)| light_object(py, l, *given))
         .collect::<PyResult<Vec<_>>>()?;
-    PyTuple::new(
-        py,
-        [
-            V3::from(s.ambient()).into_pyobject(py)?.into_any(),
-            s.fog().map(fog_state).into_pyobject(py)?.into_any(),
-            s.two_sided().into_pyobject(py)?.to_owned().into_any(),
-            s.local_viewer().into_pyobject(py)?.to_owned().into_any(),
-            PyList::new(py, meshes)?.into_any(),
-            objects.into_pyobject(py)?.into_any(),
-            PyList::new(py, lights)?.into_any(),
-            scene
-                .default_lights
-                .into_pyobject(py)?
-                .to_owned()
-                .into_any(),
-        ],
-    )
+    let mut items = vec![
+        V3::from(s.ambient()).into_pyobject(py)?.into_any(),
+        s.fog().map(fog_state).into_pyobject(py)?.into_any(),
+        s.two_sided().into_pyobject(py)?.to_owned().into_any(),
+        s.local_viewer().into_pyobject(py)?.to_owned().into_any(),
+        PyList::new(py, meshes)?.into_any(),
+        objects.into_pyobject(py)?.into_any(),
+        PyList::new(py, lights)?.into_any(),
+        scene
+            .default_lights
+            .into_pyobject(py)?
+            .to_owned()
+            .into_any(),
+    ];
+    // Per-object texture maps, only when there are any: untextured scenes pickle as before.
+    if maps.iter().any(Option::is_some) {
+        items.push(maps.into_pyobject(py)?.into_any());
+    }
+    PyTuple::new(py, items)
 }
 
 fn transform(cols: &[f32]) -> PyResult<Mat4> {
@@ -534,6 +559,23 @@ fn transform(cols: &[f32]) -> PyResult<Mat4> {
 
 #[allow(clippy::type_complexity)]
 fn restore_scene(state: &Bound<'_, PyAny>) -> PyResult<PyScene> {
+    // A ninth item holds the objects' texture maps (scenes with textures only).
+    let maps: Vec<Option<Arc<core::Maps>>> = match state.len()? {
+        9 => state
+            .get_item(8)?
+            .try_iter()?
+            .map(|m| {
+                let m = m?;
+                if m.is_none() {
+                    Ok(None)
+                } else {
+                    crate::texture::restore_maps(&m)
+                }
+            })
+            .collect::<PyResult<_>>()?,
+        _ => Vec::new(),
+    };
+    let state = &state.get_item(pyo3::types::PySlice::new(state.py(), 0, 8, 1))?;
     let (ambient, fog_s, two_sided, local_viewer, meshes, objects, lights, default_lights): (
         V3,
         Option<FogState>,
@@ -548,14 +590,17 @@ fn restore_scene(state: &Bound<'_, PyAny>) -> PyResult<PyScene> {
     scene.set_fog(fog_s.map(fog).transpose()?);
     scene.set_two_sided(two_sided);
     scene.set_local_viewer(local_viewer);
-    for (i, m, back, t) in objects {
+    for (k, (i, m, back, t)) in objects.into_iter().enumerate() {
         let mesh = meshes
             .get(i)
             .ok_or_else(|| PyValueError::new_err(format!("a pickled object names mesh {i}")))?;
         let back = back.map(material).transpose()?;
         let object = core::Object::new(mesh.inner.clone(), material(m)?, transform(&t)?)
-            .map_err(to_py)?
-            .with_back_material(back);
+            .and_then(|o| {
+                o.with_back_material(back)
+                    .with_maps(maps.get(k).cloned().flatten())
+            })
+            .map_err(to_py)?;
         scene.add_object(object);
     }
     let mut given_directions = Vec::with_capacity(lights.len());
@@ -629,12 +674,12 @@ pub fn _restore<'py>(
         "Mesh" => Bound::new(py, restore_mesh(state).map_err(bad)?)?.into_any(),
         "Material" => Bound::new(
             py,
-            PyMaterial {
-                inner: state
+            PyMaterial::plain(
+                state
                     .extract()
                     .map_err(bad)
                     .and_then(|s| material(s).map_err(bad))?,
-            },
+            ),
         )?
         .into_any(),
         "ShadowSettings" => Bound::new(
@@ -701,6 +746,25 @@ pub fn _restore<'py>(
             },
         )?
         .into_any(),
+        "Texture" => {
+            Bound::new(py, crate::texture::restore_texture(state).map_err(bad)?)?.into_any()
+        }
+        "TexturedMaterial" => {
+            let restore = || -> PyResult<PyMaterial> {
+                let inner = material(state.get_item(0)?.extract()?)?;
+                let maps = crate::texture::restore_maps(&state.get_item(1)?)?;
+                Ok(PyMaterial { inner, maps })
+            };
+            Bound::new(py, restore().map_err(bad)?)?.into_any()
+        }
+        "TexturedSceneObject" => {
+            let restore = || -> PyResult<PySceneObject> {
+                let base = restore_scene_object(&state.get_item(0)?)?;
+                let maps = crate::texture::restore_maps(&state.get_item(1)?)?;
+                base.with_maps(maps)
+            };
+            Bound::new(py, restore().map_err(bad)?)?.into_any()
+        }
         "Scene" => Bound::new(py, restore_scene(state).map_err(bad)?)?.into_any(),
         "SceneObject" => Bound::new(py, restore_scene_object(state).map_err(bad)?)?.into_any(),
         // The state is the constructor's keywords (`RenderOptions.to_dict`): checked by it.

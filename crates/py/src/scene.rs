@@ -26,16 +26,29 @@ pub struct PySceneObject {
     mesh: Arc<core::Mesh>,
     material: core::Material,
     back_material: Option<core::Material>,
+    maps: Option<Arc<core::Maps>>,
     transform: Mat4,
 }
 
 impl PySceneObject {
+    /// The same snapshot with texture maps (checked against the mesh's UVs).
+    pub fn with_maps(self, maps: Option<Arc<core::Maps>>) -> PyResult<Self> {
+        if maps.is_some() && self.mesh.uvs().is_none() {
+            return Err(crate::errors::value_error(
+                "uvs",
+                "the material has texture maps but the mesh has no UVs",
+            ));
+        }
+        Ok(PySceneObject { maps, ..self })
+    }
+
     /// The snapshot of a scene's object.
     pub fn from_object(o: &core::Object) -> Self {
         PySceneObject {
             mesh: o.mesh().clone(),
             material: *o.material(),
             back_material: o.back_material().copied(),
+            maps: o.maps().cloned(),
             transform: o.transform(),
         }
     }
@@ -45,6 +58,17 @@ impl PySceneObject {
 impl PySceneObject {
     /// Pickle support: `_core._restore("SceneObject", state)` rebuilds this value exactly.
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        if let Some(maps) = &self.maps {
+            let base = crate::pickle::scene_object_state(
+                py,
+                &self.mesh,
+                &self.material,
+                self.back_material.as_ref(),
+                &self.transform,
+            )?;
+            let state = (base, crate::texture::maps_state(maps));
+            return crate::pickle::reduce(py, "TexturedSceneObject", state);
+        }
         crate::pickle::reduce(
             py,
             "SceneObject",
@@ -63,6 +87,7 @@ impl PySceneObject {
             mesh: self.mesh.clone(),
             material: self.material,
             back_material: self.back_material,
+            maps: self.maps.clone(),
             transform: self.transform,
         }
     }
@@ -72,6 +97,7 @@ impl PySceneObject {
             mesh: self.mesh.clone(),
             material: self.material,
             back_material: self.back_material,
+            maps: self.maps.clone(),
             transform: self.transform,
         }
     }
@@ -88,13 +114,17 @@ impl PySceneObject {
     fn material(&self) -> PyMaterial {
         PyMaterial {
             inner: self.material,
+            maps: self.maps.clone(),
         }
     }
 
     /// The material of back faces under two-sided lighting, or None (`material` then).
     #[getter]
     fn back_material(&self) -> Option<PyMaterial> {
-        self.back_material.map(|inner| PyMaterial { inner })
+        self.back_material.map(|inner| PyMaterial {
+            inner,
+            maps: self.maps.clone(),
+        })
     }
 
     /// The 4x4 model matrix as float64 (its float32 values exactly).
@@ -157,6 +187,12 @@ fn material_arg(m: Option<&Bound<'_, PyAny>>, name: &str) -> PyResult<Option<cor
     )))
 }
 
+/// The texture maps of a material argument (a preset name has none).
+fn maps_arg(m: Option<&Bound<'_, PyAny>>) -> Option<Arc<core::Maps>> {
+    m.and_then(|m| m.extract::<PyRef<'_, PyMaterial>>().ok())
+        .and_then(|m| m.maps.clone())
+}
+
 /// The (mesh, transform, material) parts of a mesh argument: a Mesh is one part; anything
 /// else (trimesh.Trimesh / Scene, a (vertices, faces) pair, PyVista PolyData) is converted
 /// by `shadelab_rs.io.mesh_parts`, in Python where those libraries live.
@@ -167,7 +203,7 @@ fn mesh_parts(
     Vec<(
         std::sync::Arc<core::Mesh>,
         Option<Mat4>,
-        Option<core::Material>,
+        Option<(core::Material, Option<Arc<core::Maps>>)>,
     )>,
 > {
     if let Ok(m) = obj.extract::<PyRef<'_, PyMesh>>() {
@@ -188,7 +224,11 @@ fn mesh_parts(
         let transform = transform
             .map(|t| convert::mat4(&t, "transform"))
             .transpose()?;
-        out.push((mesh.inner.clone(), transform, material.map(|m| m.inner)));
+        out.push((
+            mesh.inner.clone(),
+            transform,
+            material.map(|m| (m.inner, m.maps.clone())),
+        ));
     }
     Ok(out)
 }
@@ -335,6 +375,7 @@ impl PyScene {
         transform: Option<&Bound<'_, PyAny>>,
         back_material: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<usize> {
+        let maps = maps_arg(material);
         let material = material_arg(material, "material")?;
         let back_material = material_arg(back_material, "back_material")?;
         let transform = transform
@@ -348,11 +389,18 @@ impl PyScene {
                 (Some(t), Some(p)) => t * p,
                 (t, p) => t.or(p).unwrap_or(Mat4::IDENTITY),
             };
+            let (part_material, part_maps) = part_material.unzip();
+            // The given material (with its maps, or none) wins over the part's own.
+            let maps = if material.is_some() {
+                maps.clone()
+            } else {
+                part_maps.flatten()
+            };
             let mat = material.or(part_material).unwrap_or_default();
             objects.push(
                 core::Object::new(mesh, mat, m)
-                    .map_err(to_py)?
-                    .with_back_material(back_material),
+                    .and_then(|o| o.with_back_material(back_material).with_maps(maps))
+                    .map_err(to_py)?,
             );
         }
         let n = objects.len();
@@ -404,8 +452,11 @@ impl PyScene {
         let m = convert::mat4(transform, "transform")?;
         let o = &self.inner.objects()[i];
         let object = core::Object::new(o.mesh().clone(), *o.material(), m)
-            .map_err(to_py)?
-            .with_back_material(o.back_material().copied());
+            .and_then(|n| {
+                n.with_back_material(o.back_material().copied())
+                    .with_maps(o.maps().cloned())
+            })
+            .map_err(to_py)?;
         self.inner.objects_mut()[i] = object;
         Ok(())
     }
@@ -416,8 +467,11 @@ impl PyScene {
         let mat = material_arg(Some(material), "material")?.unwrap_or_default();
         let o = &self.inner.objects()[i];
         let object = core::Object::new(o.mesh().clone(), mat, o.transform())
-            .map_err(to_py)?
-            .with_back_material(o.back_material().copied());
+            .and_then(|n| {
+                n.with_back_material(o.back_material().copied())
+                    .with_maps(maps_arg(Some(material)))
+            })
+            .map_err(to_py)?;
         self.inner.objects_mut()[i] = object;
         Ok(())
     }
@@ -441,15 +495,37 @@ impl PyScene {
         transform: Option<&Bound<'_, PyAny>>,
         back_material: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<usize> {
+        let maps = maps_arg(material);
         let material = material_arg(material, "material")?;
         let back_material = material_arg(back_material, "back_material")?;
         let transform = transform.map_or(Ok(Mat4::IDENTITY), |t| convert::mat4(t, "transform"))?;
         let parts = py
             .detach(|| crate::errors::no_panic("add_obj", || core::load_obj_parts(&path)))?
             .map_err(to_py)?;
-        self.inner
+        if maps.is_some() {
+            if let Some(p) = parts.iter().find(|p| p.mesh.uvs().is_none()) {
+                return Err(crate::errors::value_error(
+                    "material",
+                    format!(
+                        "the material has texture maps but part '{}' of {} has no UVs",
+                        p.name,
+                        path.display()
+                    ),
+                ));
+            }
+        }
+        let first = self.inner.objects().len();
+        let n = self
+            .inner
             .add_obj_parts(parts, material, back_material, transform)
-            .map_err(to_py)
+            .map_err(to_py)?;
+        if maps.is_some() {
+            // The given material's maps on every part (their UVs were checked above).
+            for o in &mut self.inner.objects_mut()[first..] {
+                *o = o.clone().with_maps(maps.clone()).map_err(to_py)?;
+            }
+        }
+        Ok(n)
     }
 
     /// Adds a DirectionalLight, PointLight, SpotLight or AreaLight.

@@ -44,15 +44,21 @@ pub fn obj_loader(data: &[u8]) -> bool {
         Ok(parts) => parts,
         Err(e) => {
             let msg = e.to_string();
-            let RasterError::Parse { line, .. } = e else {
+            let RasterError::Parse { line, path, .. } = e else {
                 panic!("parsing from memory gave a non-parse error: {msg}");
             };
+            // The OBJ file, or (a texture map's error) the MTL file and its line.
+            let text = if path == name {
+                obj
+            } else {
+                mtl.unwrap_or_else(|| panic!("error names {path:?} without an MTL: {msg}"))
+            };
             assert!(
-                msg.starts_with("fuzz.obj"),
+                msg.starts_with(&*path.to_string_lossy()),
                 "error does not name the file: {msg}"
             );
             if let Some(line) = line {
-                let lines = obj.split(|&b| b == b'\n').count();
+                let lines = text.split(|&b| b == b'\n').count();
                 assert!(
                     (1..=lines).contains(&line),
                     "line {line} outside the file's {lines} lines"

@@ -16,6 +16,8 @@ pub struct Mesh {
     positions: Vec<Vec3>,
     normals: Option<Vec<Vec3>>,
     uvs: Option<Vec<Vec2>>,
+    /// Per-vertex linear RGB colours ([`Mesh::with_colors`]).
+    colors: Option<Vec<Vec3>>,
     indices: Vec<[u32; 3]>,
     /// `normals` were made by a loader (e.g. welded across OBJ UV seams), not given.
     normals_generated: bool,
@@ -93,6 +95,7 @@ impl Mesh {
             positions,
             normals,
             uvs,
+            colors: None,
             indices,
             normals_generated: false,
             generated_normals: OnceLock::new(),
@@ -105,6 +108,35 @@ impl Mesh {
     pub fn with_generated_normals(mut self) -> Self {
         self.normals_generated = self.normals.is_some();
         self
+    }
+
+    /// The same mesh with per-vertex colours (linear RGB, one per vertex, finite and ≥ 0):
+    /// they replace the material's ambient and diffuse reflectance (OpenGL's
+    /// `GL_COLOR_MATERIAL` with `GL_AMBIENT_AND_DIFFUSE`).
+    pub fn with_colors(mut self, colors: Vec<Vec3>) -> Result<Self> {
+        if colors.len() != self.positions.len() {
+            return Err(RasterError::invalid(format!(
+                "colors has {} rows but the mesh has {} vertices",
+                colors.len(),
+                self.positions.len()
+            )));
+        }
+        if let Some(i) = colors
+            .iter()
+            .position(|c| !c.is_finite() || c.min_element() < 0.0)
+        {
+            return Err(RasterError::invalid(format!(
+                "color {i} must be finite and >= 0, got {:?}",
+                colors[i].to_array()
+            )));
+        }
+        self.colors = Some(colors);
+        Ok(self)
+    }
+
+    /// Per-vertex colours, if any.
+    pub fn colors(&self) -> Option<&[Vec3]> {
+        self.colors.as_deref()
     }
 
     /// Vertex positions (object space).

@@ -3,8 +3,9 @@
 //! Polygons are triangulated (fan), positions/normals/UVs are re-indexed to one index per
 //! distinct corner, and `Ka`/`Kd`/`Ks`/`Ns`/`Ke` from the MTL file become [`Material`]s.
 //! Recovery rules: a missing, unreadable or malformed MTL file leaves the parts without
-//! material (geometry still loads), and texture maps an MTL names are ignored (the renderer
-//! has no textures); normals are used only when every face corner of a group has one,
+//! material (geometry still loads), except that its texture maps (`map_Kd`...: see
+//! `mtl_maps`) must load: a missing or undecodable texture is an error naming the file and
+//! the MTL line; normals are used only when every face corner of a group has one,
 //! otherwise they are generated per OBJ position (shared across UV seams); points (`p`) and
 //! lines (`l`) are ignored. A face (`f`) with fewer than three vertex references is an
 //! error naming its line. Parse errors name the file and, where a line can be found, the
@@ -28,6 +29,8 @@ pub struct ObjPart {
     pub mesh: Mesh,
     /// Its MTL material, if the file named one that could be loaded.
     pub material: Option<Material>,
+    /// The MTL material's texture maps (`map_Kd`...), if it names any.
+    pub maps: Option<std::sync::Arc<crate::texture::Maps>>,
 }
 
 /// Loads every part of an OBJ file. A `mtllib` file is looked up next to the OBJ file.
@@ -77,18 +80,33 @@ pub fn parse_obj_parts(
         ignore_points: true,
         ignore_lines: true,
     };
+    // The map lines of each MTL file read (tobj keeps neither their options nor lines).
+    let map_lines = std::cell::RefCell::new(Vec::new());
     let (models, materials) = tobj::load_obj_buf(
         &mut std::io::Cursor::new(bytes),
         &options,
         |mtl| match read_mtl(mtl) {
             // tobj 4.0.5 panics on a colour line with fewer than three numbers.
             Some(text) if has_short_color(&text) => Err(tobj::LoadError::MaterialParseError),
-            Some(text) => tobj::load_mtl_buf(&mut std::io::Cursor::new(text)),
+            Some(text) => {
+                let file = path.parent().unwrap_or(Path::new("")).join(mtl);
+                map_lines
+                    .borrow_mut()
+                    .push(crate::mtl_maps::scan(&text, &file).map(|m| (file, m)));
+                tobj::load_mtl_buf(&mut std::io::Cursor::new(text))
+            }
             None => Err(tobj::LoadError::OpenFileFailed),
         },
     )
     .map_err(|e| convert_error(path, bytes, e))?;
     let materials = materials.unwrap_or_default();
+    // A malformed map line is an error even though a malformed MTL otherwise is not: a
+    // texture the file asks for is never dropped silently.
+    let map_lines = map_lines
+        .into_inner()
+        .into_iter()
+        .collect::<Result<Vec<_>>>()?;
+    let mut texture_cache = HashMap::new();
     let mut parts = Vec::new();
     for m in models {
         let mesh = &m.mesh;
@@ -107,15 +125,37 @@ pub fn parse_obj_parts(
         } else {
             built
         };
-        let material = mesh
-            .material_id
-            .and_then(|i| materials.get(i))
-            .map(|mtl| material_from_mtl(path, mtl))
-            .transpose()?;
+        let mtl = mesh.material_id.and_then(|i| materials.get(i));
+        let material = mtl.map(|mtl| material_from_mtl(path, mtl)).transpose()?;
+        let mut maps = None;
+        if let Some(mtl) = mtl {
+            // The last MTL file that defines the material (as tobj merges them).
+            if let Some((file, lines)) = map_lines
+                .iter()
+                .rev()
+                .find_map(|(f, m)| m.get(&mtl.name).map(|l| (f, l)))
+            {
+                let dir = file.parent().unwrap_or(Path::new(""));
+                let loaded = crate::mtl_maps::load_maps(lines, dir, file, &mut texture_cache)?;
+                if built.uvs().is_none() {
+                    return Err(RasterError::Parse {
+                        path: path.to_path_buf(),
+                        line: None,
+                        message: format!(
+                            "group '{}': material '{}' has texture maps but the group has no \
+                             texture coordinates (vt)",
+                            m.name, mtl.name
+                        ),
+                    });
+                }
+                maps = Some(std::sync::Arc::new(loaded));
+            }
+        }
         parts.push(ObjPart {
             name: m.name,
             mesh: built,
             material,
+            maps,
         });
     }
     if parts.is_empty() {
@@ -600,7 +640,7 @@ mod tests {
     }
 
     #[test]
-    fn mtl_naming_a_missing_texture_still_gives_its_material() {
+    fn mtl_naming_a_missing_texture_is_an_error_naming_file_and_line() {
         write(
             "tex.mtl",
             "newmtl t\nKd 0.25 0.5 0.75\nmap_Kd does-not-exist.png\nmap_Ks nope.png\n",
@@ -609,16 +649,48 @@ mod tests {
             "tex.obj",
             "mtllib tex.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nusemtl t\nf 1/1 2/1 3/1\n",
         );
-        let parts = load_obj_parts(&p).unwrap();
-        assert_eq!(
-            parts[0].material.unwrap().diffuse,
-            Vec3::new(0.25, 0.5, 0.75)
+        let e = load_obj_parts(&p).unwrap_err().to_string();
+        assert!(
+            e.contains("tex.mtl:3:") && e.contains("does-not-exist.png"),
+            "{e}"
         );
+        // A texture that does not decode: the same, naming it.
+        write("bad.png", "not a png");
+        write("badtex.mtl", "newmtl t\nmap_Kd -s 2 2 bad.png\n");
+        let p = write(
+            "badtex.obj",
+            "mtllib badtex.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nusemtl t\nf 1/1 2/1 3/1\n",
+        );
+        let e = load_obj_parts(&p).unwrap_err().to_string();
+        assert!(e.contains("badtex.mtl:2:") && e.contains("bad.png"), "{e}");
         // A malformed MTL is treated like a missing one: geometry without material.
         let mtl = b"newmtl x\nKd 1 nope 1\n".to_vec();
         let obj = b"mtllib x.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl x\nf 1 2 3\n";
         let parts = parse_obj_parts(obj, Path::new("x.obj"), |_| Some(mtl.clone())).unwrap();
         assert!(parts[0].material.is_none());
+    }
+
+    #[test]
+    fn mtl_maps_load_with_their_options() {
+        let dir = std::env::temp_dir().join(format!("shadelab-obj-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let img = image::RgbImage::from_fn(2, 1, |x, _| image::Rgb([x as u8 * 255, 0, 0]));
+        img.save(dir.join("two.png")).unwrap();
+        write(
+            "maps.mtl",
+            "newmtl t\nKd 1 1 1\nmap_Kd -s 0.5 1 -o 0.5 0 two.png\n",
+        );
+        let p = write(
+            "maps.obj",
+            "mtllib maps.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nusemtl t\nf 1/1 2/1 3/1\n",
+        );
+        let parts = load_obj_parts(&p).unwrap();
+        let maps = parts[0].maps.as_ref().expect("maps");
+        let d = maps.diffuse.as_ref().unwrap();
+        // u = 0.5 → 0.5·0.5 + 0.5 = 0.75: the right texel's centre (red).
+        let c = d.sample(0.5, 0.5, &crate::texture::Footprint::default());
+        assert_eq!(c, glam::Vec3::new(1.0, 0.0, 0.0));
+        assert!(maps.ambient.is_none());
     }
 
     #[test]

@@ -9,6 +9,7 @@ use crate::error::{RasterError, Result};
 use crate::lights::Light;
 use crate::material::Material;
 use crate::mesh::Mesh;
+use crate::texture::Maps;
 
 /// A mesh placed in the world with a material.
 #[derive(Debug, Clone)]
@@ -16,6 +17,8 @@ pub struct Object {
     mesh: Arc<Mesh>,
     material: Material,
     back_material: Option<Material>,
+    /// Texture maps of both sides' materials (`None`: untextured).
+    maps: Option<Arc<Maps>>,
     transform: Mat4,
     normal_matrix: Mat3,
 }
@@ -56,6 +59,7 @@ impl Object {
             mesh,
             material,
             back_material: None,
+            maps: None,
             transform,
             normal_matrix,
         })
@@ -79,6 +83,30 @@ impl Object {
             back_material,
             ..self
         }
+    }
+
+    /// The same object with texture maps weighing its material per point (both sides);
+    /// `None` or empty maps: untextured. A map needs the mesh's UVs; a procedural or image
+    /// texture is read at each shaded point's perspective-correct (u, v).
+    pub fn with_maps(self, maps: Option<Arc<Maps>>) -> Result<Self> {
+        let maps = maps.filter(|m| !m.is_empty());
+        if maps.is_some() && self.mesh.uvs().is_none() {
+            return Err(RasterError::invalid_field(
+                "uvs",
+                "the material has texture maps but the mesh has no UVs (texture coordinates)",
+            ));
+        }
+        Ok(Object { maps, ..self })
+    }
+
+    /// The texture maps, if any.
+    pub fn maps(&self) -> Option<&Arc<Maps>> {
+        self.maps.as_ref()
+    }
+
+    /// Whether the object needs the textured shading path: maps or vertex colours.
+    pub fn is_textured(&self) -> bool {
+        self.maps.is_some() || self.mesh.colors().is_some()
     }
 
     /// The back-face material, if one was set.
@@ -165,9 +193,13 @@ impl Scene {
         let n = parts.len();
         let mut objects = Vec::with_capacity(n);
         for part in parts {
+            // An overriding material replaces the MTL's maps too.
+            let maps = if material.is_none() { part.maps } else { None };
             let m = material.or(part.material).unwrap_or_default();
             objects.push(
-                Object::new(Arc::new(part.mesh), m, transform)?.with_back_material(back_material),
+                Object::new(Arc::new(part.mesh), m, transform)?
+                    .with_back_material(back_material)
+                    .with_maps(maps)?,
             );
         }
         self.objects.extend(objects);
@@ -288,11 +320,13 @@ mod tests {
                     name: "a".into(),
                     mesh: primitives::plane(),
                     material: Some(ruby),
+                    maps: None,
                 },
                 crate::obj::ObjPart {
                     name: "b".into(),
                     mesh: primitives::cube(),
                     material: None,
+                    maps: None,
                 },
             ]
         };

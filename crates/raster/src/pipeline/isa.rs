@@ -101,6 +101,12 @@ pub(crate) fn run_tile<P: Pixel>(
         return;
     }
     let buf = &mut work.buf;
+    if ctx.textured.is_some() {
+        // Maps or vertex colours: a tile body of its own, so the untextured ones below stay
+        // as they were (their code, and their instruction counts, unchanged).
+        tile_textured(ctx, mode, screen, buf, job);
+        return;
+    }
     if screen && mode != ShadingMode::Flat {
         // Screen-space interpolation (the lectures' variant): a body of its own, so the
         // default bodies below compile exactly as without it.
@@ -199,6 +205,28 @@ fn samples_body<P: Pixel, const AFFINE: bool>(
     job: TileJob<'_, '_, P>,
 ) {
     samples::sample_tile::<P, AFFINE>(ctx, mode, job.index, job.rect, target, job.color, job.depth);
+}
+
+/// The tile body of textured scenes (baseline instructions: its sampling is scalar).
+#[inline(never)]
+fn tile_textured<P: Pixel>(
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    screen: bool,
+    buf: &mut TileBuffers,
+    job: TileJob<'_, '_, P>,
+) {
+    if ctx.tris.tile_is_empty(job.index) {
+        shade::fill_background(ctx, job.rect, job.color, job.depth);
+        return;
+    }
+    raster::rasterize_tile(ctx.tris, job.index, job.rect, buf);
+    // Flat interpolates nothing, so screen-space weights matter only for the others.
+    if screen && mode != ShadingMode::Flat {
+        shade::shade_textured_tile::<P, true>(ctx, mode, job.rect, buf, job.color, job.depth);
+    } else {
+        shade::shade_textured_tile::<P, false>(ctx, mode, job.rect, buf, job.color, job.depth);
+    }
 }
 
 /// The tile body; always inlined, so each variant above compiles all of it for its own

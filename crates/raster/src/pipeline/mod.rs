@@ -156,6 +156,9 @@ pub(crate) struct Prepared {
     pub verts: Vertices,
     pub tris: Binned,
     pub materials: Vec<Sides>,
+    /// Textured scenes only (else empty): every object's unit surfaces
+    /// ([`Surface::unit`]), whose split terms the texture stage weighs per point.
+    pub units: Vec<Sides>,
     pub eye: Vec3,
     /// The scene's shadows (colour passes whose lights cast them).
     pub shadows: Option<ShadowEffect>,
@@ -212,16 +215,51 @@ pub(crate) fn prepare(
     let eye = camera.eye().as_vec3();
     let view_proj = camera.projection_matrix(w as f64 / h as f64) * camera.view_matrix();
     let light_set = LightSet::new(scene.lights());
-    let prepare_material = |m: &Material| {
-        let pm = Surface::folded(m, scene.ambient(), &light_set, options.specular);
+    let viewer = |pm: Surface| {
         if scene.local_viewer() {
             pm
         } else {
             pm.with_infinite_viewer((camera.eye() - camera.target()).as_vec3())
         }
     };
+    let prepare_material = |m: &Material| {
+        viewer(Surface::folded(
+            m,
+            scene.ambient(),
+            &light_set,
+            options.specular,
+        ))
+    };
     let two_sided = scene.two_sided();
     let lit = needs == Needs::Color;
+    // Maps or vertex colours anywhere: the whole scene takes the textured shade path.
+    let textured = lit && scene.objects().iter().any(|o| o.is_textured());
+    if textured
+        && options.shading == ShadingMode::Gouraud
+        && options.gouraud == GouraudMethod::FaceIntensities
+    {
+        return Err(RasterError::invalid_field(
+            "gouraud",
+            "gouraud='face-intensities' does not support textures or vertex colours; use \
+             gouraud='normals' (the default)",
+        ));
+    }
+    let units: Vec<Sides> = scene
+        .objects()
+        .iter()
+        .filter(|_| textured)
+        .map(|o| {
+            let unit = |m: &Material| {
+                viewer(Surface::unit(
+                    m,
+                    scene.ambient(),
+                    &light_set,
+                    options.specular,
+                ))
+            };
+            [unit(o.material()), unit(o.material_for(true, two_sided))]
+        })
+        .collect();
     if lit {
         for o in scene.objects() {
             check_mirror(o.material(), options.specular)?;
@@ -244,12 +282,13 @@ pub(crate) fn prepare(
         })
         .collect();
     check_dynamic_range(scene, &materials)?;
+    check_textured_range(scene, &units)?;
     let planes = ClipPlanes::new(options.width, options.height);
     let mut verts = vertex::transform(
         scene,
         view_proj,
         if lit {
-            Attributes::for_mode(options.shading)
+            Attributes::for_scene(options.shading, scene)
         } else {
             Attributes::NONE
         },
@@ -322,7 +361,9 @@ pub(crate) fn prepare(
         stats.triangles_dropped += out.dropped;
     }
     verts.append(&mut extras);
-    if lit && options.shading == ShadingMode::Gouraud {
+    // Textured Gouraud lights its vertices' split terms in the tile stage (it keeps the
+    // world positions and normals for that).
+    if lit && options.shading == ShadingMode::Gouraud && !textured {
         match options.gouraud {
             GouraudMethod::Normals => {
                 prelight::light_vertices(scene, &mut verts, &materials, eye, shadows.as_ref())
@@ -347,6 +388,7 @@ pub(crate) fn prepare(
         verts,
         tris,
         materials,
+        units,
         eye,
         shadows,
         stats,
@@ -358,6 +400,55 @@ pub(crate) fn prepare(
 /// (3.4·10³⁸), so Gouraud interpolation and fog, which never exceed their inputs by more
 /// than rounding, stay finite too.
 pub const MAX_RADIANCE: f64 = 1e37;
+
+/// [`check_dynamic_range`] for textured objects: each unit surface's bound times the largest
+/// coefficient a map or vertex colour can make (`ka·Ta`, `kd·Td`, `ks·Ts`), plus the
+/// emission times its map's largest value.
+fn check_textured_range(scene: &Scene, units: &[Sides]) -> Result<()> {
+    for (i, (o, sides)) in scene.objects().iter().zip(units).enumerate() {
+        let tmax = |t: Option<&std::sync::Arc<crate::texture::Texture>>| {
+            t.map_or(1.0, |t| t.max_value() as f64)
+        };
+        let maps = o.maps().map(|m| &**m);
+        let (td, ta, ts, te) = match maps {
+            Some(m) => (
+                tmax(m.diffuse.as_ref()),
+                tmax(m.ambient_or_diffuse()),
+                tmax(m.specular.as_ref()),
+                tmax(m.emission.as_ref()),
+            ),
+            None => (1.0, 1.0, 1.0, 1.0),
+        };
+        let vmax = o
+            .mesh()
+            .colors()
+            .map(|c| c.iter().map(|v| v.max_element() as f64).fold(0.0, f64::max));
+        for (side, m) in [
+            (0, o.material()),
+            (1, o.material_for(true, scene.two_sided())),
+        ] {
+            let (ka, kd) = match vmax {
+                Some(v) => (v, v),
+                None => (
+                    m.ambient.max_element() as f64,
+                    m.diffuse.max_element() as f64,
+                ),
+            };
+            let k = (ka * ta)
+                .max(kd * td)
+                .max(m.specular.max_element() as f64 * ts);
+            let bound = sides[side].max_value() * k + m.emission.max_element() as f64 * te;
+            if bound > MAX_RADIANCE || bound.is_nan() {
+                return Err(RasterError::invalid(format!(
+                    "object {i}: its textured lighting can reach {bound:.3e}, beyond the \
+                     {MAX_RADIANCE:e} that float32 colours can safely hold; scale down light \
+                     intensities, material colours or texture values"
+                )));
+            }
+        }
+    }
+    Ok(())
+}
 
 /// Refuses scenes whose lighting could overflow f32: an overflowed term is `inf`, and
 /// `inf · 0` (a zero fog factor, barycentric or spot factor) is NaN.

@@ -6,11 +6,11 @@
 use rayon::prelude::*;
 
 use super::raster::{self, TileBuffers};
-use super::shade::{put, Out, Pixel, Program, ShadeContext};
+use super::shade::{put, Out, Pixel, Program, ShadeContext, TexturedObject, TexturedScene};
 use super::{isa, prepare, tiles, Needs};
 use crate::camera::Camera;
 use crate::effects::FogEffect;
-use crate::error::Result;
+use crate::error::{RasterError, Result};
 use crate::frame::RenderStats;
 use crate::options::{Interpolation, RenderOptions, ShadingMode};
 use crate::scene::Scene;
@@ -49,6 +49,18 @@ pub(crate) fn color_pass<P: Pixel>(
     options: &RenderOptions,
     out: Buffers<'_, P>,
 ) -> Result<RenderStats> {
+    let textured = scene
+        .objects()
+        .iter()
+        .any(|o| o.maps().is_some() || o.mesh().colors().is_some());
+    if textured && scene.lights().iter().any(|l| l.shadows().on()) {
+        // The texture stage lights through its own loops, which do not read visibility yet.
+        return Err(RasterError::invalid_field(
+            "shadows",
+            "shadows cannot yet be combined with texture maps or vertex colours; \
+             remove the maps or the lights' shadows",
+        ));
+    }
     let mut prep = prepare(scene, camera, options, Needs::Color)?;
     // Phong reads them per pixel; flat and Gouraud have used them already (prelight).
     let shadows = match options.shading {
@@ -76,6 +88,18 @@ pub(crate) fn color_pass<P: Pixel>(
             .map(|f| FogEffect::new(*f, camera.eye_distance(options.width, options.height))),
         program: Program::for_scene(scene.fog().is_some()),
         shadows,
+        textured: (!prep.units.is_empty()).then(|| TexturedScene {
+            units: &prep.units,
+            objects: scene
+                .objects()
+                .iter()
+                .map(|o| TexturedObject {
+                    material: [*o.material(), *o.material_for(true, scene.two_sided())],
+                    maps: o.maps().map(|m| &**m),
+                    colors: o.mesh().colors().is_some(),
+                })
+                .collect(),
+        }),
     };
     rects
         .par_iter()

@@ -183,7 +183,18 @@ pub(crate) fn sample_tile<P: Pixel, const AFFINE: bool>(
         // Layer 0 covers every pixel (a triangle or the background), so it alone writes the
         // depth output: each depth sample once.
         let layer_depth = if k == 0 { depth.take() } else { None };
-        shade::shade_tile::<f32, AFFINE>(ctx, mode, rect, layer, &mut rows, layer_depth);
+        if ctx.textured.is_some() {
+            shade::shade_textured_tile::<f32, AFFINE>(
+                ctx,
+                mode,
+                rect,
+                layer,
+                &mut rows,
+                layer_depth,
+            );
+        } else {
+            shade::shade_tile::<f32, AFFINE>(ctx, mode, rect, layer, &mut rows, layer_depth);
+        }
         accumulate(rect, &rows, count, acc, k == 0);
     }
     resolve(rect, acc, n, color);

@@ -2,9 +2,10 @@
 //! here (Gouraud's vertex colours are lit afterwards by `shade::prelight`).
 //!
 //! Only the attributes a render reads are produced ([`Attributes`]): world positions (every
-//! mode lights somewhere), world normals for Gouraud and Phong.
+//! mode lights somewhere), world normals for Gouraud and Phong, texture coordinates and
+//! vertex colours only when a material or mesh of the scene has them.
 
-use glam::{DMat4, Vec3, Vec4};
+use glam::{DMat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
 use super::clip::ClipPlanes;
@@ -29,6 +30,10 @@ pub(crate) struct Vertices {
     pub color: Vec<Vec3>,
     /// Gouraud with two-sided lighting: colours lit with the flipped normal and the back material.
     pub color_back: Vec<Vec3>,
+    /// Texture coordinates (textured scenes only; zero for objects without UVs).
+    pub uv: Vec<Vec2>,
+    /// Mesh vertex colours (scenes with any; zero for objects without).
+    pub vertex_color: Vec<Vec3>,
     /// How each vertex made by clipping blends three transformed ones (their indices and
     /// weights), so an attribute produced after clipping (a lit colour) extends to them.
     pub blends: Vec<([u32; 3], [f32; 3])>,
@@ -46,6 +51,14 @@ impl Vertices {
         if !from.normal.is_empty() {
             self.normal.push(blend(&from.normal, v, w));
         }
+        if !from.uv.is_empty() {
+            let a = &from.uv;
+            let uv = a[v[0] as usize] * w[0] + a[v[1] as usize] * w[1] + a[v[2] as usize] * w[2];
+            self.uv.push(uv);
+        }
+        if !from.vertex_color.is_empty() {
+            self.vertex_color.push(blend(&from.vertex_color, v, w));
+        }
     }
 
     /// Appends all of `other`.
@@ -55,6 +68,8 @@ impl Vertices {
         self.normal.append(&mut other.normal);
         self.color.append(&mut other.color);
         self.color_back.append(&mut other.color_back);
+        self.uv.append(&mut other.uv);
+        self.vertex_color.append(&mut other.vertex_color);
         self.blends.append(&mut other.blends);
     }
 
@@ -78,16 +93,37 @@ fn blend(a: &[Vec3], v: [u32; 3], w: [f32; 3]) -> Vec3 {
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Attributes {
     pub normal: bool,
+    /// Texture coordinates (a material reads a map).
+    pub uv: bool,
+    /// Vertex colours (a mesh has them).
+    pub color: bool,
 }
 
 impl Attributes {
     /// Positions only (world positions are always produced: clipping blends them).
-    pub const NONE: Attributes = Attributes { normal: false };
+    pub const NONE: Attributes = Attributes {
+        normal: false,
+        uv: false,
+        color: false,
+    };
 
     /// What a shading mode reads (world positions always).
     pub fn for_mode(mode: ShadingMode) -> Self {
         Attributes {
             normal: mode != ShadingMode::Flat,
+            uv: false,
+            color: false,
+        }
+    }
+
+    /// What `mode` reads in `scene`: UVs when an object has maps, vertex colours when a
+    /// lit mesh has them.
+    pub fn for_scene(mode: ShadingMode, scene: &Scene) -> Self {
+        let objects = scene.objects();
+        Attributes {
+            uv: objects.iter().any(|o| o.maps().is_some()),
+            color: objects.iter().any(|o| o.mesh().colors().is_some()),
+            ..Attributes::for_mode(mode)
         }
     }
 }
@@ -159,6 +195,21 @@ pub(crate) fn transform(
                     .with_min_len(CHUNK)
                     .map(|n| (nm * *n).normalize_or_zero()),
             );
+        }
+        let n = pos.len();
+        if attrs.uv {
+            match mesh.uvs() {
+                Some(uv) => out.uv.extend_from_slice(uv),
+                None => out.uv.resize(out.uv.len() + n, Vec2::ZERO),
+            }
+        }
+        if attrs.color {
+            match mesh.colors() {
+                Some(c) => out.vertex_color.extend_from_slice(c),
+                None => out
+                    .vertex_color
+                    .resize(out.vertex_color.len() + n, Vec3::ZERO),
+            }
         }
     }
     out

@@ -13,10 +13,12 @@ mod program;
 pub(crate) mod prelight;
 mod runs;
 mod store;
+mod textured;
 
 pub(crate) use program::Program;
 pub use store::Pixel;
 pub(crate) use store::{fill_out, put, Out, RowColors, ROW_LANES};
+pub(crate) use textured::{TexturedObject, TexturedScene};
 
 use glam::Vec3;
 
@@ -48,6 +50,10 @@ pub(crate) struct ShadeContext<'a> {
     pub program: Program,
     /// The scene's shadows (`None`: no light casts one, and no loop reads this).
     pub shadows: Option<ShadowEffect>,
+    /// Scenes with texture maps or vertex colours: the texture stage's inputs (every mode
+    /// then shades through [`shade_textured_tile`], reached from `isa::run_tile` outside the
+    /// untextured tile bodies); `None` runs the untextured loops unchanged.
+    pub textured: Option<TexturedScene<'a>>,
 }
 
 impl ShadeContext<'_> {
@@ -174,4 +180,18 @@ fn phong_shadowed<P: Pixel, const STAGES_READ_DEPTH: bool, const AFFINE: bool>(
     depth: Option<&mut [&mut [Out<f32>]]>,
 ) {
     phong::shade_phong::<P, STAGES_READ_DEPTH, AFFINE, true>(ctx, rect, buf, color, depth)
+}
+
+/// Shades one tile of a textured scene (maps or vertex colours: [`ShadeContext::textured`]),
+/// any mode. `AFFINE` as for [`shade_tile`].
+pub(crate) fn shade_textured_tile<P: Pixel, const AFFINE: bool>(
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    rect: TileRect,
+    buf: &TileBuffers,
+    color: &mut [&mut [Out<P>]],
+    depth: Option<&mut [&mut [Out<f32>]]>,
+) {
+    let tex = ctx.textured.as_ref().expect("a textured scene");
+    textured::shade_textured::<P, AFFINE>(ctx, tex, mode, rect, buf, color, depth);
 }

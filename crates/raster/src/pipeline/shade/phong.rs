@@ -406,7 +406,7 @@ pub(super) fn shade_phong<
 }
 
 /// The world-space face normal in the triangle's original winding (zero if degenerate).
-fn face_normal(t: &SetupTri, world: &[Vec3]) -> Vec3 {
+pub(super) fn face_normal(t: &SetupTri, world: &[Vec3]) -> Vec3 {
     let [a, b, c] = t.v.map(|k| world[k as usize]);
     let n = (b - a).cross(c - a).normalize_or_zero();
     // Setup swapped two vertices of front faces to make the screen area positive.

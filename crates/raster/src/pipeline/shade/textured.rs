@@ -1,0 +1,368 @@
+//! The texture stage: shading of scenes with texture maps or vertex colours, in every mode.
+//!
+//! Each pixel's perspective-correct (u, v) and their exact screen-space derivatives come
+//! from the triangle's weight planes: with q_k = λ_k/w_k (planes over pixel coordinates) and
+//! W = Σ q_k, u = Σ q_k·u_k / W, so ∂u/∂x = (Σ ∂q_k/∂x·u_k − u·∂W/∂x) / W (likewise v and
+//! y). The sampler (`crate::texture`) turns them into a colour; lighting is the unit surface's
+//! split terms (`Surface::unit` + `Split`): ambient A, diffuse D and specular S, per face
+//! (flat, at the centroid), per vertex (Gouraud, interpolated perspective-correctly) or per
+//! pixel (Phong). Each pixel is
+//!
+//! ```text
+//! c = ke·E + ka·T_a ⊙ A + kd·T_d ⊙ D + ks·T_s ⊙ S
+//! ```
+//!
+//! with T the maps' colours (1 without a map; `T_a` is the diffuse map unless an ambient map
+//! is set), so the specular highlight is added after the texture (OpenGL's separate
+//! specular colour). Vertex colours replace `ka` and `kd` (`GL_COLOR_MATERIAL`,
+//! `GL_AMBIENT_AND_DIFFUSE`). Scenes without maps or vertex colours never come here.
+
+use glam::{Vec2, Vec3};
+
+use super::phong::face_normal;
+use super::planes::{weight_planes, Plane, PlaneCache};
+use super::program::Fragments;
+use super::runs::run_length;
+use super::store::{fill_out, put, store_out, Out, Pixel};
+use super::{background_row, ShadeContext};
+use crate::lighting::{normalize_lanes, Lanes, Split, Surface, LANES};
+use crate::material::Material;
+use crate::options::ShadingMode;
+use crate::pipeline::raster::{TileBuffers, NO_TRIANGLE};
+use crate::pipeline::setup::SetupTri;
+use crate::pipeline::tiles::{TileRect, TILE};
+use crate::pipeline::Sides;
+use crate::texture::{Footprint, Maps, Texture};
+
+/// What the texture stage reads of each object, per render.
+pub(crate) struct TexturedObject<'a> {
+    /// Front material and the one lighting back faces (two-sided).
+    pub material: [Material; 2],
+    pub maps: Option<&'a Maps>,
+    /// Whether the mesh has vertex colours.
+    pub colors: bool,
+}
+
+/// The texture stage's share of the shade context.
+pub(crate) struct TexturedScene<'a> {
+    /// Unit surfaces per object (front, back).
+    pub units: &'a [Sides],
+    pub objects: Vec<TexturedObject<'a>>,
+}
+
+/// Split lighting terms of one point.
+#[derive(Clone, Copy, Default)]
+struct Terms3 {
+    a: Vec3,
+    d: Vec3,
+    s: Vec3,
+}
+
+/// The triangle being shaded.
+struct Current {
+    id: u32,
+    plane: [Plane; 3],
+    uv: [Vec2; 3],
+    vcolor: [Vec3; 3],
+    /// Flat: the face's terms; Gouraud: the vertices' terms.
+    terms: [Terms3; 3],
+    /// Phong: vertex normals (world) and positions.
+    normal: [Vec3; 3],
+    pos: [Vec3; 3],
+    /// (object, back side) of the material.
+    key: (u32, bool),
+}
+
+/// The split terms of up to three points lit by `unit` (lanes 0..n).
+fn light_points(unit: &Surface, n: &[Vec3], p: &[Vec3], eye: Vec3) -> [Terms3; 3] {
+    let mut nl = [[0.0; LANES]; 3];
+    let mut pl = [[0.0; LANES]; 3];
+    for (k, (n, p)) in n.iter().zip(p).enumerate() {
+        for ax in 0..3 {
+            nl[ax][k] = n[ax];
+            pl[ax][k] = p[ax];
+        }
+    }
+    let t: Split = unit.terms_lanes(&nl, &pl, eye);
+    let at = |x: &[Lanes; 3], k: usize| Vec3::new(x[0][k], x[1][k], x[2][k]);
+    [0, 1, 2].map(|k| Terms3 {
+        a: at(&t.ambient, k),
+        d: at(&t.diffuse, k),
+        s: at(&t.specular, k),
+    })
+}
+
+impl Current {
+    fn load<const AFFINE: bool>(
+        ctx: &ShadeContext<'_>,
+        tex: &TexturedScene<'_>,
+        mode: ShadingMode,
+        id: u32,
+        t: &SetupTri,
+        planes: &mut PlaneCache<[Plane; 3]>,
+    ) -> Self {
+        let v = t.v.map(|k| k as usize);
+        let back = ctx.two_sided && !t.front;
+        let verts = ctx.verts;
+        let unit = &tex.units[t.object as usize][back as usize];
+        let mut cur = Current {
+            id,
+            plane: planes.get(id, || weight_planes::<AFFINE>(ctx, t)),
+            uv: if verts.uv.is_empty() {
+                [Vec2::ZERO; 3]
+            } else {
+                v.map(|k| verts.uv[k])
+            },
+            vcolor: if verts.vertex_color.is_empty() {
+                [Vec3::ZERO; 3]
+            } else {
+                v.map(|k| verts.vertex_color[k])
+            },
+            terms: [Terms3::default(); 3],
+            normal: [Vec3::ZERO; 3],
+            pos: v.map(|k| verts.world[k]),
+            key: (t.object, back),
+        };
+        match mode {
+            ShadingMode::Flat => {
+                // As `prelight::light_faces`: the true face normal at the centroid.
+                let [a, b, c] = cur.pos;
+                let n = if t.front {
+                    (c - a).cross(b - a)
+                } else {
+                    (b - a).cross(c - a)
+                };
+                let n = if back { -n } else { n }.normalize_or_zero();
+                let centroid = (a + b + c) / 3.0;
+                let f = light_points(unit, &[n], &[centroid], ctx.eye)[0];
+                cur.terms = [f; 3];
+            }
+            ShadingMode::Gouraud => {
+                let flip = if back { -1.0 } else { 1.0 };
+                let n = v.map(|k| verts.normal[k] * flip);
+                cur.terms = light_points(unit, &n, &cur.pos, ctx.eye);
+            }
+            ShadingMode::Phong => cur.normal = v.map(|k| verts.normal[k]),
+        }
+        cur
+    }
+}
+
+/// Pixels waiting to be lit and textured together, all of one material.
+struct Batch {
+    len: usize,
+    at: [(usize, usize); LANES],
+    uv: [(f64, f64); LANES],
+    fp: [Footprint; LANES],
+    vcolor: [Vec3; LANES],
+    /// Flat and Gouraud: the interpolated terms; Phong: filled at the flush.
+    terms: [Terms3; LANES],
+    /// Phong: the interpolated normal (not normalised) and position.
+    n: [Lanes; 3],
+    p: [Lanes; 3],
+    depth: Lanes,
+    key: (u32, bool),
+}
+
+impl Batch {
+    fn flush<P: Pixel>(
+        &mut self,
+        ctx: &ShadeContext<'_>,
+        tex: &TexturedScene<'_>,
+        mode: ShadingMode,
+        rect: TileRect,
+        color: &mut [&mut [Out<P>]],
+    ) {
+        if self.len == 0 {
+            return;
+        }
+        let (object, back) = self.key;
+        let obj = &tex.objects[object as usize];
+        if mode == ShadingMode::Phong {
+            let unit = &tex.units[object as usize][back as usize];
+            let mut n = [[0.0; LANES]; 3];
+            let raw = &self.n;
+            normalize_lanes(&mut n, |k| (raw[0][k], raw[1][k], raw[2][k]));
+            let t: Split = unit.terms_lanes(&n, &self.p, ctx.eye);
+            let at = |x: &[Lanes; 3], k: usize| Vec3::new(x[0][k], x[1][k], x[2][k]);
+            for k in 0..self.len {
+                self.terms[k] = Terms3 {
+                    a: at(&t.ambient, k),
+                    d: at(&t.diffuse, k),
+                    s: at(&t.specular, k),
+                };
+            }
+        }
+        let m = &obj.material[back as usize];
+        let mut c = [[0.0; LANES]; 3];
+        #[allow(clippy::needless_range_loop)] // lane k of several arrays
+        for k in 0..self.len {
+            let (u, v) = self.uv[k];
+            let fp = &self.fp[k];
+            let read =
+                |t: Option<&std::sync::Arc<Texture>>| t.map_or(Vec3::ONE, |t| t.sample(u, v, fp));
+            let (ka, kd) = if obj.colors {
+                (self.vcolor[k], self.vcolor[k])
+            } else {
+                (m.ambient, m.diffuse)
+            };
+            let mut ke = m.emission;
+            let (mut ta, mut td, mut ts) = (Vec3::ONE, Vec3::ONE, Vec3::ONE);
+            if let Some(maps) = obj.maps {
+                td = read(maps.diffuse.as_ref());
+                ta = match &maps.ambient {
+                    Some(a) => read(Some(a)),
+                    None => td,
+                };
+                ts = read(maps.specular.as_ref());
+                if ke != Vec3::ZERO {
+                    ke *= read(maps.emission.as_ref());
+                }
+            }
+            let t = &self.terms[k];
+            let out = ke + ka * ta * t.a + kd * td * t.d + m.specular * ts * t.s;
+            (c[0][k], c[1][k], c[2][k]) = (out.x, out.y, out.z);
+        }
+        let mut frags = Fragments {
+            color: c,
+            at: &self.at[..self.len],
+            depth: &self.depth,
+            origin: (rect.x0, rect.y0),
+        };
+        for stage in &ctx.program {
+            stage.run(ctx, &mut frags);
+        }
+        let c = &frags.color;
+        for (k, &(j, i)) in self.at[..self.len].iter().enumerate() {
+            store_out(
+                &mut color[j][i * 3..i * 3 + 3],
+                Vec3::new(c[0][k], c[1][k], c[2][k]),
+            );
+        }
+        self.len = 0;
+    }
+}
+
+/// Shades one tile of a textured scene (any mode). Never inlined: the untextured tile
+/// bodies that branch past it keep their own code layout.
+#[inline(never)]
+pub(super) fn shade_textured<P: Pixel, const AFFINE: bool>(
+    ctx: &ShadeContext<'_>,
+    tex: &TexturedScene<'_>,
+    mode: ShadingMode,
+    rect: TileRect,
+    buf: &TileBuffers,
+    color: &mut [&mut [Out<P>]],
+    mut depth: Option<&mut [&mut [Out<f32>]]>,
+) {
+    let want_depth = depth.is_some() || ctx.program.reads_depth();
+    let background = background_row::<P>(ctx);
+    let mut planes = PlaneCache::new();
+    let mut cur: Option<Current> = None;
+    let mut batch = Batch {
+        len: 0,
+        at: [(0, 0); LANES],
+        uv: [(0.0, 0.0); LANES],
+        fp: [Footprint::default(); LANES],
+        vcolor: [Vec3::ZERO; LANES],
+        terms: [Terms3::default(); LANES],
+        n: [[0.0; LANES]; 3],
+        p: [[0.0; LANES]; 3],
+        depth: [0.0; LANES],
+        key: (u32::MAX, false),
+    };
+    for j in 0..rect.h {
+        let y = (rect.y0 + j) as f64 + 0.5;
+        let ids = &buf.id[j * TILE..j * TILE + rect.w];
+        let zs = &buf.depth[j * TILE..j * TILE + rect.w];
+        let mut i = 0;
+        while i < rect.w {
+            let id = ids[i];
+            let end = i + run_length(&ids[i..], id);
+            if id == NO_TRIANGLE {
+                put(&mut color[j][i * 3..end * 3], &background[..(end - i) * 3]);
+                if let Some(d) = depth.as_deref_mut() {
+                    fill_out(&mut d[j][i..end], f32::INFINITY);
+                }
+                i = end;
+                continue;
+            }
+            let t = ctx.tris.get(id);
+            if cur.as_ref().map_or(true, |c| c.id != id) {
+                cur = Some(Current::load::<AFFINE>(ctx, tex, mode, id, t, &mut planes));
+            }
+            let c = cur.as_ref().expect("loaded");
+            if batch.len > 0 && batch.key != c.key {
+                batch.flush::<P>(ctx, tex, mode, rect, color);
+            }
+            batch.key = c.key;
+            for s in i..end {
+                let x = (rect.x0 + s) as f64 + 0.5;
+                let pl = &c.plane;
+                let q = [0, 1, 2].map(|k| pl[k][0] * x + pl[k][1] * y + pl[k][2]);
+                let w = q[0] + q[1] + q[2];
+                let r = 1.0 / w;
+                let b = q.map(|qk| qk * r);
+                let interp = |a: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+                let us = c.uv.map(|t| t.x as f64);
+                let vs = c.uv.map(|t| t.y as f64);
+                let (u, v) = (interp(us), interp(vs));
+                // ∂(Σ q_k·a_k / W)/∂x = (Σ ∂q_k/∂x·a_k − a·∂W/∂x) / W.
+                let d = |a: [f64; 3], val: f64, axis: usize| {
+                    let da = pl[0][axis] * a[0] + pl[1][axis] * a[1] + pl[2][axis] * a[2];
+                    let dw = pl[0][axis] + pl[1][axis] + pl[2][axis];
+                    (da - val * dw) * r
+                };
+                let k = batch.len;
+                batch.at[k] = (j, s);
+                batch.uv[k] = (u, v);
+                batch.fp[k] = Footprint {
+                    du_dx: d(us, u, 0),
+                    dv_dx: d(vs, v, 0),
+                    du_dy: d(us, u, 1),
+                    dv_dy: d(vs, v, 1),
+                };
+                let bf = b.map(|x| x as f32);
+                let blend3 = |a: &[Vec3; 3]| a[0] * bf[0] + a[1] * bf[1] + a[2] * bf[2];
+                batch.vcolor[k] = blend3(&c.vcolor);
+                match mode {
+                    ShadingMode::Flat => batch.terms[k] = c.terms[0],
+                    ShadingMode::Gouraud => {
+                        let tt = &c.terms;
+                        batch.terms[k] = Terms3 {
+                            a: blend3(&[tt[0].a, tt[1].a, tt[2].a]),
+                            d: blend3(&[tt[0].d, tt[1].d, tt[2].d]),
+                            s: blend3(&[tt[0].s, tt[1].s, tt[2].s]),
+                        };
+                    }
+                    ShadingMode::Phong => {
+                        let mut n = blend3(&c.normal);
+                        let len2 = n.length_squared();
+                        if !(len2 > 1e-30 && len2.is_finite()) {
+                            n = face_normal(t, &ctx.verts.world);
+                        }
+                        if ctx.two_sided && !t.front {
+                            n = -n;
+                        }
+                        let p = blend3(&c.pos);
+                        for ax in 0..3 {
+                            batch.n[ax][k] = n[ax];
+                            batch.p[ax][k] = p[ax];
+                        }
+                    }
+                }
+                let eye_depth = ctx.eye_depth::<AFFINE>(want_depth, zs[s], w as f32);
+                batch.depth[k] = eye_depth;
+                if let Some(dr) = depth.as_deref_mut() {
+                    dr[j][s].write(eye_depth);
+                }
+                batch.len += 1;
+                if batch.len == LANES {
+                    batch.flush::<P>(ctx, tex, mode, rect, color);
+                }
+            }
+            i = end;
+        }
+    }
+    batch.flush::<P>(ctx, tex, mode, rect, color);
+}

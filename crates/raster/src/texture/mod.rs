@@ -1,0 +1,279 @@
+//! The sampler room: textures and how they are read at a point. It knows nothing of lighting
+//! or of the pipeline: a [`Texture`] answers "which colour at (u, v), seen with these
+//! screen-space derivatives".
+//!
+//! Conventions (OpenGL's): UV (0, 0) is the bottom-left of the image; texel (i, j) (column
+//! i, row j from the top of the image) has its centre at u = (i + 0.5)/W,
+//! v = 1 − (j + 0.5)/H. Filtering is exactly OpenGL 4.6 §8.14–8.15 (see [`sample`]); the
+//! level of detail comes from the exact derivatives the caller passes ([`Footprint`]).
+//!
+//! Rooms: [`image`] (linear texels and the mip pyramid), [`wrap`] (repeat, clamp, mirror),
+//! [`sample`] (nearest, bilinear, trilinear), [`procedural`] (checker, grid, stripes, noise),
+//! [`decode`] (image files through the `image` crate).
+
+mod decode;
+mod image;
+mod procedural;
+mod sample;
+mod wrap;
+
+use std::sync::Arc;
+
+use glam::{DVec2, Vec3};
+
+pub use self::image::{Image, MAX_TEXEL_VALUE, MAX_TEXTURE_SIZE};
+pub use procedural::Procedural;
+pub use sample::{Filter, Footprint, MAX_ANISOTROPY};
+pub use wrap::Wrap;
+
+use crate::error::Result;
+
+/// A texture: an image with its filter and wrap modes, or a procedural pattern evaluated at
+/// each point.
+#[derive(Debug, Clone)]
+pub struct Texture {
+    source: Source,
+    /// (u, v) → (u, v)·scale + offset before sampling (MTL's `-s` and `-o`).
+    uv_scale: DVec2,
+    uv_offset: DVec2,
+    /// The file it was loaded from and whether it was decoded as sRGB (for writing it back).
+    file: Option<(std::path::PathBuf, bool)>,
+}
+
+#[derive(Debug, Clone)]
+enum Source {
+    Image {
+        image: Arc<Image>,
+        filter: Filter,
+        wrap: [Wrap; 2],
+        /// Probes along the footprint's major axis, 1 (isotropic) to [`MAX_ANISOTROPY`].
+        aniso: u32,
+    },
+    Procedural(Procedural),
+}
+
+impl Texture {
+    /// An image texture sampled with `filter`, wrapped per axis with `wrap` (u, v).
+    pub fn from_image(image: Arc<Image>, filter: Filter, wrap: [Wrap; 2]) -> Self {
+        Texture {
+            source: Source::Image {
+                image,
+                filter,
+                wrap,
+                aniso: 1,
+            },
+            uv_scale: DVec2::ONE,
+            uv_offset: DVec2::ZERO,
+            file: None,
+        }
+    }
+
+    /// A procedural texture (no image, evaluated where it is sampled).
+    pub fn procedural(p: Procedural) -> Self {
+        Texture {
+            source: Source::Procedural(p),
+            uv_scale: DVec2::ONE,
+            uv_offset: DVec2::ZERO,
+            file: None,
+        }
+    }
+
+    /// The same texture read at (u, v)·`scale` + `offset` (finite; MTL's `-s` and `-o`).
+    pub fn with_uv_transform(self, scale: DVec2, offset: DVec2) -> Self {
+        Texture {
+            uv_scale: scale,
+            uv_offset: offset,
+            ..self
+        }
+    }
+
+    /// Decodes an image file (PNG, JPEG, 16-bit PNG...): see [`Image::load`].
+    pub fn load(
+        path: impl AsRef<std::path::Path>,
+        filter: Filter,
+        wrap: [Wrap; 2],
+        srgb: bool,
+    ) -> Result<Self> {
+        let image = decode::load(path.as_ref(), srgb)?;
+        let mut t = Texture::from_image(Arc::new(image), filter, wrap);
+        t.file = Some((path.as_ref().to_path_buf(), srgb));
+        Ok(t)
+    }
+
+    /// An image already decoded from `path` (linear, not sRGB), shared by several
+    /// textures (MTL maps naming one file).
+    pub(crate) fn load_shared(
+        image: Arc<Image>,
+        path: std::path::PathBuf,
+        filter: Filter,
+        wrap: [Wrap; 2],
+    ) -> Self {
+        let mut t = Texture::from_image(image, filter, wrap);
+        t.file = Some((path, false));
+        t
+    }
+
+    /// The same texture recording `path` (decoded as sRGB when `srgb`) as its source, for
+    /// writers that name files (scene files, pickles); nothing is read.
+    pub fn with_file(mut self, path: std::path::PathBuf, srgb: bool) -> Self {
+        self.file = Some((path, srgb));
+        self
+    }
+
+    /// The file an image texture was loaded from (as given to [`Texture::load`]) and whether
+    /// it was decoded as sRGB; `None` for textures made from memory or procedural ones.
+    pub fn file(&self) -> Option<(&std::path::Path, bool)> {
+        self.file.as_ref().map(|(p, s)| (p.as_path(), *s))
+    }
+
+    /// The same image texture with anisotropic filtering of up to `aniso` probes (1, the
+    /// default, is off; at most [`MAX_ANISOTROPY`]); see `sample::sample` for the
+    /// definition. Procedural textures ignore it (they are not filtered).
+    pub fn with_anisotropy(mut self, aniso: u32) -> Result<Self> {
+        if !(1..=MAX_ANISOTROPY).contains(&aniso) {
+            return Err(crate::error::RasterError::invalid_field(
+                "anisotropy",
+                format!("anisotropy must be 1 (off) to {MAX_ANISOTROPY}, got {aniso}"),
+            ));
+        }
+        if let Source::Image { aniso: a, .. } = &mut self.source {
+            *a = aniso;
+        }
+        Ok(self)
+    }
+
+    /// The anisotropy (1 for procedural textures).
+    pub fn anisotropy(&self) -> u32 {
+        match &self.source {
+            Source::Image { aniso, .. } => *aniso,
+            Source::Procedural(_) => 1,
+        }
+    }
+
+    /// An upper bound on every channel the texture returns.
+    pub fn max_value(&self) -> f32 {
+        match &self.source {
+            Source::Image { .. } => MAX_TEXEL_VALUE,
+            Source::Procedural(p) => p.max_value(),
+        }
+    }
+
+    /// The (scale, offset) applied to (u, v) before sampling.
+    pub fn uv_transform(&self) -> (DVec2, DVec2) {
+        (self.uv_scale, self.uv_offset)
+    }
+
+    /// The image, if this is an image texture.
+    pub fn image(&self) -> Option<&Arc<Image>> {
+        match &self.source {
+            Source::Image { image, .. } => Some(image),
+            Source::Procedural(_) => None,
+        }
+    }
+
+    /// The filter (procedural textures report [`Filter::Nearest`]: evaluated at the point).
+    pub fn filter(&self) -> Filter {
+        match &self.source {
+            Source::Image { filter, .. } => *filter,
+            Source::Procedural(_) => Filter::Nearest,
+        }
+    }
+
+    /// The wrap modes (u, v).
+    pub fn wrap(&self) -> [Wrap; 2] {
+        match &self.source {
+            Source::Image { wrap, .. } => *wrap,
+            Source::Procedural(_) => [Wrap::Repeat; 2],
+        }
+    }
+
+    /// The procedural pattern, if this is one.
+    pub fn pattern(&self) -> Option<&Procedural> {
+        match &self.source {
+            Source::Procedural(p) => Some(p),
+            Source::Image { .. } => None,
+        }
+    }
+
+    /// The linear RGB colour at `(u, v)` with the footprint `fp` (the exact derivatives of
+    /// u and v along the screen's x and y). Non-finite coordinates read as 0.
+    #[inline]
+    pub fn sample(&self, u: f64, v: f64, fp: &Footprint) -> Vec3 {
+        let (s, o) = (self.uv_scale, self.uv_offset);
+        let (u, v) = (finite_or_zero(u * s.x + o.x), finite_or_zero(v * s.y + o.y));
+        let scaled;
+        let fp = if s == DVec2::ONE {
+            fp
+        } else {
+            scaled = Footprint {
+                du_dx: fp.du_dx * s.x,
+                dv_dx: fp.dv_dx * s.y,
+                du_dy: fp.du_dy * s.x,
+                dv_dy: fp.dv_dy * s.y,
+            };
+            &scaled
+        };
+        match &self.source {
+            Source::Image {
+                image,
+                filter,
+                wrap,
+                aniso,
+            } => sample::sample(image, *filter, *wrap, *aniso, u, v, fp),
+            Source::Procedural(p) => p.eval(u, v),
+        }
+    }
+}
+
+#[inline(always)]
+fn finite_or_zero(x: f64) -> f64 {
+    if x.is_finite() {
+        x
+    } else {
+        0.0
+    }
+}
+
+/// The texture maps of a material; each colour multiplies its coefficient per point.
+/// `ambient` defaults to `diffuse` (as in MTL) when it is not given.
+#[derive(Debug, Clone, Default)]
+pub struct Maps {
+    /// Multiplies the diffuse reflectance `kd`.
+    pub diffuse: Option<Arc<Texture>>,
+    /// Multiplies the ambient reflectance `ka` (the diffuse map when `None`).
+    pub ambient: Option<Arc<Texture>>,
+    /// Multiplies the specular reflectance `ks`.
+    pub specular: Option<Arc<Texture>>,
+    /// Multiplies the emission `ke`.
+    pub emission: Option<Arc<Texture>>,
+}
+
+impl Maps {
+    /// Whether no map is set.
+    pub fn is_empty(&self) -> bool {
+        self.diffuse.is_none()
+            && self.ambient.is_none()
+            && self.specular.is_none()
+            && self.emission.is_none()
+    }
+
+    /// The map that weighs the ambient term: its own, else the diffuse map.
+    pub fn ambient_or_diffuse(&self) -> Option<&Arc<Texture>> {
+        self.ambient.as_ref().or(self.diffuse.as_ref())
+    }
+}
+
+impl PartialEq for Maps {
+    /// The same textures (by identity: two loads of one file are two textures).
+    fn eq(&self, other: &Self) -> bool {
+        let same = |a: &Option<Arc<Texture>>, b: &Option<Arc<Texture>>| match (a, b) {
+            (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+            (None, None) => true,
+            _ => false,
+        };
+        same(&self.diffuse, &other.diffuse)
+            && same(&self.ambient, &other.ambient)
+            && same(&self.specular, &other.specular)
+            && same(&self.emission, &other.emission)
+    }
+}

@@ -1,0 +1,186 @@
+//! Textured renders end to end: a white map changes nothing, a map's texel lands where its
+//! UV says, vertex colours replace ambient and diffuse, specular stays untextured, and the
+//! untextured scene is unaffected by the texture path existing.
+
+use std::sync::Arc;
+
+use glam::{DVec3, Mat4, Vec3};
+use shadelab_raster::*;
+
+const W: u32 = 80;
+const H: u32 = 60;
+
+fn camera() -> Camera {
+    Camera::look_at(
+        DVec3::new(0.0, 2.2, 1.2),
+        DVec3::ZERO,
+        DVec3::Y,
+        50.0,
+        0.1,
+        100.0,
+    )
+    .unwrap()
+}
+
+fn f32_frame(scene: &Scene, mode: ShadingMode) -> Vec<f32> {
+    let mut o = RenderOptions::new(W, H);
+    o.shading = mode;
+    match render(scene, &camera(), &o, ColorFormat::F32, false)
+        .unwrap()
+        .color
+    {
+        ColorBuffer::F32(v) => v,
+        ColorBuffer::U8(_) => unreachable!(),
+    }
+}
+
+fn plane_scene(material: Material, maps: Option<Maps>, colors: Option<Vec<Vec3>>) -> Scene {
+    let mut mesh = primitives::plane();
+    if let Some(c) = colors {
+        mesh = mesh.with_colors(c).unwrap();
+    }
+    let mut scene = Scene::new(Vec3::splat(0.2)).unwrap();
+    let obj = Object::new(Arc::new(mesh), material, Mat4::IDENTITY)
+        .unwrap()
+        .with_maps(maps.map(Arc::new))
+        .unwrap();
+    scene.add_object(obj);
+    scene.add_light(PointLight::new(Vec3::new(0.3, 1.0, 0.4), Vec3::ONE, 1.0).unwrap());
+    scene
+}
+
+fn solid(c: Vec3) -> Arc<Texture> {
+    let img = texture::Image::from_top_rows(1, 1, 3, &c.to_array(), false).unwrap();
+    Arc::new(Texture::from_image(
+        Arc::new(img),
+        Filter::Trilinear,
+        [Wrap::Repeat; 2],
+    ))
+}
+
+const MODES: [ShadingMode; 3] = [ShadingMode::Flat, ShadingMode::Gouraud, ShadingMode::Phong];
+
+fn max_diff(a: &[f32], b: &[f32]) -> f32 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f32::max)
+}
+
+#[test]
+fn a_white_map_renders_as_no_map() {
+    let gold = Material::preset("gold").unwrap();
+    let plain = plane_scene(gold, None, None);
+    let maps = Maps {
+        diffuse: Some(solid(Vec3::ONE)),
+        ..Maps::default()
+    };
+    let textured = plane_scene(gold, Some(maps), None);
+    for mode in MODES {
+        let d = max_diff(&f32_frame(&plain, mode), &f32_frame(&textured, mode));
+        assert!(d < 1e-5, "{mode:?}: {d}");
+    }
+}
+
+#[test]
+fn maps_weigh_their_terms_and_specular_is_added_after() {
+    let m = Material::new(Vec3::splat(0.3), Vec3::splat(0.6), Vec3::splat(0.5), 10.0)
+        .unwrap()
+        .with_emission(Vec3::splat(0.1))
+        .unwrap();
+    let red = Vec3::new(1.0, 0.0, 0.0);
+    // Diffuse map red: ambient (defaults to the diffuse map) and diffuse lose green and blue,
+    // specular and emission do not.
+    let maps = Maps {
+        diffuse: Some(solid(red)),
+        ..Maps::default()
+    };
+    let only_spec = Material::new(Vec3::ZERO, Vec3::ZERO, Vec3::splat(0.5), 10.0)
+        .unwrap()
+        .with_emission(Vec3::splat(0.1))
+        .unwrap();
+    for mode in MODES {
+        let t = f32_frame(&plane_scene(m, Some(maps.clone()), None), mode);
+        let spec = f32_frame(&plane_scene(only_spec, None, None), mode);
+        let full = f32_frame(&plane_scene(m, None, None), mode);
+        for ((t, s), f) in t.chunks(3).zip(spec.chunks(3)).zip(full.chunks(3)) {
+            // Green: emission + specular only; red: the whole untextured colour.
+            assert!((t[1] - s[1]).abs() < 1e-5, "{mode:?} {t:?} {s:?}");
+            assert!((t[0] - f[0]).abs() < 1e-5, "{mode:?} {t:?} {f:?}");
+        }
+    }
+}
+
+#[test]
+fn vertex_colors_replace_ambient_and_diffuse() {
+    let m = Material::new(Vec3::splat(0.9), Vec3::splat(0.9), Vec3::ZERO, 1.0).unwrap();
+    let c = Vec3::new(0.2, 0.4, 0.6);
+    let want = Material::new(c, c, Vec3::ZERO, 1.0).unwrap();
+    for mode in MODES {
+        let a = f32_frame(&plane_scene(m, None, Some(vec![c; 4])), mode);
+        let b = f32_frame(&plane_scene(want, None, None), mode);
+        assert!(max_diff(&a, &b) < 1e-5, "{mode:?}");
+    }
+}
+
+#[test]
+fn a_checker_lands_where_its_uvs_say() {
+    // Seen from straight above, the plane's u runs along x and v along -z (v = 1 at the
+    // top of the image): a 2 x 2 checker's top-left quarter is texel (0, 0) of the image.
+    let mut scene = Scene::new(Vec3::ONE).unwrap();
+    let emit = Material::new(Vec3::ONE, Vec3::ZERO, Vec3::ZERO, 1.0).unwrap();
+    let data = [
+        1.0, 0.0, 0.0, 0.0, 1.0, 0.0, //
+        0.0, 0.0, 1.0, 1.0, 1.0, 1.0,
+    ];
+    let img = Arc::new(texture::Image::from_top_rows(2, 2, 3, &data, false).unwrap());
+    let tex = Arc::new(Texture::from_image(img, Filter::Nearest, [Wrap::Clamp; 2]));
+    let maps = Maps {
+        diffuse: Some(tex),
+        ..Maps::default()
+    };
+    let obj = Object::new(Arc::new(primitives::plane()), emit, Mat4::IDENTITY)
+        .unwrap()
+        .with_maps(Some(Arc::new(maps)))
+        .unwrap();
+    scene.add_object(obj);
+    let cam = Camera::look_at(
+        DVec3::new(0.0, 3.0, 0.0),
+        DVec3::ZERO,
+        -DVec3::Z,
+        60.0,
+        0.1,
+        10.0,
+    )
+    .unwrap();
+    let o = RenderOptions::new(64, 64);
+    let f = render(&scene, &cam, &o, ColorFormat::U8, false).unwrap();
+    let ColorBuffer::U8(px) = f.color else {
+        unreachable!()
+    };
+    let at = |x: usize, y: usize| &px[(y * 64 + x) * 3..(y * 64 + x) * 3 + 3];
+    assert_eq!(at(26, 26), [255, 0, 0]);
+    assert_eq!(at(38, 26), [0, 255, 0]);
+    assert_eq!(at(26, 38), [0, 0, 255]);
+    assert_eq!(at(38, 38), [255, 255, 255]);
+}
+
+#[test]
+fn maps_without_uvs_are_refused() {
+    let mesh = Mesh::new(
+        vec![Vec3::ZERO, Vec3::X, Vec3::Y],
+        vec![[0, 1, 2]],
+        None,
+        None,
+    )
+    .unwrap();
+    let maps = Maps {
+        diffuse: Some(solid(Vec3::ONE)),
+        ..Maps::default()
+    };
+    let e = Object::new(Arc::new(mesh), Material::default(), Mat4::IDENTITY)
+        .unwrap()
+        .with_maps(Some(Arc::new(maps)))
+        .unwrap_err();
+    assert!(e.to_string().contains("no UVs"), "{e}");
+}
