@@ -192,3 +192,29 @@ def test_cli_views_with_alpha_and_samples(tmp_path):
         a = np.asarray(im)
     assert a.shape == (48, 64, 4)
     assert ((a[..., 3] > 0) & (a[..., 3] < 255)).any()
+
+
+def test_textured_surfaces_are_antialiased_and_keep_their_interior():
+    # One big textured triangle: multi-sample pixels inside it are its single-sample pixels
+    # (the texture sampled once at the centre, with the same footprint), edges blend.
+    rng = np.random.default_rng(3)
+    tex = sl.Texture(rng.random((37, 23, 3)).astype(np.float32), filter="trilinear")
+    v = np.array([[-3.0, -2.0, -4.0], [3.0, -1.5, -5.0], [0.2, 2.5, -4.5]])
+    uv = np.array([[0.0, 0.0], [3.0, 0.2], [1.2, 2.5]])
+    s = sl.Scene(default_lights=False)
+    mat = sl.Material((0.3, 0.3, 0.3), (0.8, 0.7, 0.6), (0.4, 0.4, 0.4), 20.0, diffuse_map=tex)
+    s.add(sl.Mesh(v, [[0, 1, 2]], uvs=uv), material=mat)
+    s.add_light(sl.PointLight((0.5, 0.3, -2.0)))
+    c = sl.Camera.look_at((0, 0, 0), (0, 0, -1), fov_y=60, near=0.1, far=50)
+    for shading in ("flat", "gouraud", "phong"):
+        one, d1 = sl.render(s, c, 96, 80, shading=shading, dtype="float32", return_depth=True)
+        covered = np.isfinite(d1)
+        inner = covered.copy()
+        for dy in (-1, 0, 1):
+            for dx in (-1, 0, 1):
+                inner &= np.roll(np.roll(covered, dy, 0), dx, 1)
+        inner[[0, -1], :] = inner[:, [0, -1]] = False
+        four = sl.render(s, c, 96, 80, shading=shading, samples=4, dtype="float32", alpha=True)
+        np.testing.assert_array_equal(four[..., :3][inner], one[inner], err_msg=shading)
+        a = four[..., 3]
+        assert ((a > 0) & (a < 1)).sum() > 50, shading
