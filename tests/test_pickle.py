@@ -12,6 +12,9 @@ import shadelab_rs as sl
 
 KW = dict(width=96, height=72)
 
+#: A light's pickled shadows when off.
+_OFF = ("off", (2048, 3, 1.0))
+
 
 def _rich_scene() -> tuple[sl.Scene, sl.Camera]:
     """Every kind of light, fog, a back material, a shared mesh, loader-welded normals."""
@@ -71,6 +74,10 @@ def _objects() -> list[object]:
         sl.PointLight((1, 2, 3), attenuation=(1, 0.5, 0.25), diffuse=(0.2, 0.3, 0.4)),
         sl.SpotLight((0, 1, 0), (0.3, -1, 0.1), cutoff=180),
         sl.AreaLight((0, 2, 0), (1, 0, 0), (0, 0, 1)),
+        sl.DirectionalLight((0, -1, 0), shadows="exact"),
+        sl.SpotLight((0, 1, 0), (0, -1, 0), shadows=True),
+        sl.AreaLight((0, 2, 0), (1, 0, 0), (0, 0, 1), shadows=sl.ShadowSettings(512, "none")),
+        sl.ShadowSettings(resolution=1024, kernel=5, bias=2.5),
         sl.Fog(mode="linear", start=1.5, end=7.25, color=(0.1, 0.2, 0.3)),
         sl.Fog(mode="exp", density=0.3),
         camera,
@@ -260,14 +267,21 @@ def test_copies_are_independent():
         ("Material", ((0, 0, 0), (1, 1, 1), (0, 0, 0), -1.0, (0, 0, 0)), "shininess"),
         (
             "DirectionalLight",
-            ((0, 0, 2), (1, 1, 1), 1.0, (0, 0, 0), (None, None), (0, 0, 2)),
+            ((0, 0, 2), (1, 1, 1), 1.0, (0, 0, 0), (None, None), (0, 0, 2), _OFF),
             "unit vector",
         ),
         (
             "DirectionalLight",
-            ((0, 0, 1), (1, 1, 1), 1.0, (0, 0, 0), (None, None), (0, 0, 0)),
+            ((0, 0, 1), (1, 1, 1), 1.0, (0, 0, 0), (None, None), (0, 0, 0), _OFF),
             "given direction",
         ),
+        (
+            "DirectionalLight",
+            ((0, 0, 1), (1, 1, 1), 1.0, (0, 0, 0), (None, None), (0, 0, 1), ("soft", _OFF[1])),
+            "shadows",
+        ),
+        ("ShadowSettings", (8, 3, 1.0), "resolution"),
+        ("ShadowSettings", (1024, 4, 1.0), "kernel"),
         ("RenderOptions", {"width": 0}, "width"),
         (
             "Camera",

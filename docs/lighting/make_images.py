@@ -403,6 +403,61 @@ def _specular() -> list[Panel]:
     return out
 
 
+# --------------------------------------------------------------------------- shadows
+
+SUN = (-0.5, -1.0, -0.6)
+
+
+@figure("shadows", "Shadows of a directional light: none, shadow map (default), exact rays")
+def _shadows() -> list[Panel]:
+    out = []
+    for label, shadows in (
+        ("shadows=False", False),
+        ("shadows=True (map)", True),
+        ('shadows="exact"', "exact"),
+    ):
+        scene = stage()
+        scene.add_light(sl.DirectionalLight(direction=SUN, shadows=shadows))
+        out.append(Panel(label, scene, stage_camera()))
+    return out
+
+
+@figure("shadow_kinds", "Every light kind casts shadows; an area light's are soft")
+def _shadow_kinds() -> list[Panel]:
+    spot = sl.SpotLight(
+        position=(1.5, 3.5, 2.0), direction=(-0.4, -1.0, -0.5), cutoff=40.0, shadows=True
+    )
+    point = sl.PointLight(position=(0.0, 1.6, 0.6), intensity=0.9, shadows=True)
+    panel = dict(position=(-0.5, 3.0, 1.0), u=(1.6, 0, 0), v=(0, 0, 1.6), samples=6)
+    out = []
+    for label, light in (
+        ("SpotLight, map", spot),
+        ("PointLight, cube map", point),
+        ("AreaLight 6x6, exact", sl.AreaLight(**panel, intensity=1.2, shadows="exact")),
+        ("AreaLight 6x6, maps", sl.AreaLight(**panel, intensity=1.2, shadows=True)),
+    ):
+        scene = stage()
+        scene.add_light(light)
+        out.append(Panel(label, scene, stage_camera()))
+    return out
+
+
+@figure("shadow_filters", "A coarse map (256 texels): plain comparison, PCF 3x3 and 7x7, exact")
+def _shadow_filters() -> list[Panel]:
+    out = []
+    for label, shadows in (
+        ('256, filter="none"', sl.ShadowSettings(256, "none")),
+        ("256, pcf 3x3", sl.ShadowSettings(256, "pcf", 3)),
+        ("256, pcf 7x7", sl.ShadowSettings(256, "pcf", 7)),
+        ('"exact"', "exact"),
+    ):
+        scene = stage()
+        scene.add_light(sl.DirectionalLight(direction=SUN, shadows=shadows))
+        cam = sl.Camera.look_at(eye=(0.2, 1.6, 2.6), target=(0.2, 0.2, -0.6), fov_y=40.0)
+        out.append(Panel(label, scene, cam))
+    return out
+
+
 # --------------------------------------------------------------------------- output
 
 

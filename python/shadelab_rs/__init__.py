@@ -13,6 +13,7 @@ from . import distributed
 from ._core import (
     MAX_AREA_SAMPLES,
     MAX_IMAGE_SIZE,
+    MAX_SHADOW_RESOLUTION,
     MAX_TEXTURE_SIZE,
     MAX_THREADS,
     AreaLight,
@@ -26,6 +27,7 @@ from ._core import (
     RenderOptions,
     Scene,
     SceneObject,
+    ShadowSettings,
     SpotLight,
     Texture,
     __version__,
@@ -71,6 +73,7 @@ from .textures import bake_texture, texel_centres
 __all__ = [
     "MAX_AREA_SAMPLES",
     "MAX_IMAGE_SIZE",
+    "MAX_SHADOW_RESOLUTION",
     "MAX_TEXTURE_SIZE",
     "MAX_THREADS",
     "VIEWS",
@@ -89,6 +92,7 @@ __all__ = [
     "SceneFile",
     "SceneFileError",
     "SceneObject",
+    "ShadowSettings",
     "SpotLight",
     "Texture",
     "__version__",

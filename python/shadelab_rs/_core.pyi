@@ -20,6 +20,7 @@ from typing_extensions import TypeAlias, Unpack
 __all__ = [
     "MAX_AREA_SAMPLES",
     "MAX_IMAGE_SIZE",
+    "MAX_SHADOW_RESOLUTION",
     "MAX_TEXTURE_SIZE",
     "MAX_THREADS",
     "AreaLight",
@@ -33,6 +34,7 @@ __all__ = [
     "RenderOptions",
     "Scene",
     "SceneObject",
+    "ShadowSettings",
     "SpotLight",
     "Texture",
     "__version__",
@@ -73,6 +75,45 @@ MAX_THREADS: Final[int]
 MAX_AREA_SAMPLES: Final[int]
 #: Largest texture image width or height in texels (16384).
 MAX_TEXTURE_SIZE: Final[int]
+
+#: Largest :class:`ShadowSettings` ``resolution`` (8192 texels a side).
+MAX_SHADOW_RESOLUTION: Final[int]
+
+@final
+class ShadowSettings:
+    """A shadow map's settings, for a light's ``shadows=``: ``resolution`` texels a side
+    (16 to ``MAX_SHADOW_RESOLUTION``; each of a point light's six cube faces), ``filter``
+    ``"pcf"`` (percentage-closer filtering over ``kernel`` x ``kernel`` texels, kernel odd,
+    3 to 9) or ``"none"`` (the lectures' plain comparison), and ``bias``, the scale of the
+    depth tolerance (one texel's world size at the point, compared with the receiver-plane
+    depth: the exact slope-scaled bias; 0 to 100, 1 by default, 0 shows acne).
+    ``shadows=True`` is ``ShadowSettings()``."""
+
+    def __copy__(self) -> ShadowSettings: ...
+    def __deepcopy__(self, _memo: Any) -> ShadowSettings: ...
+    def __new__(
+        cls,
+        resolution: int = 2048,
+        filter: Literal["pcf", "none"] = "pcf",
+        kernel: int = 3,
+        bias: float = 1.0,
+    ) -> ShadowSettings: ...
+    @property
+    def resolution(self) -> int:
+        """Texels per side of the map (of each cube face for point lights)."""
+    @property
+    def filter(self) -> Literal["pcf", "none"]:
+        """``"pcf"`` or ``"none"``."""
+    @property
+    def kernel(self) -> int:
+        """The PCF kernel's side in texels (1 with ``filter="none"``)."""
+    @property
+    def bias(self) -> float:
+        """Scale of the default bias."""
+
+#: A light's ``shadows=``: False (none), True (a shadow map, default settings), "exact"
+#: (shadow rays against the scene's triangles) or a :class:`ShadowSettings`.
+_Shadows: TypeAlias = bool | Literal["exact"] | ShadowSettings
 
 class ObjParseError(ValueError):
     """A mesh file was read but its content is malformed (a ValueError).
@@ -348,6 +389,7 @@ class DirectionalLight:
         ambient: _Vec3Like | None = None,
         diffuse: _Vec3Like | None = None,
         specular: _Vec3Like | None = None,
+        shadows: _Shadows | None = None,
     ) -> DirectionalLight: ...
     @property
     def ambient(self) -> _Vec3:
@@ -368,6 +410,10 @@ class DirectionalLight:
     @property
     def specular(self) -> _Vec3 | None:
         """The light's own specular colour, or None when ``color`` sets it."""
+    @property
+    def shadows(self) -> _Shadows:
+        """False, True (a shadow map with default settings), "exact" or the
+        :class:`ShadowSettings` of its map."""
 
 @final
 class PointLight:
@@ -391,6 +437,7 @@ class PointLight:
         ambient: _Vec3Like | None = None,
         diffuse: _Vec3Like | None = None,
         specular: _Vec3Like | None = None,
+        shadows: _Shadows | None = None,
     ) -> PointLight: ...
     @property
     def ambient(self) -> _Vec3:
@@ -413,6 +460,10 @@ class PointLight:
     @property
     def specular(self) -> _Vec3 | None:
         """The light's own specular colour, or None when ``color`` sets it."""
+    @property
+    def shadows(self) -> _Shadows:
+        """False, True (a shadow map with default settings), "exact" or the
+        :class:`ShadowSettings` of its map."""
 
 @final
 class SpotLight:
@@ -440,6 +491,7 @@ class SpotLight:
         inner: float | None = None,
         diffuse: _Vec3Like | None = None,
         specular: _Vec3Like | None = None,
+        shadows: _Shadows | None = None,
     ) -> SpotLight: ...
     @property
     def position(self) -> _Vec3:
@@ -469,6 +521,10 @@ class SpotLight:
     @property
     def specular(self) -> _Vec3 | None:
         """The light's own specular colour, or None when ``color`` sets it."""
+    @property
+    def shadows(self) -> _Shadows:
+        """False, True (a shadow map with default settings), "exact" or the
+        :class:`ShadowSettings` of its map."""
     @property
     def attenuation(self) -> _Vec3:
         """(kc, kl, kq)."""
@@ -508,6 +564,7 @@ class AreaLight:
         one_sided: bool = False,
         diffuse: _Vec3Like | None = None,
         specular: _Vec3Like | None = None,
+        shadows: _Shadows | None = None,
     ) -> AreaLight: ...
     @property
     def position(self) -> _Vec3:
@@ -545,6 +602,10 @@ class AreaLight:
     @property
     def specular(self) -> _Vec3 | None:
         """The light's own specular colour, or None when ``color`` sets it."""
+    @property
+    def shadows(self) -> _Shadows:
+        """False, True (a shadow map with default settings), "exact" or the
+        :class:`ShadowSettings` of its map."""
     @property
     def attenuation(self) -> _Vec3:
         """Distance attenuation (kc, kl, kq), applied to each point with its own distance."""

@@ -18,7 +18,7 @@ from . import _core as core
 from .demo import VIEWS, demo_scene, view_direction
 from .io import file_up_axis, load_mesh, save_depth, save_image
 from .rendering import EmptyRenderWarning, _finish, render, render_frame
-from .scene_file import frame_scene, load_scene
+from .scene_file import frame_scene, light_with_shadows, load_scene
 from .swatch import material_sheet
 
 
@@ -89,6 +89,13 @@ def _render_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--threads", type=int, default=None, help="worker threads (default: all)")
     p.add_argument("--cull-backfaces", action="store_true", default=None)
     p.add_argument(
+        "--shadows",
+        choices=["off", "map", "exact"],
+        default=None,
+        help="every light casts shadows: map (shadow maps, default settings), exact (shadow "
+        "rays) or off; default: as the scene says",
+    )
+    p.add_argument(
         "--samples",
         type=int,
         default=None,
@@ -138,6 +145,13 @@ def _render(
 ) -> None:
     """Renders with a scene file's options updated by the flags given."""
     _check_values(args)
+    if args.shadows is not None:
+        choices: dict[str, bool | str] = {"off": False, "map": True, "exact": "exact"}
+        shadows = choices[args.shadows]
+        lights = [light_with_shadows(light, shadows) for light in scene.lights]
+        scene.clear_lights()
+        for light in lights:
+            scene.add_light(light)
     names = ("shading", "specular", "background", "threads", "samples", "supersample")
     flags = {k: getattr(args, k) for k in names}
     flags["cull_backfaces"] = args.cull_backfaces

@@ -279,7 +279,8 @@ def _translate_rotate_y(x: float, z: float, degrees: float) -> np.ndarray:
 
 def demo_scene() -> tuple[Scene, Camera]:
     """Three Spot cows (Keenan Crane, public domain) in gold, polished silver and copper on a
-    pewter cube, under a directional key light and a bluish point fill light."""
+    pewter cube, under a directional key light (casting shadow-mapped shadows onto the base)
+    and a bluish point fill light."""
     cow: Mesh = load_obj(data_path("spot/spot_triangulated.obj"))
     cube: Mesh = load_obj(data_path("cube/cube.obj"))
     scene = Scene(ambient=(0.25, 0.25, 0.25))
@@ -292,7 +293,9 @@ def demo_scene() -> tuple[Scene, Camera]:
     base = np.diag([2.0, 0.08, 0.9, 1.0])
     base[1, 3] = -0.83
     scene.add(cube, material=Material.preset("pewter"), transform=base)
-    scene.add_light(DirectionalLight(direction=(-0.5, -1.0, -0.8), color=(1.0, 0.97, 0.9)))
+    scene.add_light(
+        DirectionalLight(direction=(-0.5, -1.0, -0.8), color=(1.0, 0.97, 0.9), shadows=True)
+    )
     scene.add_light(PointLight(position=(-3.0, 2.0, 4.0), color=(0.35, 0.4, 0.55)))
     camera = Camera.look_at(
         eye=(0.0, 1.1, 4.4), target=(0.0, -0.1, 0.0), up=(0, 1, 0), fov_y=42.0, near=0.1, far=50.0

@@ -35,6 +35,7 @@ from ._core import (
     PointLight,
     RenderOptions,
     Scene,
+    ShadowSettings,
     SpotLight,
     Texture,
     load_obj_parts,
@@ -402,8 +403,9 @@ def material_to_dict(m: Material) -> dict[str, Any]:
 # ---------------------------------------------------------------------------------------
 # Lights, fog, camera, render options
 
-# A light's own diffuse and specular colours (GL_DIFFUSE / GL_SPECULAR), in place of color.
-_SPLIT = ("diffuse", "specular")
+# A light's own diffuse and specular colours (GL_DIFFUSE / GL_SPECULAR), in place of color;
+# and its shadows (false, true, "exact" or a table of ShadowSettings), written when on.
+_SPLIT = ("diffuse", "specular", "shadows")
 _LIGHT_KEYS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
     "directional": (("type", "direction"), ("color", "intensity", "ambient", *_SPLIT)),
     "point": (("type", "position"), ("color", "intensity", "attenuation", "ambient", *_SPLIT)),
@@ -450,6 +452,8 @@ def _light(v: Any, where: str) -> _Light:
             kw[k] = _string(value, w)
         elif k == "one_sided":
             kw[k] = _boolean(value, w)
+        elif k == "shadows":
+            kw[k] = _shadows(value, w)
         elif k != "type":
             kw[k] = _numbers(value, w)
     make = {
@@ -459,6 +463,31 @@ def _light(v: Any, where: str) -> _Light:
         "area": AreaLight,
     }[kind]
     return _call(where, lambda: make(**kw))
+
+
+def _shadows(v: Any, where: str) -> bool | str | ShadowSettings:
+    """A light's ``shadows``: true, false, "exact" or a table of ShadowSettings."""
+    if isinstance(v, (bool, str)):
+        return v  # the light's constructor names a bad string
+    if not isinstance(v, Mapping):
+        raise _fail(where, 'true, false, "exact" or a table', v)
+    t = _table(v, where, optional=("resolution", "filter", "kernel", "bias"))
+    kw: dict[str, Any] = {}
+    for k, value in t.items():
+        w = _at(where, k)
+        if k in ("resolution", "kernel"):
+            kw[k] = _integer(value, w)
+        elif k == "filter":
+            kw[k] = _string(value, w)
+        else:
+            kw[k] = _number(value, w)
+    return _call(where, lambda: ShadowSettings(**kw))
+
+
+def _shadows_to_dict(v: Any) -> Any:
+    if isinstance(v, ShadowSettings):
+        return {"resolution": v.resolution, "filter": v.filter, "kernel": v.kernel, "bias": v.bias}
+    return v
 
 
 _LIGHT_TYPES = {
@@ -479,9 +508,19 @@ def light_to_dict(light: _Light) -> dict[str, Any]:
     d: dict[str, Any] = {"type": kind}
     for k in required[1:] + optional:
         v = getattr(light, k)
-        if v is not None:
+        if k == "shadows":
+            if v is not False:
+                d[k] = _shadows_to_dict(v)
+        elif v is not None:
             d[k] = list(v) if isinstance(v, tuple) else v
     return d
+
+
+def light_with_shadows(light: _Light, shadows: bool | str | ShadowSettings) -> _Light:
+    """The same light (every value kept exactly) casting shadows as ``shadows`` says."""
+    d = light_to_dict(light)
+    d["shadows"] = _shadows_to_dict(shadows)
+    return _light(d, "light")
 
 
 def _fog(v: Any, where: str) -> Fog:

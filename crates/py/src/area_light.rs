@@ -71,7 +71,7 @@ impl PyAreaLight {
     #[new]
     #[pyo3(signature = (position, u, v, shape="rectangle", samples=None, color=None,
                         intensity=1.0, attenuation=None, ambient=None, one_sided=false,
-                        diffuse=None, specular=None))]
+                        diffuse=None, specular=None, shadows=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         position: &Bound<'_, PyAny>,
@@ -86,7 +86,9 @@ impl PyAreaLight {
         one_sided: bool,
         diffuse: Option<&Bound<'_, PyAny>>,
         specular: Option<&Bound<'_, PyAny>>,
+        shadows: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
+        let shadows = crate::shadow::shadows_arg(shadows)?;
         let (diffuse, specular) = crate::light::split_colors(diffuse, specular)?;
         let shape = shape_arg(shape)?;
         let samples = samples.map_or(Ok(4), samples_arg)?;
@@ -101,7 +103,7 @@ impl PyAreaLight {
             .and_then(|l| l.with_ambient(ambient))
             .and_then(|l| l.with_attenuation(k.x, k.y, k.z))
             .and_then(|l| l.with_split_colors(diffuse, specular))
-            .map(|l| l.with_one_sided(one_sided))
+            .map(|l| l.with_one_sided(one_sided).with_shadows(shadows))
             .map_err(to_py)?;
         Ok(Self { inner })
     }
@@ -201,6 +203,13 @@ impl PyAreaLight {
         Array2::from_shape_vec((pts.len(), 3), flat)
             .expect("n x 3 values")
             .into_pyarray(py)
+    }
+
+    /// False, True (a shadow map, default settings), "exact" (shadow rays) or the
+    /// ShadowSettings of its map.
+    #[getter]
+    fn shadows(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        crate::shadow::shadows_object(py, self.inner.shadows)
     }
 
     fn __repr__(&self) -> String {

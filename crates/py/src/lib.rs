@@ -14,6 +14,7 @@ mod mesh;
 mod pickle;
 mod render;
 mod scene;
+mod shadow;
 mod texture;
 
 use pyo3::prelude::*;
@@ -36,6 +37,11 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<light::PySpotLight>()?;
     m.add_class::<area_light::PyAreaLight>()?;
     m.add("MAX_AREA_SAMPLES", shadelab_raster::MAX_AREA_SAMPLES)?;
+    m.add_class::<shadow::PyShadowSettings>()?;
+    m.add(
+        "MAX_SHADOW_RESOLUTION",
+        shadelab_raster::MAX_SHADOW_RESOLUTION,
+    )?;
     m.add_class::<scene::PyScene>()?;
     m.add_class::<scene::PySceneObject>()?;
     m.add_class::<fog::PyFog>()?;

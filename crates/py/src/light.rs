@@ -51,7 +51,8 @@ impl PyDirectionalLight {
     }
     #[new]
     #[pyo3(signature = (direction, color=None, intensity=1.0, ambient=None, diffuse=None,
-                        specular=None))]
+                        specular=None, shadows=None))]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         direction: &Bound<'_, PyAny>,
         color: Option<&Bound<'_, PyAny>>,
@@ -59,7 +60,9 @@ impl PyDirectionalLight {
         ambient: Option<&Bound<'_, PyAny>>,
         diffuse: Option<&Bound<'_, PyAny>>,
         specular: Option<&Bound<'_, PyAny>>,
+        shadows: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
+        let shadows = crate::shadow::shadows_arg(shadows)?;
         let (diffuse, specular) = split_colors(diffuse, specular)?;
         let color = color.map_or(Ok(glam::Vec3::ONE), |c| convert::vec3(c, "color"))?;
         let ambient = ambient.map_or(Ok(glam::Vec3::ZERO), |a| convert::vec3(a, "ambient"))?;
@@ -68,6 +71,7 @@ impl PyDirectionalLight {
         let inner = core::DirectionalLight::new(direction, color, intensity as f32)
             .and_then(|l| l.with_ambient(ambient))
             .and_then(|l| l.with_split_colors(diffuse, specular))
+            .map(|l| l.with_shadows(shadows))
             .map_err(to_py)?;
         Ok(Self { inner, given })
     }
@@ -108,6 +112,13 @@ impl PyDirectionalLight {
         tuple(self.inner.split.specular)
     }
 
+    /// False, True (a shadow map, default settings), "exact" (shadow rays) or the
+    /// ShadowSettings of its map.
+    #[getter]
+    fn shadows(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        crate::shadow::shadows_object(py, self.inner.shadows)
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "DirectionalLight(direction={:?}, color={:?}, intensity={})",
@@ -141,7 +152,8 @@ impl PyPointLight {
     }
     #[new]
     #[pyo3(signature = (position, color=None, intensity=1.0, attenuation=None, ambient=None,
-                        diffuse=None, specular=None))]
+                        diffuse=None, specular=None, shadows=None))]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         position: &Bound<'_, PyAny>,
         color: Option<&Bound<'_, PyAny>>,
@@ -150,7 +162,9 @@ impl PyPointLight {
         ambient: Option<&Bound<'_, PyAny>>,
         diffuse: Option<&Bound<'_, PyAny>>,
         specular: Option<&Bound<'_, PyAny>>,
+        shadows: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
+        let shadows = crate::shadow::shadows_arg(shadows)?;
         let (diffuse, specular) = split_colors(diffuse, specular)?;
         let color = color.map_or(Ok(glam::Vec3::ONE), |c| convert::vec3(c, "color"))?;
         let ambient = ambient.map_or(Ok(glam::Vec3::ZERO), |a| convert::vec3(a, "ambient"))?;
@@ -160,6 +174,7 @@ impl PyPointLight {
             .and_then(|l| l.with_ambient(ambient))
             .and_then(|l| l.with_attenuation(k.x, k.y, k.z))
             .and_then(|l| l.with_split_colors(diffuse, specular))
+            .map(|l| l.with_shadows(shadows))
             .map_err(to_py)?;
         Ok(Self { inner })
     }
@@ -207,6 +222,13 @@ impl PyPointLight {
         tuple(self.inner.split.specular)
     }
 
+    /// False, True (a shadow map, default settings), "exact" (shadow rays) or the
+    /// ShadowSettings of its map.
+    #[getter]
+    fn shadows(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        crate::shadow::shadows_object(py, self.inner.shadows)
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "PointLight(position={:?}, color={:?}, intensity={})",
@@ -242,7 +264,8 @@ impl PySpotLight {
     }
     #[new]
     #[pyo3(signature = (position, direction, cutoff=30.0, exponent=0.0, color=None, intensity=1.0,
-                        attenuation=None, ambient=None, inner=None, diffuse=None, specular=None))]
+                        attenuation=None, ambient=None, inner=None, diffuse=None, specular=None,
+                        shadows=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         position: &Bound<'_, PyAny>,
@@ -256,6 +279,7 @@ impl PySpotLight {
         inner: Option<f64>,
         diffuse: Option<&Bound<'_, PyAny>>,
         specular: Option<&Bound<'_, PyAny>>,
+        shadows: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let point = PyPointLight::new(
             position,
@@ -265,6 +289,7 @@ impl PySpotLight {
             ambient,
             diffuse,
             specular,
+            shadows,
         )?
         .inner;
         let given = convert::dvec3(direction, "direction")?.to_array();
@@ -344,6 +369,13 @@ impl PySpotLight {
     #[getter]
     fn ambient(&self) -> (f32, f32, f32) {
         self.inner.point.ambient.into()
+    }
+
+    /// False, True (a shadow map, default settings), "exact" (shadow rays) or the
+    /// ShadowSettings of its map.
+    #[getter]
+    fn shadows(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        crate::shadow::shadows_object(py, self.inner.point.shadows)
     }
 
     fn __repr__(&self) -> String {

@@ -24,6 +24,7 @@ use crate::material::PyMaterial;
 use crate::mesh::PyMesh;
 use crate::render::PyRenderOptions;
 use crate::scene::{PyScene, PySceneObject};
+use crate::shadow::{shadows, shadows_state, PyShadowSettings, ShadowsState};
 
 type V3 = (f32, f32, f32);
 
@@ -312,7 +313,7 @@ fn split_state(s: &core::SplitColors) -> Split {
     (s.diffuse.map(Into::into), s.specular.map(Into::into))
 }
 
-type PointState = (V3, V3, f32, V3, (f32, f32, f32), Split);
+type PointState = (V3, V3, f32, V3, (f32, f32, f32), Split, ShadowsState);
 
 pub fn point_state(l: &core::PointLight) -> PointState {
     let [a, b, c] = l.attenuation;
@@ -323,6 +324,7 @@ pub fn point_state(l: &core::PointLight) -> PointState {
         l.ambient.into(),
         (a, b, c),
         split_state(&l.split),
+        shadows_state(&l.shadows),
     )
 }
 
@@ -333,10 +335,11 @@ fn point(s: PointState) -> PyResult<core::PointLight> {
         .and_then(|l| l.with_attenuation(k.0, k.1, k.2))
         .and_then(|l| l.with_split_colors(d.map(v3), sp.map(v3)))
         .map_err(to_py)
+        .and_then(|l| Ok(l.with_shadows(shadows(s.6)?)))
 }
 
 /// (unit direction, colour, intensity, ambient, split colours, direction as given).
-type DirectionalState = (V3, V3, f32, V3, Split, D3);
+type DirectionalState = (V3, V3, f32, V3, Split, D3, ShadowsState);
 
 pub fn directional_state(l: &PyDirectionalLight) -> DirectionalState {
     let (g, l) = (l.given, &l.inner);
@@ -347,6 +350,7 @@ pub fn directional_state(l: &PyDirectionalLight) -> DirectionalState {
         l.ambient.into(),
         split_state(&l.split),
         (g[0], g[1], g[2]),
+        shadows_state(&l.shadows),
     )
 }
 
@@ -368,7 +372,8 @@ fn directional(s: DirectionalState) -> PyResult<PyDirectionalLight> {
         .and_then(|l| l.with_unit_direction(v3(s.0)))
         .and_then(|l| l.with_ambient(v3(s.3)))
         .and_then(|l| l.with_split_colors(d.map(v3), sp.map(v3)))
-        .map_err(to_py)?;
+        .map_err(to_py)?
+        .with_shadows(shadows(s.6)?);
     Ok(PyDirectionalLight {
         inner,
         given: given_direction(s.5)?,
@@ -408,6 +413,7 @@ fn spot(s: SpotState) -> PyResult<PySpotLight> {
 type AreaState = (
     (V3, V3, V3, String, u32, bool),
     (V3, f32, V3, (f32, f32, f32), Split),
+    ShadowsState,
 );
 
 pub fn area_state(l: &core::AreaLight) -> AreaState {
@@ -432,11 +438,13 @@ pub fn area_state(l: &core::AreaLight) -> AreaState {
             (a, b, c),
             split_state(&l.split),
         ),
+        shadows_state(&l.shadows),
     )
 }
 
 fn area(s: AreaState) -> PyResult<core::AreaLight> {
-    let ((p, u, v, shape, samples, one_sided), (color, intensity, ambient, k, (d, sp))) = s;
+    let ((p, u, v, shape, samples, one_sided), (color, intensity, ambient, k, (d, sp)), sh) = s;
+    let sh = shadows(sh)?;
     let shape = match shape.as_str() {
         "rectangle" => core::AreaShape::Rectangle,
         "disk" => core::AreaShape::Disk,
@@ -451,7 +459,7 @@ fn area(s: AreaState) -> PyResult<core::AreaLight> {
         .and_then(|l| l.with_ambient(v3(ambient)))
         .and_then(|l| l.with_attenuation(k.0, k.1, k.2))
         .and_then(|l| l.with_split_colors(d.map(v3), sp.map(v3)))
-        .map(|l| l.with_one_sided(one_sided))
+        .map(|l| l.with_one_sided(one_sided).with_shadows(sh))
         .map_err(to_py)
 }
 
@@ -672,6 +680,16 @@ pub fn _restore<'py>(
                     .map_err(bad)
                     .and_then(|s| material(s).map_err(bad))?,
             ),
+        )?
+        .into_any(),
+        "ShadowSettings" => Bound::new(
+            py,
+            PyShadowSettings {
+                inner: state
+                    .extract()
+                    .map_err(bad)
+                    .and_then(|s| crate::shadow::settings(s).map_err(bad))?,
+            },
         )?
         .into_any(),
         "Fog" => Bound::new(

@@ -16,6 +16,7 @@ use crate::error::RasterError;
 use crate::frame::{ColorBuffer, ColorFormat};
 use crate::lights::{AreaLight, AreaShape};
 use crate::lights::{DirectionalLight, Light, PointLight, SplitColors, SpotLight};
+use crate::lights::{ShadowFilter, ShadowSettings, Shadows};
 use crate::material::Material;
 use crate::mesh::Mesh;
 use crate::obj::{merge_parts, parse_obj_parts};
@@ -332,6 +333,7 @@ fn decode(b: &mut Bytes) -> Option<Case> {
         };
         scene.add_object(object.with_back_material(back));
     }
+    let mut split_lights = Vec::with_capacity(lights.len());
     for mut light in lights {
         if b.flag() {
             let diffuse = b.flag().then(|| b.color());
@@ -345,6 +347,29 @@ fn decode(b: &mut Bytes) -> Option<Case> {
                 }
             }
         }
+        split_lights.push(light);
+    }
+    // Second extension block: each light's shadows (zeros: off). Map settings come from
+    // any bytes (bad kernels and biases must be refused), at small resolutions.
+    for light in split_lights {
+        let shadows = match b.u8() % 3 {
+            0 => Some(Shadows::Off),
+            1 => Some(Shadows::Exact),
+            _ => {
+                let resolution = 16 + b.u8() as u32;
+                let filter = match b.u8() % 4 {
+                    0 => ShadowFilter::None,
+                    k => ShadowFilter::Pcf(2 * k as u32 - 1 + (b.u8() % 2) as u32),
+                };
+                ok_or_message(ShadowSettings::new(resolution, filter, b.f32())).map(Shadows::Map)
+            }
+        };
+        let light: Light = match (light, shadows.unwrap_or_default()) {
+            (Light::Directional(d), s) => d.with_shadows(s).into(),
+            (Light::Point(p), s) => p.with_shadows(s).into(),
+            (Light::Spot(l), s) => l.with_shadows(s).into(),
+            (Light::Area(a), s) => a.with_shadows(s).into(),
+        };
         scene.add_light(light);
     }
     Some(Case {

@@ -39,8 +39,10 @@ mod options;
 mod pipeline;
 mod pool;
 pub mod primitives;
+mod rays;
 mod render;
 mod scene;
+mod shadows;
 pub mod texture;
 
 pub use camera::{Camera, Intrinsics, Projection};
@@ -51,6 +53,7 @@ pub use lights::{
     AreaLight, AreaShape, DirectionalLight, Light, PointLight, SplitColors, SpotLight,
     MAX_AREA_SAMPLES, MIN_ATTENUATION_DENOMINATOR,
 };
+pub use lights::{ShadowFilter, ShadowSettings, Shadows, MAX_PCF_KERNEL, MAX_SHADOW_RESOLUTION};
 pub use material::{preset_names, Material, Preset, PRESETS};
 pub use mesh::{face_normal, generate_vertex_normals, Mesh};
 pub use obj::{load_obj, load_obj_parts, parse_obj_parts, ObjPart};

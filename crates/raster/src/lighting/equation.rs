@@ -180,7 +180,12 @@ impl Surface {
     /// `att` (attenuation × spot factor).
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
-    fn light_loop<T: Terms, const SPECULAR: bool, const BLINN: bool, const SCALED: bool>(
+    pub(super) fn light_loop<
+        T: Terms,
+        const SPECULAR: bool,
+        const BLINN: bool,
+        const SCALED: bool,
+    >(
         &self,
         light: &SurfaceLight,
         n: &[Lanes; 3],
@@ -246,7 +251,7 @@ impl Surface {
 /// [`Surface::terms_lanes`] stays small enough to vectorise.
 #[inline(never)]
 #[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
-fn point_lanes(
+pub(super) fn point_lanes(
     light: &SurfaceLight,
     q: Vec3,
     p: &[Lanes; 3],

@@ -5,7 +5,7 @@
 use glam::Vec3;
 
 use super::spot::Cone;
-use crate::lights::{AreaLight, Light, PointLight, SpotLight};
+use crate::lights::{AreaLight, Light, PointLight, Shadows, SpotLight};
 
 /// Where a light is, as the lanes read it.
 #[derive(Debug, Clone, Copy)]
@@ -31,6 +31,8 @@ pub(crate) struct Source {
     pub ambient: Vec3,
     /// `(kc, kl, kq)` of an attenuated light; `None` costs nothing per pixel.
     pub attenuation: Option<[f32; 3]>,
+    /// Whether and how the source casts shadows (an area light's points: the light's).
+    pub shadows: Shadows,
 }
 
 impl Source {
@@ -70,6 +72,7 @@ fn source(l: &Light) -> Source {
             specular,
             ambient: p.ambient,
             attenuation: p.is_attenuated().then_some(p.attenuation),
+            shadows: p.shadows,
         }
     };
     match l {
@@ -81,6 +84,7 @@ fn source(l: &Light) -> Source {
                 specular,
                 ambient: d.ambient,
                 attenuation: None,
+                shadows: d.shadows,
             }
         }
         Light::Point(p) => point(p, Geometry::Point(p.position)),
@@ -119,6 +123,7 @@ pub(crate) fn area_points(a: &AreaLight) -> Vec<Light> {
                 ambient: a.ambient * share,
                 attenuation: a.attenuation,
                 split: a.split,
+                shadows: a.shadows,
             };
             if a.one_sided() {
                 // cutoff 90°, exponent 1: max(−l·(−n), 0) = cos of the emission angle.

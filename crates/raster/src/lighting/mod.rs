@@ -17,11 +17,12 @@ mod light_set;
 mod pow;
 mod spot;
 mod surface;
+mod visible;
 
 #[allow(unused_imports)] // the split target is for per-point materials (textures)
 pub(crate) use equation::{Folded, Split, Terms};
 pub(crate) use lanes::{normalize_lanes, Lanes, LANES};
-pub(crate) use light_set::LightSet;
+pub(crate) use light_set::{Geometry, LightSet, Source};
 pub(crate) use surface::{check_mirror, Surface};
 
 #[cfg(test)]

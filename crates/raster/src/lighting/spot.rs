@@ -17,6 +17,11 @@ pub(crate) struct Cone {
 }
 
 impl Cone {
+    /// The cone's half-angle in degrees (what a shadow map's frustum must cover).
+    pub fn cutoff_degrees(&self) -> f64 {
+        (self.cos_cutoff as f64).acos().to_degrees()
+    }
+
     /// The spot factor for `cos_angle = −l·d`: 0 outside the cutoff, `cos^exponent` inside,
     /// times a smoothstep across the soft edge when there is one (OpenGL's cone plus the
     /// common inner-angle fade).

@@ -5,6 +5,7 @@ use glam::Vec3;
 
 use super::colors::SplitColors;
 use super::point::PointLight;
+use super::shadow::Shadows;
 use crate::error::{RasterError, Result};
 
 /// Largest `samples` per side: 64² = 4096 point sources, already far past any useful
@@ -54,6 +55,8 @@ pub struct AreaLight {
     pub attenuation: [f32; 3],
     /// Diffuse and specular colours when they differ; see [`SplitColors`].
     pub split: SplitColors,
+    /// Whether and how the light casts shadows (off by default).
+    pub shadows: Shadows,
 }
 
 fn finite_vec(v: Vec3, what: &'static str) -> Result<Vec3> {
@@ -108,6 +111,7 @@ impl AreaLight {
             ambient: Vec3::ZERO,
             attenuation: [1.0, 0.0, 0.0],
             split: SplitColors::default(),
+            shadows: Shadows::Off,
         })
     }
 
@@ -121,6 +125,11 @@ impl AreaLight {
         })
     }
 
+    /// The same light casting shadows as `shadows` says.
+    pub fn with_shadows(mut self, shadows: Shadows) -> Self {
+        self.shadows = shadows;
+        self
+    }
     /// The same light with its own ambient colour (finite, ≥ 0).
     pub fn with_ambient(self, ambient: Vec3) -> Result<Self> {
         let p = PointLight::new(self.position, Vec3::ONE, 1.0)?.with_ambient(ambient)?;

@@ -5,6 +5,7 @@ use glam::Vec3;
 use crate::error::{RasterError, Result};
 
 use super::colors::{check_ambient, check_color, SplitColors};
+use super::shadow::Shadows;
 
 /// A light at infinity shining along `direction` (a sun overhead is `(0, -1, 0)`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -19,6 +20,8 @@ pub struct DirectionalLight {
     pub ambient: Vec3,
     /// Diffuse and specular colours when they differ; see [`SplitColors`].
     pub split: SplitColors,
+    /// Whether and how the light casts shadows (off by default).
+    pub shadows: Shadows,
 }
 
 impl DirectionalLight {
@@ -43,9 +46,15 @@ impl DirectionalLight {
             intensity,
             ambient: Vec3::ZERO,
             split: SplitColors::default(),
+            shadows: Shadows::Off,
         })
     }
 
+    /// The same light casting shadows as `shadows` says.
+    pub fn with_shadows(mut self, shadows: Shadows) -> Self {
+        self.shadows = shadows;
+        self
+    }
     /// The same light with its own ambient colour (finite, ≥ 0).
     pub fn with_ambient(mut self, ambient: Vec3) -> Result<Self> {
         check_ambient(ambient)?;

@@ -5,12 +5,14 @@ mod area;
 mod colors;
 mod directional;
 mod point;
+mod shadow;
 mod spot;
 
 pub use area::{AreaLight, AreaShape, MAX_AREA_SAMPLES};
 pub use colors::SplitColors;
 pub use directional::DirectionalLight;
 pub use point::{PointLight, MIN_ATTENUATION_DENOMINATOR};
+pub use shadow::{ShadowFilter, ShadowSettings, Shadows, MAX_PCF_KERNEL, MAX_SHADOW_RESOLUTION};
 pub use spot::SpotLight;
 
 /// Any light a scene can hold.
@@ -24,6 +26,18 @@ pub enum Light {
     Spot(SpotLight),
     /// See [`AreaLight`]: shaded as its point sources.
     Area(AreaLight),
+}
+
+impl Light {
+    /// Whether and how the light casts shadows.
+    pub fn shadows(&self) -> Shadows {
+        match self {
+            Light::Directional(l) => l.shadows,
+            Light::Point(l) => l.shadows,
+            Light::Spot(l) => l.point.shadows,
+            Light::Area(l) => l.shadows,
+        }
+    }
 }
 
 impl From<DirectionalLight> for Light {

@@ -5,6 +5,7 @@ use glam::Vec3;
 use crate::error::{RasterError, Result};
 
 use super::colors::{check_ambient, check_color, SplitColors};
+use super::shadow::Shadows;
 
 /// A light at a point, shining equally in all directions.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -22,6 +23,8 @@ pub struct PointLight {
     pub attenuation: [f32; 3],
     /// Diffuse and specular colours when they differ; see [`SplitColors`].
     pub split: SplitColors,
+    /// Whether and how the light casts shadows (off by default).
+    pub shadows: Shadows,
 }
 
 /// Smallest attenuation denominator: a light exactly at the surface with `kc = 0` gives a
@@ -48,9 +51,15 @@ impl PointLight {
             ambient: Vec3::ZERO,
             attenuation: [1.0, 0.0, 0.0],
             split: SplitColors::default(),
+            shadows: Shadows::Off,
         })
     }
 
+    /// The same light casting shadows as `shadows` says.
+    pub fn with_shadows(mut self, shadows: Shadows) -> Self {
+        self.shadows = shadows;
+        self
+    }
     /// The same light with its own ambient colour (finite, ≥ 0).
     pub fn with_ambient(mut self, ambient: Vec3) -> Result<Self> {
         check_ambient(ambient)?;

@@ -25,6 +25,12 @@ pub struct SpotLight {
 }
 
 impl SpotLight {
+    /// The same light casting shadows as `shadows` says (stored on its point light).
+    pub fn with_shadows(mut self, shadows: super::Shadows) -> Self {
+        self.point.shadows = shadows;
+        self
+    }
+
     /// A spot light at `point`'s position shining along `direction` (normalised; finite and
     /// non-zero), with `cutoff` in degrees in (0, 90] or exactly 180, and `exponent` ≥ 0.
     pub fn new(point: PointLight, direction: Vec3, cutoff: f32, exponent: f32) -> Result<Self> {

@@ -32,6 +32,7 @@ use crate::lighting::{check_mirror, LightSet, Surface};
 use crate::material::Material;
 use crate::options::{GouraudMethod, RenderOptions, ShadingMode};
 use crate::scene::Scene;
+use crate::shadows::ShadowEffect;
 use bin::{Binned, Bins, Chunk};
 use clip::ClipPlanes;
 use setup::{Setup, Snapped};
@@ -159,6 +160,8 @@ pub(crate) struct Prepared {
     /// ([`Surface::unit`]), whose split terms the texture stage weighs per point.
     pub units: Vec<Sides>,
     pub eye: Vec3,
+    /// The scene's shadows (colour passes whose lights cast them).
+    pub shadows: Option<ShadowEffect>,
     pub stats: RenderStats,
     t_start: Instant,
 }
@@ -292,6 +295,17 @@ pub(crate) fn prepare(
         &planes,
         (w as f64, h as f64),
     );
+    // Shadows: the BVH or the maps, before flat and Gouraud light (they read them).
+    let shadows = match lit && scene.lights().iter().any(|l| l.shadows().on()) {
+        true => ShadowEffect::new(
+            scene,
+            &light_set,
+            &verts.world[..total_vertices],
+            options,
+            &|cam, opts, out| depth_pass(scene, cam, opts, out).map(|_| ()),
+        )?,
+        false => None,
+    };
     let t_vertex = Instant::now();
 
     // Primitive stage (assembly, clipping, setup, per-chunk binning) over fixed chunks.
@@ -317,7 +331,14 @@ pub(crate) fn prepare(
         // Before the clip-made vertices join: faces are lit from the transformed ones.
         let two_sided = scene.two_sided();
         outs.par_iter_mut().for_each(|o| {
-            prelight::light_faces(&mut o.chunk, &verts.world, &materials, eye, two_sided)
+            prelight::light_faces(
+                &mut o.chunk,
+                &verts.world,
+                &materials,
+                eye,
+                two_sided,
+                shadows.as_ref(),
+            )
         });
     }
     // Clip-generated vertices go after the transformed ones, chunk by chunk.
@@ -344,10 +365,16 @@ pub(crate) fn prepare(
     // world positions and normals for that).
     if lit && options.shading == ShadingMode::Gouraud && !textured {
         match options.gouraud {
-            GouraudMethod::Normals => prelight::light_vertices(scene, &mut verts, &materials, eye),
-            GouraudMethod::FaceIntensities => {
-                prelight::light_vertices_by_faces(scene, &mut verts, &materials, eye)
+            GouraudMethod::Normals => {
+                prelight::light_vertices(scene, &mut verts, &materials, eye, shadows.as_ref())
             }
+            GouraudMethod::FaceIntensities => prelight::light_vertices_by_faces(
+                scene,
+                &mut verts,
+                &materials,
+                eye,
+                shadows.as_ref(),
+            ),
         }
     }
     let tris = Binned {
@@ -363,6 +390,7 @@ pub(crate) fn prepare(
         materials,
         units,
         eye,
+        shadows,
         stats,
         t_start: t_setup,
     })

@@ -10,9 +10,9 @@ use super::shade::{put, Out, Pixel, Program, ShadeContext, TexturedObject, Textu
 use super::{isa, prepare, tiles, Needs};
 use crate::camera::Camera;
 use crate::effects::FogEffect;
-use crate::error::Result;
+use crate::error::{RasterError, Result};
 use crate::frame::RenderStats;
-use crate::options::{Interpolation, RenderOptions};
+use crate::options::{Interpolation, RenderOptions, ShadingMode};
 use crate::scene::Scene;
 
 /// The row-major output buffers of a colour pass: `height·width·3` colour samples and,
@@ -49,7 +49,24 @@ pub(crate) fn color_pass<P: Pixel>(
     options: &RenderOptions,
     out: Buffers<'_, P>,
 ) -> Result<RenderStats> {
-    let prep = prepare(scene, camera, options, Needs::Color)?;
+    let textured = scene
+        .objects()
+        .iter()
+        .any(|o| o.maps().is_some() || o.mesh().colors().is_some());
+    if textured && scene.lights().iter().any(|l| l.shadows().on()) {
+        // The texture stage lights through its own loops, which do not read visibility yet.
+        return Err(RasterError::invalid_field(
+            "shadows",
+            "shadows cannot yet be combined with texture maps or vertex colours; \
+             remove the maps or the lights' shadows",
+        ));
+    }
+    let mut prep = prepare(scene, camera, options, Needs::Color)?;
+    // Phong reads them per pixel; flat and Gouraud have used them already (prelight).
+    let shadows = match options.shading {
+        ShadingMode::Phong => prep.shadows.take(),
+        _ => None,
+    };
     let (w, h) = (options.width as usize, options.height as usize);
     let rects = tiles::tile_rects(w, h);
     let mut color_rows = tiles::split_rows(out.color, w, h, 3);
@@ -70,6 +87,7 @@ pub(crate) fn color_pass<P: Pixel>(
             .fog()
             .map(|f| FogEffect::new(*f, camera.eye_distance(options.width, options.height))),
         program: Program::for_scene(scene.fog().is_some()),
+        shadows,
         textured: (!prep.units.is_empty()).then(|| TexturedScene {
             units: &prep.units,
             objects: scene

@@ -30,6 +30,7 @@ use super::Sides;
 use crate::camera::Camera;
 use crate::effects::FogEffect;
 use crate::options::ShadingMode;
+use crate::shadows::ShadowEffect;
 
 /// Everything the shade pass reads, shared by all tiles.
 pub(crate) struct ShadeContext<'a> {
@@ -47,6 +48,8 @@ pub(crate) struct ShadeContext<'a> {
     pub fog: Option<FogEffect>,
     /// The per-pixel stages after lighting, chosen once per render ([`Program::for_scene`]).
     pub program: Program,
+    /// The scene's shadows (`None`: no light casts one, and no loop reads this).
+    pub shadows: Option<ShadowEffect>,
     /// Scenes with texture maps or vertex colours: the texture stage's inputs (every mode
     /// then shades through [`shade_textured_tile`], reached from `isa::run_tile` outside the
     /// untextured tile bodies); `None` runs the untextured loops unchanged.
@@ -145,11 +148,38 @@ pub(crate) fn shade_tile<P: Pixel, const AFFINE: bool>(
             runs::shade_runs::<P, GOURAUD, true, AFFINE>(ctx, rect, buf, color, depth)
         }
         // Phong's per-pixel effects run as the render's program over each batch.
-        (ShadingMode::Phong, read_depth) => match read_depth || ctx.program.reads_depth() {
-            false => phong::shade_phong::<P, false, AFFINE>(ctx, rect, buf, color, depth),
-            true => phong::shade_phong::<P, true, AFFINE>(ctx, rect, buf, color, depth),
-        },
+        // Shadows are a loop of their own (the geometric normal carried per lane), out of
+        // line, so the tile bodies of scenes without them are the code they were.
+        (ShadingMode::Phong, read_depth) => {
+            match (
+                read_depth || ctx.program.reads_depth(),
+                ctx.shadows.is_some(),
+            ) {
+                (false, false) => {
+                    phong::shade_phong::<P, false, AFFINE, false>(ctx, rect, buf, color, depth)
+                }
+                (true, false) => {
+                    phong::shade_phong::<P, true, AFFINE, false>(ctx, rect, buf, color, depth)
+                }
+                (false, true) => phong_shadowed::<P, false, AFFINE>(ctx, rect, buf, color, depth),
+                (true, true) => phong_shadowed::<P, true, AFFINE>(ctx, rect, buf, color, depth),
+            }
+        }
     }
+}
+
+/// Phong with shadows, kept out of the tile bodies (`isa.rs` inlines the rest): its cost
+/// is the shadow rays and map look-ups, and the shadowless bodies keep their code and
+/// inlining. Compiled for the baseline instruction set.
+#[inline(never)]
+fn phong_shadowed<P: Pixel, const STAGES_READ_DEPTH: bool, const AFFINE: bool>(
+    ctx: &ShadeContext<'_>,
+    rect: TileRect,
+    buf: &TileBuffers,
+    color: &mut [&mut [Out<P>]],
+    depth: Option<&mut [&mut [Out<f32>]]>,
+) {
+    phong::shade_phong::<P, STAGES_READ_DEPTH, AFFINE, true>(ctx, rect, buf, color, depth)
 }
 
 /// Shades one tile of a textured scene (maps or vertex colours: [`ShadeContext::textured`]),

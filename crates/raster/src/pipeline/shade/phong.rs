@@ -7,7 +7,7 @@ use super::program::Fragments;
 use super::runs::run_length;
 use super::store::{fill_out, put, store_out, Out, Pixel};
 use super::{background_row, ShadeContext};
-use crate::lighting::{normalize_lanes, Lanes, Surface, LANES};
+use crate::lighting::{normalize_lanes, Folded, Lanes, Surface, LANES};
 use crate::pipeline::raster::{TileBuffers, NO_TRIANGLE};
 use crate::pipeline::setup::SetupTri;
 use crate::pipeline::tiles::{TileRect, TILE};
@@ -106,11 +106,15 @@ struct PhongBatch<'a> {
     depth: Lanes,
     len: usize,
     material: Option<&'a Surface>,
+    /// Geometric (face) normals per lane, and each source's visibility: read only by the
+    /// loop with shadows.
+    g: [Lanes; 3],
+    vis: Vec<Option<Lanes>>,
 }
 
 impl<'a> PhongBatch<'a> {
     #[inline(always)]
-    fn flush<P: Pixel>(
+    fn flush<P: Pixel, const SHADOWS: bool>(
         &mut self,
         ctx: &ShadeContext<'_>,
         rect: TileRect,
@@ -121,8 +125,16 @@ impl<'a> PhongBatch<'a> {
             let mut n = [[0.0; LANES]; 3];
             let raw = &self.n;
             normalize_lanes(&mut n, |k| (raw[0][k], raw[1][k], raw[2][k]));
+            let lit = match &ctx.shadows {
+                Some(shadows) if SHADOWS => {
+                    shadows.visibility(&n, &self.p, &self.g, self.len, &mut self.vis);
+                    m.terms_lanes_visible::<Folded>(&n, &self.p, eye, &self.vis)
+                        .0
+                }
+                _ => m.shade_lanes(&n, &self.p, eye),
+            };
             let mut frags = Fragments {
-                color: m.shade_lanes(&n, &self.p, eye),
+                color: lit,
                 at: &self.at[..self.len],
                 depth: &self.depth,
                 origin: (rect.x0, rect.y0),
@@ -226,27 +238,30 @@ impl<'a> PhongBatch<'a> {
     /// Appends one pixel at tile slot (row, column) `at`, flushing when the batch fills.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn push<P: Pixel>(
+    fn push<P: Pixel, const SHADOWS: bool>(
         &mut self,
         ctx: &ShadeContext<'_>,
         rect: TileRect,
-        m: &'a Surface,
+        (m, g): (&'a Surface, Vec3),
         (n, p, depth): (Vec3, Vec3, f32),
         at: (usize, usize),
         color: &mut [&mut [Out<P>]],
     ) {
         if self.len > 0 && !std::ptr::eq(m, self.material.unwrap_or(m)) {
-            self.flush::<P>(ctx, rect, color);
+            self.flush::<P, SHADOWS>(ctx, rect, color);
         }
         self.material = Some(m);
         let k = self.len;
         (self.n[0][k], self.n[1][k], self.n[2][k]) = (n.x, n.y, n.z);
         (self.p[0][k], self.p[1][k], self.p[2][k]) = (p.x, p.y, p.z);
+        if SHADOWS {
+            (self.g[0][k], self.g[1][k], self.g[2][k]) = (g.x, g.y, g.z);
+        }
         self.at[k] = at;
         self.depth[k] = depth;
         self.len += 1;
         if self.len == LANES {
-            self.flush::<P>(ctx, rect, color);
+            self.flush::<P, SHADOWS>(ctx, rect, color);
         }
     }
 
@@ -254,18 +269,19 @@ impl<'a> PhongBatch<'a> {
     /// all of material `m`, flushing whenever the batch fills.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn extend<P: Pixel>(
+    fn extend<P: Pixel, const SHADOWS: bool>(
         &mut self,
         ctx: &ShadeContext<'_>,
         rect: TileRect,
         m: &'a Surface,
+        g: Vec3,
         lanes: &RunLanes,
         live: usize,
         (j, i): (usize, usize),
         color: &mut [&mut [Out<P>]],
     ) {
         if self.len > 0 && !std::ptr::eq(m, self.material.unwrap_or(m)) {
-            self.flush::<P>(ctx, rect, color);
+            self.flush::<P, SHADOWS>(ctx, rect, color);
         }
         self.material = Some(m);
         for k in 0..live {
@@ -273,12 +289,15 @@ impl<'a> PhongBatch<'a> {
             for axis in 0..3 {
                 self.n[axis][at] = lanes.n[axis][k];
                 self.p[axis][at] = lanes.p[axis][k];
+                if SHADOWS {
+                    self.g[axis][at] = g[axis];
+                }
             }
             self.at[at] = (j, i + k);
             self.depth[at] = lanes.depth[k];
             self.len += 1;
             if self.len == LANES {
-                self.flush::<P>(ctx, rect, color);
+                self.flush::<P, SHADOWS>(ctx, rect, color);
             }
         }
     }
@@ -290,7 +309,12 @@ const LANE_RUN: usize = 4;
 /// Phong: interpolation over whole runs of a triangle's pixels in a row ([`LANES`] at a
 /// time), lighting [`LANES`] pixels at a time.
 #[inline(always)]
-pub(super) fn shade_phong<P: Pixel, const STAGES_READ_DEPTH: bool, const AFFINE: bool>(
+pub(super) fn shade_phong<
+    P: Pixel,
+    const STAGES_READ_DEPTH: bool,
+    const AFFINE: bool,
+    const SHADOWS: bool,
+>(
     ctx: &ShadeContext<'_>,
     rect: TileRect,
     buf: &TileBuffers,
@@ -310,7 +334,13 @@ pub(super) fn shade_phong<P: Pixel, const STAGES_READ_DEPTH: bool, const AFFINE:
         depth: [0.0; LANES],
         len: 0,
         material: None,
+        g: [[0.0; LANES]; 3],
+        vis: match &ctx.shadows {
+            Some(s) if SHADOWS => vec![None; s.sources()],
+            _ => Vec::new(),
+        },
     };
+    let mut face = Vec3::ZERO;
     let mut lanes = RunLanes {
         n: [[0.0; LANES]; 3],
         p: [[0.0; LANES]; 3],
@@ -335,6 +365,9 @@ pub(super) fn shade_phong<P: Pixel, const STAGES_READ_DEPTH: bool, const AFFINE:
             let t = ctx.tris.get(id);
             if id != cur.id {
                 cur = Current::load::<AFFINE>(ctx, id, t, &mut planes);
+                if SHADOWS {
+                    face = face_normal(t, &ctx.verts.world);
+                }
             }
             let m = cur.material.expect("loaded for phong");
             if end - i < LANE_RUN {
@@ -346,7 +379,7 @@ pub(super) fn shade_phong<P: Pixel, const STAGES_READ_DEPTH: bool, const AFFINE:
                     if let Some(d) = depth.as_deref_mut() {
                         d[j][k].write(px.2);
                     }
-                    batch.push::<P>(ctx, rect, m, px, (j, k), color);
+                    batch.push::<P, SHADOWS>(ctx, rect, (m, face), px, (j, k), color);
                 }
                 i = end;
                 continue;
@@ -364,12 +397,12 @@ pub(super) fn shade_phong<P: Pixel, const STAGES_READ_DEPTH: bool, const AFFINE:
                         o.write(v);
                     }
                 }
-                batch.extend::<P>(ctx, rect, m, &lanes, live, (j, s), color);
+                batch.extend::<P, SHADOWS>(ctx, rect, m, face, &lanes, live, (j, s), color);
             }
             i = end;
         }
     }
-    batch.flush::<P>(ctx, rect, color);
+    batch.flush::<P, SHADOWS>(ctx, rect, color);
 }
 
 /// The world-space face normal in the triangle's original winding (zero if degenerate).

@@ -6,12 +6,49 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::lighting::{normalize_lanes, LANES};
+use crate::lighting::{normalize_lanes, Folded, Lanes, Surface, LANES};
 use crate::pipeline::bin::Chunk;
 use crate::pipeline::setup::SetupTri;
 use crate::pipeline::vertex::Vertices;
 use crate::pipeline::Sides;
 use crate::scene::Scene;
+use crate::shadows::ShadowEffect;
+
+/// The colours of the first `live` of [`LANES`] points (unit normals `n`), each
+/// shadow-casting light's diffuse and specular scaled by its visibility from the point:
+/// flat and Gouraud find visibility where they light (face centroids, vertices), so their
+/// shadows are as coarse as their shading (Phong's are per pixel). The normal stands in for
+/// the geometric one (the ray offset's direction).
+#[inline(always)]
+fn lit(
+    surface: &Surface,
+    shadows: Option<&ShadowEffect>,
+    n: &[Lanes; 3],
+    p: &[Lanes; 3],
+    live: usize,
+    eye: Vec3,
+) -> [Lanes; 3] {
+    match shadows {
+        None => surface.shade_lanes(n, p, eye),
+        Some(s) => lit_shadowed(surface, s, n, p, live, eye),
+    }
+}
+
+/// [`lit`] with shadows, out of line so the shadowless loops stay as they were.
+#[cold]
+#[inline(never)]
+fn lit_shadowed(
+    surface: &Surface,
+    shadows: &ShadowEffect,
+    n: &[Lanes; 3],
+    p: &[Lanes; 3],
+    live: usize,
+    eye: Vec3,
+) -> [Lanes; 3] {
+    let mut vis = vec![None; shadows.sources()];
+    shadows.visibility(n, p, n, live, &mut vis);
+    surface.terms_lanes_visible::<Folded>(n, p, eye, &vis).0
+}
 
 /// Vertices lit per parallel work item.
 const CHUNK: usize = 4096;
@@ -20,7 +57,13 @@ const CHUNK: usize = 4096;
 /// the colour lit with the flipped normal and the back material (`verts.color_back`). Reads
 /// the world positions and normals of the transformed vertices and drops them afterwards
 /// (the tile stage interpolates colours only).
-pub(crate) fn light_vertices(scene: &Scene, verts: &mut Vertices, surfaces: &[Sides], eye: Vec3) {
+pub(crate) fn light_vertices(
+    scene: &Scene,
+    verts: &mut Vertices,
+    surfaces: &[Sides],
+    eye: Vec3,
+    shadows: Option<&ShadowEffect>,
+) {
     let two_sided = scene.two_sided();
     let mut first = 0;
     let mut color = Vec::with_capacity(verts.clip.len());
@@ -46,7 +89,7 @@ pub(crate) fn light_vertices(scene: &Scene, verts: &mut Vertices, surfaces: &[Si
                             pl[ax][k] = p[ax];
                         }
                     }
-                    let c = surface.shade_lanes(&nl, &pl, eye);
+                    let c = lit(surface, shadows, &nl, &pl, p.len(), eye);
                     (0..p.len()).map(move |k| Vec3::new(c[0][k], c[1][k], c[2][k]))
                 })
         };
@@ -88,6 +131,7 @@ pub(crate) fn light_vertices_by_faces(
     verts: &mut Vertices,
     surfaces: &[Sides],
     eye: Vec3,
+    shadows: Option<&ShadowEffect>,
 ) {
     let two_sided = scene.two_sided();
     let mut first = 0;
@@ -115,7 +159,7 @@ pub(crate) fn light_vertices_by_faces(
                     }
                     let mut nl = [[0.0; LANES]; 3];
                     normalize_lanes(&mut nl, |k| (raw[0][k], raw[1][k], raw[2][k]));
-                    let c = surface.shade_lanes(&nl, &p, eye);
+                    let c = lit(surface, shadows, &nl, &p, group.len(), eye);
                     (0..group.len()).map(move |k| Vec3::new(c[0][k], c[1][k], c[2][k]))
                 })
                 .collect();
@@ -161,6 +205,7 @@ pub(crate) fn light_faces(
     surfaces: &[Sides],
     eye: Vec3,
     two_sided: bool,
+    shadows: Option<&ShadowEffect>,
 ) {
     let sides = &surfaces[chunk.object as usize];
     let tris = &mut chunk.tris;
@@ -192,7 +237,7 @@ pub(crate) fn light_faces(
             }
             let mut n = [[0.0; LANES]; 3];
             normalize_lanes(&mut n, |k| (raw[0][k], raw[1][k], raw[2][k]));
-            let c = surface.shade_lanes(&n, &p, eye);
+            let c = lit(surface, shadows, &n, &p, group.len(), eye);
             for (k, &i) in group.iter().enumerate() {
                 tris[i].flat = Vec3::new(c[0][k], c[1][k], c[2][k]);
             }
@@ -211,7 +256,15 @@ pub(crate) fn light_faces(
                 let n = (b - a).cross(c - a).normalize_or_zero();
                 let n = if flip { -n } else { n };
                 let centroid = (a + b + c) / 3.0;
-                sides[flip as usize].shade(n, centroid, eye)
+                let surface = &sides[flip as usize];
+                match shadows {
+                    None => surface.shade(n, centroid, eye),
+                    Some(_) => {
+                        let splat = |v: Vec3| [[v.x; LANES], [v.y; LANES], [v.z; LANES]];
+                        let c = lit(surface, shadows, &splat(n), &splat(centroid), 1, eye);
+                        Vec3::new(c[0][0], c[1][0], c[2][0])
+                    }
+                }
             }
         };
         t.flat = color;

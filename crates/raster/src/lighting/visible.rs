@@ -1,0 +1,178 @@
+//! The equation with a visibility per light and lane (shadows): each shadowed light's
+//! diffuse and specular are scaled by its visibility, its ambient is not. A light without a
+//! visibility (`None`) is evaluated exactly as in [`Surface::terms_lanes`]; scenes without
+//! shadows never come here, so their loops are unchanged.
+
+use glam::Vec3;
+
+use super::equation::{point_lanes, Terms};
+use super::lanes::{normalize_lanes, Lanes, LANES};
+use super::light_set::Geometry;
+use super::surface::Surface;
+use crate::options::SpecularModel;
+
+impl Surface {
+    /// The terms of [`LANES`] points into `T`, light `i`'s diffuse and specular scaled by
+    /// `visibility[i]` per lane when it is `Some` (one entry per light of the surface).
+    #[inline(always)]
+    pub fn terms_lanes_visible<T: Terms>(
+        &self,
+        n: &[Lanes; 3],
+        p: &[Lanes; 3],
+        eye: Vec3,
+        visibility: &[Option<Lanes>],
+    ) -> T {
+        if self.specular_on {
+            match self.model {
+                SpecularModel::BlinnPhong | SpecularModel::NormalizedBlinnPhong => {
+                    self.visible_with::<T, true, true>(n, p, eye, visibility)
+                }
+                SpecularModel::Phong => self.visible_with::<T, true, false>(n, p, eye, visibility),
+            }
+        } else {
+            self.visible_with::<T, false, true>(n, p, eye, visibility)
+        }
+    }
+
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
+    fn visible_with<T: Terms, const SPECULAR: bool, const BLINN: bool>(
+        &self,
+        n: &[Lanes; 3],
+        p: &[Lanes; 3],
+        eye: Vec3,
+        visibility: &[Option<Lanes>],
+    ) -> T {
+        let mut c = T::new(self.base);
+        let mut v = [[0.0; LANES]; 3];
+        if let (true, Some(d)) = (SPECULAR, self.infinite_view) {
+            v = [[d.x; LANES], [d.y; LANES], [d.z; LANES]];
+        } else if SPECULAR {
+            normalize_lanes(&mut v, |k| {
+                (eye.x - p[0][k], eye.y - p[1][k], eye.z - p[2][k])
+            });
+        }
+        for (light, vis) in self.lights.iter().zip(visibility) {
+            match light.geometry {
+                Geometry::Directional(d) => {
+                    let l = [[d.x; LANES], [d.y; LANES], [d.z; LANES]];
+                    match vis {
+                        Some(vis) => self
+                            .light_loop::<T, SPECULAR, BLINN, true>(light, n, &l, &v, vis, &mut c),
+                        None => self.light_loop::<T, SPECULAR, BLINN, false>(
+                            light,
+                            n,
+                            &l,
+                            &v,
+                            &[1.0; LANES],
+                            &mut c,
+                        ),
+                    }
+                }
+                Geometry::Point(q) | Geometry::Spot { position: q, .. } => {
+                    let mut l = [[0.0; LANES]; 3];
+                    let mut att = [1.0; LANES];
+                    // The ambient term is added here, before the visibility scales `att`.
+                    point_lanes(light, q, p, &mut l, &mut att, c.ambient());
+                    let scaled = light.attenuation.is_some()
+                        || matches!(light.geometry, Geometry::Spot { .. });
+                    if let Some(vis) = vis {
+                        for k in 0..LANES {
+                            att[k] *= vis[k];
+                        }
+                    }
+                    if scaled || vis.is_some() {
+                        self.light_loop::<T, SPECULAR, BLINN, true>(light, n, &l, &v, &att, &mut c);
+                    } else {
+                        self.light_loop::<T, SPECULAR, BLINN, false>(
+                            light, n, &l, &v, &att, &mut c,
+                        );
+                    }
+                }
+            }
+        }
+        c
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{Folded, LightSet, Split};
+    use super::*;
+    use crate::lights::{DirectionalLight, Light, PointLight, SpotLight};
+    use crate::material::Material;
+
+    #[test]
+    #[allow(clippy::needless_range_loop)]
+    fn visibility_scales_diffuse_and_specular_not_ambient() {
+        let lights: Vec<Light> = vec![
+            DirectionalLight::new(Vec3::new(-0.3, -1.0, -0.2), Vec3::ONE, 1.0)
+                .unwrap()
+                .with_ambient(Vec3::splat(0.1))
+                .unwrap()
+                .into(),
+            PointLight::new(Vec3::new(0.5, 2.0, 1.0), Vec3::new(0.9, 0.8, 0.7), 2.0)
+                .unwrap()
+                .with_attenuation(1.0, 0.2, 0.0)
+                .unwrap()
+                .with_ambient(Vec3::splat(0.2))
+                .unwrap()
+                .into(),
+            SpotLight::new(
+                PointLight::new(Vec3::new(0.0, 3.0, 0.0), Vec3::ONE, 1.0).unwrap(),
+                -Vec3::Y,
+                60.0,
+                1.0,
+            )
+            .unwrap()
+            .into(),
+        ];
+        let m = Material::preset("brass").unwrap();
+        let set = LightSet::new(&lights);
+        let unit = Surface::unit(&m, Vec3::splat(0.2), &set, SpecularModel::BlinnPhong);
+        let folded = Surface::folded(&m, Vec3::splat(0.2), &set, SpecularModel::BlinnPhong);
+        let n = [[0.1; LANES], [1.0; LANES], [0.05; LANES]];
+        let mut nn = [[0.0; LANES]; 3];
+        normalize_lanes(&mut nn, |k| (n[0][k], n[1][k], n[2][k]));
+        let p = [[0.0; LANES], [0.0; LANES], [0.3; LANES]];
+        let eye = Vec3::new(0.0, 1.0, 4.0);
+        let vis: Lanes = std::array::from_fn(|k| k as f32 / (LANES - 1) as f32);
+        // All visible (None or ones) is the plain evaluation.
+        let plain = folded.shade_lanes(&nn, &p, eye);
+        let none: Folded = folded.terms_lanes_visible(&nn, &p, eye, &[None, None, None]);
+        assert_eq!(none.0, plain);
+        let ones: Folded = folded.terms_lanes_visible(&nn, &p, eye, &[Some([1.0; LANES]); 3]);
+        for ch in 0..3 {
+            for k in 0..LANES {
+                assert!((ones.0[ch][k] - plain[ch][k]).abs() < 1e-6);
+            }
+        }
+        // Each light alone at visibility `vis`: ambient unchanged, diffuse and specular
+        // scaled by `vis` per lane.
+        let all: Split = unit.terms_lanes_visible(&nn, &p, eye, &[None, None, None]);
+        for i in 0..3 {
+            let mut v = [None, None, None];
+            v[i] = Some(vis);
+            let t: Split = unit.terms_lanes_visible(&nn, &p, eye, &v);
+            let mut only = [None, None, None];
+            only[i] = Some([0.0; LANES]);
+            let dark: Split = unit.terms_lanes_visible(&nn, &p, eye, &only);
+            for ch in 0..3 {
+                for k in 0..LANES {
+                    assert_eq!(t.ambient[ch][k], all.ambient[ch][k]);
+                    let lit_d = all.diffuse[ch][k] - dark.diffuse[ch][k];
+                    let want = dark.diffuse[ch][k] + vis[k] * lit_d;
+                    assert!((t.diffuse[ch][k] - want).abs() < 1e-5, "light {i}");
+                    let lit_s = all.specular[ch][k] - dark.specular[ch][k];
+                    let want = dark.specular[ch][k] + vis[k] * lit_s;
+                    assert!((t.specular[ch][k] - want).abs() < 1e-5, "light {i}");
+                }
+            }
+            assert!(lit_sum(&all) > lit_sum(&dark), "light {i} lights the point");
+        }
+    }
+
+    fn lit_sum(s: &Split) -> f32 {
+        s.diffuse.iter().flatten().sum::<f32>() + s.specular.iter().flatten().sum::<f32>()
+    }
+}

@@ -1,0 +1,336 @@
+//! Shadow maps, the lectures' shadow z-buffer: the depth-only pass (`passes::depth_pass`,
+//! the same vertex, clip, setup and raster stages as the colour pass) rendered from the
+//! light, then each shaded point transformed into the light's view and compared with it.
+//!
+//! - directional: one orthographic map fitted to the scene's bounds seen along the light;
+//! - spot (cutoff ≤ 60°): one perspective map covering the cone;
+//! - point, wide spot, area light's sample points: a cube map (six 90° faces).
+//!
+//! Bias without a constant a user has to tune: each texel of the filter is compared with the
+//! depth at which the light's ray through that texel's centre meets the shaded point's own
+//! (geometric) plane -- a receiver-plane depth, which is the slope-scaled bias made exact for
+//! every texel of the kernel -- minus a tolerance of one texel's world size at the point
+//! (times the settings' `bias`). A surface therefore never shadows
+//! itself however grazing the light, and a caster's shadow starts within about a texel of
+//! the contact. The filter is the plain comparison (`filter="none"`) or percentage-closer
+//! over a `k × k` kernel.
+
+use std::mem::MaybeUninit;
+
+use glam::{DMat4, DVec3, DVec4, Vec3};
+
+use crate::camera::{Camera, Projection};
+use crate::error::{RasterError, Result};
+use crate::lighting::{Geometry, Source};
+use crate::lights::{ShadowFilter, ShadowSettings};
+use crate::options::RenderOptions;
+
+/// The depth-only pass over the render's scene from a camera into a row-major buffer
+/// (`passes::depth_pass`, handed in by the pipeline so this room does not import it).
+pub(crate) type DepthPass<'a> =
+    &'a (dyn Fn(&Camera, &RenderOptions, &mut [MaybeUninit<f32>]) -> Result<()> + Sync);
+
+/// One face: the light's camera and its depths as eye distances along its axis
+/// (`f32::INFINITY` where nothing was drawn).
+#[derive(Debug)]
+struct Face {
+    camera: Camera,
+    view_proj: DMat4,
+    view: DMat4,
+    depth: Vec<f32>,
+    /// World size of a texel at eye depth 1 (perspective) or anywhere (orthographic).
+    texel: f64,
+    /// Half the view's extent: `tan(fov/2)` (perspective) or half the height (orthographic).
+    half: f64,
+    perspective: bool,
+}
+
+/// A light's shadow map: one face, or six for a cube.
+#[derive(Debug)]
+pub(crate) struct ShadowMap {
+    faces: Vec<Face>,
+    /// For a cube: the light's position (the face is chosen by the dominant axis).
+    cube_at: Option<Vec3>,
+    res: usize,
+    filter: ShadowFilter,
+    bias: f32,
+}
+
+/// Widest spot cone (half-angle, degrees) rendered as one perspective map; wider cones
+/// take a cube map.
+const MAX_SPOT_MAP_DEGREES: f64 = 60.0;
+
+/// The cube's faces: view direction and up, in the order +x, −x, +y, −y, +z, −z.
+const CUBE: [(DVec3, DVec3); 6] = [
+    (DVec3::X, DVec3::NEG_Y),
+    (DVec3::NEG_X, DVec3::NEG_Y),
+    (DVec3::Y, DVec3::Z),
+    (DVec3::NEG_Y, DVec3::NEG_Z),
+    (DVec3::Z, DVec3::NEG_Y),
+    (DVec3::NEG_Z, DVec3::NEG_Y),
+];
+
+impl ShadowMap {
+    /// Renders the map of source `s` (through `depth`) over a scene whose world bounds are
+    /// `bounds`.
+    pub fn new(
+        s: &Source,
+        settings: ShadowSettings,
+        bounds: (Vec3, Vec3),
+        options: &RenderOptions,
+        depth: DepthPass<'_>,
+    ) -> Result<Self> {
+        let res = settings.resolution() as usize;
+        let (lo, hi) = (bounds.0.as_dvec3(), bounds.1.as_dvec3());
+        let center = (lo + hi) / 2.0;
+        let radius = ((hi - lo).length() / 2.0).max(1e-30);
+        let mut opts = RenderOptions::new(res as u32, res as u32);
+        opts.threads = options.threads;
+        opts.baseline_isa = options.baseline_isa;
+        let mut faces = Vec::new();
+        let mut cube_at = None;
+        let bad = |e: RasterError| {
+            RasterError::invalid_field(
+                "shadows",
+                format!("cannot place a shadow map for this light and scene: {e}"),
+            )
+        };
+        match s.geometry {
+            Geometry::Directional(toward) => {
+                let d = toward.as_dvec3();
+                let eye = center + d * (2.0 * radius);
+                let up = if d.y.abs() < 0.9 { DVec3::Y } else { DVec3::X };
+                let cam = Camera::orthographic(
+                    eye,
+                    center,
+                    up,
+                    2.0 * radius,
+                    radius * 1e-3,
+                    4.0 * radius,
+                )
+                .map_err(bad)?;
+                faces.push(render_face(
+                    depth,
+                    cam,
+                    &opts,
+                    res,
+                    false,
+                    2.0 * radius / res as f64,
+                )?);
+            }
+            Geometry::Spot { position, cone } if cone.cutoff_degrees() <= MAX_SPOT_MAP_DEGREES => {
+                let q = position.as_dvec3();
+                let dir = cone.direction.as_dvec3();
+                let up = if dir.y.abs() < 0.9 {
+                    DVec3::Y
+                } else {
+                    DVec3::X
+                };
+                let fov = (2.0 * cone.cutoff_degrees() + 2.0).min(150.0);
+                let (near, far) = planes(q, center, radius);
+                let cam = Camera::look_at(q, q + dir, up, fov, near, far).map_err(bad)?;
+                let texel = 2.0 * (fov.to_radians() / 2.0).tan() / res as f64;
+                faces.push(render_face(depth, cam, &opts, res, true, texel)?);
+            }
+            Geometry::Point(position) | Geometry::Spot { position, .. } => {
+                let q = position.as_dvec3();
+                let (near, far) = planes(q, center, radius);
+                for (dir, up) in CUBE {
+                    let cam = Camera::look_at(q, q + dir, up, 90.0, near, far).map_err(bad)?;
+                    faces.push(render_face(depth, cam, &opts, res, true, 2.0 / res as f64)?);
+                }
+                cube_at = Some(position);
+            }
+        }
+        Ok(ShadowMap {
+            faces,
+            cube_at,
+            res,
+            filter: settings.filter(),
+            bias: settings.bias(),
+        })
+    }
+
+    /// The share of the filter's texels (one for `filter="none"`) that see the point `p`
+    /// (shading normal `n`, geometric normal `g`) lit.
+    pub fn visibility(&self, n: Vec3, p: Vec3, g: Vec3) -> f32 {
+        let face = match self.cube_at {
+            Some(q) => &self.faces[cube_face(p - q)],
+            None => &self.faces[0],
+        };
+        let toward = if face.perspective {
+            (face.camera.eye() - p.as_dvec3()).normalize_or_zero()
+        } else {
+            (face.camera.eye() - face.camera.target()).normalize()
+        };
+        if n.as_dvec3().dot(toward) <= 0.0 {
+            return 1.0; // faces away: no diffuse or specular whatever the map says
+        }
+        let g = g.as_dvec3().normalize_or_zero();
+        let g = if g.dot(n.as_dvec3()) < 0.0 { -g } else { g };
+        // In the light's view space (looking down −z): the point, its plane's normal.
+        let pv = face.view.transform_point3(p.as_dvec3());
+        let gv = face.view.transform_vector3(g);
+        let depth = -pv.z;
+        if face.perspective && depth.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            return 1.0; // behind the light: the face does not see it
+        }
+        // World size of a texel at the point; the tolerance is one texel (times `bias`).
+        let s = if face.perspective {
+            face.texel * depth
+        } else {
+            face.texel
+        };
+        let tolerance = s * self.bias as f64 + 1e-6 * depth.abs();
+        // The point's texel coordinates.
+        let c = face.view_proj * DVec4::new(p.x as f64, p.y as f64, p.z as f64, 1.0);
+        let res = self.res as f64;
+        let (sx, sy) = ((c.x / c.w + 1.0) / 2.0 * res, (1.0 - c.y / c.w) / 2.0 * res);
+        if !(sx.is_finite() && sy.is_finite()) {
+            return 1.0;
+        }
+        let (tx, ty) = (sx.floor() as i64, sy.floor() as i64);
+        let r = self.res as i64;
+        // Receiver-plane depth: the depth at which the light's ray through a texel's centre
+        // meets the point's own plane, so a sloped receiver compares with its own depth at
+        // every texel of the kernel (no acne at grazing light, no large constant bias).
+        let receiver = |x: i64, y: i64| -> f64 {
+            let ndc_x = (x as f64 + 0.5) / res * 2.0 - 1.0;
+            let ndc_y = 1.0 - (y as f64 + 0.5) / res * 2.0;
+            let (o, d) = if face.perspective {
+                (
+                    DVec3::ZERO,
+                    DVec3::new(ndc_x * face.half, ndc_y * face.half, -1.0),
+                )
+            } else {
+                (
+                    DVec3::new(ndc_x * face.half, ndc_y * face.half, 0.0),
+                    DVec3::NEG_Z,
+                )
+            };
+            let den = gv.dot(d);
+            let t = gv.dot(pv - o) / den;
+            // Along the plane (den ≈ 0) or behind: the point's own depth.
+            if den.abs() > 1e-9 && t.is_finite() && t > 0.0 {
+                t
+            } else {
+                depth
+            }
+        };
+        let lit_at = |x: i64, y: i64| -> f32 {
+            let stored = face.depth[(y.clamp(0, r - 1) * r + x.clamp(0, r - 1)) as usize];
+            (receiver(x, y) - tolerance <= stored as f64) as u8 as f32
+        };
+        match self.filter {
+            ShadowFilter::None => {
+                if tx < 0 || ty < 0 || tx >= r || ty >= r {
+                    return 1.0; // outside the map: nothing there casts a shadow
+                }
+                lit_at(tx, ty)
+            }
+            ShadowFilter::Pcf(k) => {
+                let h = (k / 2) as i64;
+                let mut sum = 0.0;
+                for dy in -h..=h {
+                    for dx in -h..=h {
+                        sum += lit_at(tx + dx, ty + dy);
+                    }
+                }
+                sum / (k * k) as f32
+            }
+        }
+    }
+}
+
+/// The settings of one sample point of an area light with `side` samples per side: its
+/// resolution divided by `side` (at least 64, at most the light's), since the soft shadow
+/// averages `side²` maps; other lights (`side` 1) keep theirs.
+pub(super) fn per_point(settings: ShadowSettings, side: u32) -> ShadowSettings {
+    if side <= 1 {
+        return settings;
+    }
+    let res = (settings.resolution() / side)
+        .max(64)
+        .min(settings.resolution());
+    ShadowSettings::new(res, settings.filter(), settings.bias())
+        .expect("a smaller valid resolution of valid settings")
+}
+
+/// Texels of the map of source `s` with `settings` (six faces for a cube).
+pub(super) fn texels(s: &Source, settings: &ShadowSettings) -> u64 {
+    let faces = match s.geometry {
+        Geometry::Directional(_) => 1,
+        Geometry::Spot { cone, .. } if cone.cutoff_degrees() <= MAX_SPOT_MAP_DEGREES => 1,
+        _ => 6,
+    };
+    let r = settings.resolution() as u64;
+    faces * r * r
+}
+
+/// Near and far planes of a light at `q` over a scene in the sphere (`center`, `radius`).
+fn planes(q: DVec3, center: DVec3, radius: f64) -> (f64, f64) {
+    let far = (q - center).length() + radius;
+    (far * 1e-4, far * 1.01)
+}
+
+/// The cube face (index into [`CUBE`]) that sees direction `d` from the light.
+fn cube_face(d: Vec3) -> usize {
+    let a = d.abs();
+    if a.x >= a.y && a.x >= a.z {
+        if d.x >= 0.0 {
+            0
+        } else {
+            1
+        }
+    } else if a.y >= a.z {
+        if d.y >= 0.0 {
+            2
+        } else {
+            3
+        }
+    } else if d.z >= 0.0 {
+        4
+    } else {
+        5
+    }
+}
+
+/// The depth pass from `camera` into a face of eye distances.
+fn render_face(
+    depth_pass: DepthPass<'_>,
+    camera: Camera,
+    opts: &RenderOptions,
+    res: usize,
+    perspective: bool,
+    texel: f64,
+) -> Result<Face> {
+    let half = match camera.projection() {
+        Projection::Perspective { fov_y } => (fov_y.to_radians() / 2.0).tan(),
+        Projection::Orthographic { height } => height / 2.0,
+        Projection::Pinhole(_) => unreachable!("light cameras are look_at or orthographic"),
+    };
+    // Initialised (to "nothing drawn"), so reading every sample is sound whatever the pass did.
+    let mut out = vec![MaybeUninit::new(-1.0f32); res * res];
+    depth_pass(&camera, opts, &mut out)?;
+    let depth = out
+        .into_iter()
+        .map(|z| {
+            // SAFETY: every sample was initialised above (and the pass only writes values).
+            let z = unsafe { z.assume_init() };
+            if z < 0.0 {
+                f32::INFINITY
+            } else {
+                camera.eye_depth_from_z(z)
+            }
+        })
+        .collect();
+    Ok(Face {
+        view_proj: camera.projection_matrix(1.0) * camera.view_matrix(),
+        view: camera.view_matrix(),
+        camera,
+        depth,
+        texel,
+        half,
+        perspective,
+    })
+}

@@ -1,0 +1,193 @@
+//! The shadow room: for each shadow-casting light source of a render, how visible it is
+//! from a batch of shaded points. Exact shadows cast a segment from each point to the light
+//! through the rays room's BVH; shadow maps ([`map`]) compare depth rendered from the light.
+//!
+//! Shadow rays start at the shaded point moved off its surface along the triangle's
+//! geometric normal (turned to the side of the shading normal) by [`ShadowEffect::offset`]:
+//! `1e-4` of the scene's bounding-box diagonal (plus `1e-6` of the point's largest
+//! coordinate), far above the float error of an interpolated position and far below any
+//! feature a scene shows, so a surface never shadows itself by rounding and a contact
+//! shadow starts at the contact.
+
+mod exact;
+mod map;
+
+use glam::Vec3;
+
+use crate::error::{RasterError, Result};
+use crate::lighting::{Geometry, Lanes, LightSet, LANES};
+use crate::lights::{Light, Shadows};
+use crate::options::RenderOptions;
+use crate::rays::Bvh;
+use crate::scene::Scene;
+pub(crate) use map::DepthPass;
+use map::ShadowMap;
+
+/// Largest number of shadow-map texels a render may hold (2^28: 1 GiB of f32 depths).
+pub const MAX_SHADOW_TEXELS: u64 = 1 << 28;
+
+/// Where a source's light comes from.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Toward {
+    /// A light at infinity: the unit direction toward it.
+    Direction(Vec3),
+    /// A light at a position.
+    Position(Vec3),
+}
+
+impl Toward {
+    fn of(g: &Geometry) -> Self {
+        match *g {
+            Geometry::Directional(d) => Toward::Direction(d),
+            Geometry::Point(q) | Geometry::Spot { position: q, .. } => Toward::Position(q),
+        }
+    }
+}
+
+#[derive(Debug)]
+enum Caster {
+    Exact(Toward),
+    Map(Box<ShadowMap>),
+}
+
+/// A render's shadows: one caster per shadow-casting source of its light set.
+#[derive(Debug)]
+pub(crate) struct ShadowEffect {
+    /// Per source of the light set (same order as the surfaces' lights).
+    casters: Vec<Option<Caster>>,
+    bvh: Option<Bvh>,
+    /// Scene-size part of the ray offset (see the module's doc).
+    offset: f32,
+}
+
+impl ShadowEffect {
+    /// The shadows of `scene` under `set` (its prepared light set), or `None` when no light
+    /// casts one. `world` holds every object's world-space vertices in scene order (the
+    /// vertex stage's). The BVH is built only when a light asks for exact shadows; shadow
+    /// maps are rendered here from each light, through `depth` (the pipeline's depth pass).
+    pub fn new(
+        scene: &Scene,
+        set: &LightSet,
+        world: &[Vec3],
+        options: &RenderOptions,
+        depth: DepthPass<'_>,
+    ) -> Result<Option<Self>> {
+        if !set.sources.iter().any(|s| s.shadows.on()) {
+            return Ok(None);
+        }
+        let mut bounds = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for p in world.iter().filter(|p| p.is_finite()) {
+            bounds = (bounds.0.min(*p), bounds.1.max(*p));
+        }
+        let diagonal = (bounds.1 - bounds.0).length();
+        let offset = if diagonal.is_finite() {
+            1e-4 * diagonal
+        } else {
+            0.0
+        };
+        let exact = set
+            .sources
+            .iter()
+            .any(|s| matches!(s.shadows, Shadows::Exact));
+        let bvh = exact.then(|| Bvh::new(world_triangles(scene, world)));
+        // Each source's samples per side: an area light's points share its maps' budget.
+        let sides: Vec<u32> = scene
+            .lights()
+            .iter()
+            .flat_map(|l| match l {
+                Light::Area(a) => vec![a.samples(); a.n_points()],
+                _ => vec![1],
+            })
+            .collect();
+        let mut texels = 0u64;
+        let mut plans = Vec::with_capacity(set.sources.len());
+        for (s, &side) in set.sources.iter().zip(&sides) {
+            let plan = match s.shadows {
+                Shadows::Map(settings) => {
+                    let settings = map::per_point(settings, side);
+                    texels += map::texels(s, &settings);
+                    Some(settings)
+                }
+                _ => None,
+            };
+            plans.push(plan);
+        }
+        if texels > MAX_SHADOW_TEXELS {
+            return Err(RasterError::invalid_field(
+                "shadows",
+                format!(
+                    "the scene's shadow maps would need {texels} texels, more than the limit \
+                     of {MAX_SHADOW_TEXELS} (1 GiB): lower their resolution or an area \
+                     light's samples, or use shadows='exact'"
+                ),
+            ));
+        }
+        let mut casters = Vec::with_capacity(set.sources.len());
+        for (s, plan) in set.sources.iter().zip(plans) {
+            casters.push(match (s.shadows, plan) {
+                (Shadows::Exact, _) => Some(Caster::Exact(Toward::of(&s.geometry))),
+                (Shadows::Map(_), Some(settings)) => Some(Caster::Map(Box::new(ShadowMap::new(
+                    s, settings, bounds, options, depth,
+                )?))),
+                _ => None,
+            });
+        }
+        Ok(Some(ShadowEffect {
+            casters,
+            bvh,
+            offset,
+        }))
+    }
+
+    /// Number of sources (the length [`ShadowEffect::visibility`] fills).
+    pub fn sources(&self) -> usize {
+        self.casters.len()
+    }
+
+    /// The visibility of each source from the first `live` lanes of points `p` with unit
+    /// shading normals `n` and geometric normals `g` (any length, any side): `None` for a
+    /// source that casts no shadow, else 0 (hidden) to 1 (lit) per lane.
+    pub fn visibility(
+        &self,
+        n: &[Lanes; 3],
+        p: &[Lanes; 3],
+        g: &[Lanes; 3],
+        live: usize,
+        out: &mut [Option<Lanes>],
+    ) {
+        for (caster, o) in self.casters.iter().zip(out.iter_mut()) {
+            *o = caster.as_ref().map(|c| {
+                let mut vis = [1.0; LANES];
+                for k in 0..live {
+                    let nk = Vec3::new(n[0][k], n[1][k], n[2][k]);
+                    let pk = Vec3::new(p[0][k], p[1][k], p[2][k]);
+                    let gk = Vec3::new(g[0][k], g[1][k], g[2][k]);
+                    vis[k] = match c {
+                        Caster::Exact(toward) => {
+                            let bvh = self.bvh.as_ref().expect("built for exact shadows");
+                            exact::visibility(bvh, *toward, nk, pk, gk, self.offset)
+                        }
+                        Caster::Map(m) => m.visibility(nk, pk, gk),
+                    };
+                }
+                vis
+            });
+        }
+    }
+}
+
+/// Every object's triangles in world space (the vertex stage's positions).
+fn world_triangles(scene: &Scene, world: &[Vec3]) -> Vec<[Vec3; 3]> {
+    let mut tris = Vec::with_capacity(scene.triangle_count());
+    let mut first = 0usize;
+    for o in scene.objects() {
+        let mesh = o.mesh();
+        tris.extend(
+            mesh.indices()
+                .iter()
+                .map(|t| t.map(|i| world[first + i as usize])),
+        );
+        first += mesh.positions().len();
+    }
+    tris
+}
