@@ -174,13 +174,16 @@ impl RunStart {
     }
 
     /// Gouraud colour at the run's pixel `k`, given `r` = 1 / [`RunStart::inv_w`] there.
+    /// Lit colours are never negative, but a pixel centre that the snapped triangle covers
+    /// can lie a hair outside the triangle its planes interpolate, where the blend of
+    /// non-negative vertex colours extrapolates below 0 (seen: −0.0005); it is clamped at 0.
     #[inline(always)]
     pub(super) fn color(&self, k: f64, r: f64) -> [f32; 3] {
         let [(r0, dr), (g0, dg), (b0, db)] = self.color;
         [
-            ((r0 + dr * k) * r) as f32,
-            ((g0 + dg * k) * r) as f32,
-            ((b0 + db * k) * r) as f32,
+            (((r0 + dr * k) * r) as f32).max(0.0),
+            (((g0 + dg * k) * r) as f32).max(0.0),
+            (((b0 + db * k) * r) as f32).max(0.0),
         ]
     }
 }
