@@ -323,24 +323,28 @@ pub(crate) fn prepare(
         options,
         tiles: tiles::tile_counts(w, h),
     };
+    let flat_lit = lit && options.shading == ShadingMode::Flat;
     let mut outs: Vec<ChunkOut> = work
         .par_iter()
-        .map(|&(oi, fv, idx)| ctx.assemble(oi, fv, idx))
+        .map(|&(oi, fv, idx)| {
+            let mut out = ctx.assemble(oi, fv, idx);
+            // Flat faces are lit as each chunk is set up, while its triangles are still in
+            // cache (a second pass over all chunks re-read ~10 MB for 100k triangles and
+            // made setup ~3 ms slower at 1080p), and from the transformed vertices only:
+            // the clip-made ones have not joined yet.
+            if flat_lit {
+                prelight::light_faces(
+                    &mut out.chunk,
+                    &verts.world,
+                    &materials,
+                    eye,
+                    two_sided,
+                    shadows.as_ref(),
+                );
+            }
+            out
+        })
         .collect();
-    if lit && options.shading == ShadingMode::Flat {
-        // Before the clip-made vertices join: faces are lit from the transformed ones.
-        let two_sided = scene.two_sided();
-        outs.par_iter_mut().for_each(|o| {
-            prelight::light_faces(
-                &mut o.chunk,
-                &verts.world,
-                &materials,
-                eye,
-                two_sided,
-                shadows.as_ref(),
-            )
-        });
-    }
     // Clip-generated vertices go after the transformed ones, chunk by chunk.
     let mut offset = verts.clip.len() as u32;
     let mut extras = Vertices::default();
