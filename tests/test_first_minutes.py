@@ -277,6 +277,41 @@ def test_save_image_every_kind(tmp_path):
         sl.save_image(rgba, tmp_path / "c.jpg")
 
 
+def test_png_compression_settings_are_lossless(tmp_path):
+    from PIL import Image
+
+    rng = np.random.default_rng(2)
+    # A smooth gradient with noise: the filters matter, and every sample must come back.
+    ramp = np.linspace(0, 200, 64 * 48 * 3).reshape(48, 64, 3) + rng.integers(0, 40, (48, 64, 3))
+    rgb = ramp.astype(np.uint8)
+    u16 = (rng.integers(0, 65536, (9, 11))).astype(np.uint16)
+    sizes = {}
+    for c in sl.io.PNG_COMPRESSIONS:
+        sl.save_image(rgb, tmp_path / f"{c}.png", compression=c)
+        with Image.open(tmp_path / f"{c}.png") as im:
+            np.testing.assert_array_equal(np.asarray(im), rgb)
+        sizes[c] = (tmp_path / f"{c}.png").stat().st_size
+        sl.save_image(u16, tmp_path / f"{c}16.png", compression=c)
+        with Image.open(tmp_path / f"{c}16.png") as im:
+            np.testing.assert_array_equal(np.asarray(im), u16)
+    assert sizes["none"] > sizes["fast"] >= sizes["high"]
+    # A strided view is written as the image it shows.
+    view = rgb[::2, ::3]
+    sl.save_image(view, tmp_path / "view.png")
+    with Image.open(tmp_path / "view.png") as im:
+        np.testing.assert_array_equal(np.asarray(im), view)
+    with pytest.raises(ValueError, match="compression must be one of"):
+        sl.save_image(rgb, tmp_path / "x.png", compression="zip")  # type: ignore[arg-type]
+    with pytest.raises(TypeError, match="uint8 or uint16"):
+        sl._core.encode_png(np.zeros((2, 2), np.int32))  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="C-contiguous"):
+        sl._core.encode_png(view)
+    with pytest.raises(ValueError, match="1 to 4 channels"):
+        sl._core.encode_png(np.zeros((2, 2, 5), np.uint8))
+    with pytest.raises(ValueError, match="compression"):
+        sl._core.encode_png(rgb, "zip")  # type: ignore[arg-type]
+
+
 def test_save_depth_states_its_scale(tmp_path):
     from PIL import Image
 

@@ -38,6 +38,7 @@ __all__ = [
     "SpotLight",
     "Texture",
     "__version__",
+    "encode_png",
     "load_obj",
     "load_obj_parts",
     "render",
@@ -919,6 +920,15 @@ def load_obj(path: _Path) -> Mesh:
 def load_obj_parts(path: _Path) -> list[tuple[str, Mesh, Material | None]]:
     """Loads every group of an OBJ file as ``(name, Mesh, Material | None)`` tuples, the
     material read from the file's MTL library (Ka, Kd, Ks, Ns) when it has one."""
+
+def encode_png(
+    image: NDArray[np.uint8] | NDArray[np.uint16],
+    compression: Literal["none", "fastest", "fast", "balanced", "high"] = "fast",
+    text: Sequence[tuple[str, str]] | None = None,
+) -> bytes:
+    """The PNG file of an (H, W) or (H, W, C) C-contiguous uint8 or uint16 array (C = 1 to
+    4), with ``text`` as tEXt chunks; ``compression`` is "none", "fastest", "fast",
+    "balanced" or "high"."""
 
 class _Frame(TypedDict):
     image: NDArray[Any]

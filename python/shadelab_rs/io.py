@@ -4,14 +4,13 @@ normals), images and depth maps through Pillow, NumPy or a small PNG writer."""
 from __future__ import annotations
 
 import os
-import struct
 import sys
-import zlib
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal, get_args
 
 import numpy as np
 
+from . import _core
 from ._core import Material, Mesh, Texture, load_obj
 
 #: Default crease angle of the mesh loaders, degrees: an edge between faces whose normals
@@ -287,27 +286,20 @@ def to_uint8(image: np.ndarray) -> np.ndarray:
     return np.floor(np.clip(np.nan_to_num(a, nan=0.0), 0.0, 1.0) * 255.0 + 0.5).astype(np.uint8)
 
 
-def _png_bytes(a: np.ndarray, text: dict[str, str] | None = None) -> bytes:
+#: PNG compression settings of :func:`save_image`, fastest first. "fast" (the default)
+#: writes a 1080p render in a few milliseconds, smaller than zlib level 6 over unfiltered
+#: rows; "high" is for files that are kept (see docs/BENCHMARKS.md, "Cold start").
+PngCompression = Literal["none", "fastest", "fast", "balanced", "high"]
+PNG_COMPRESSIONS: tuple[str, ...] = get_args(PngCompression)
+
+
+def _png_bytes(
+    a: np.ndarray, text: dict[str, str] | None = None, compression: PngCompression = "fast"
+) -> bytes:
     """A PNG of an (H, W) or (H, W, C) uint8/uint16 array, C in 1..4 (grey, grey+alpha, RGB,
-    RGBA); written here because Pillow cannot write 16-bit colour PNGs."""
-    if a.ndim == 2:
-        a = a[:, :, None]
-    h, w, c = a.shape
-    depth = 16 if a.dtype == np.uint16 else 8
-    colour_type = {1: 0, 2: 4, 3: 2, 4: 6}[c]
-    raw = np.ascontiguousarray(a.astype(">u2" if depth == 16 else np.uint8)).reshape(h, -1)
-    rows = np.concatenate([np.zeros((h, 1), np.uint8), raw.view(np.uint8)], axis=1)
-
-    def chunk(tag: bytes, data: bytes) -> bytes:
-        body = tag + data
-        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body))
-
-    out = b"\x89PNG\r\n\x1a\n" + chunk(
-        b"IHDR", struct.pack(">IIBBBBB", w, h, depth, colour_type, 0, 0, 0)
-    )
-    for k, v in (text or {}).items():
-        out += chunk(b"tEXt", k.encode("latin-1") + b"\0" + v.encode("latin-1"))
-    return out + chunk(b"IDAT", zlib.compress(rows.tobytes(), 6)) + chunk(b"IEND", b"")
+    RGBA), with ``text`` as tEXt chunks; encoded in Rust (the ``png`` crate, adaptive
+    filters) with the GIL released."""
+    return _core.encode_png(np.ascontiguousarray(a), compression, list((text or {}).items()))
 
 
 def _channels(a: np.ndarray) -> np.ndarray:
@@ -332,7 +324,9 @@ def _write(path: str | os.PathLike[str], data: bytes) -> None:
         Path(path).write_bytes(data)
 
 
-def save_image(image: np.ndarray, path: str | os.PathLike[str]) -> None:
+def save_image(
+    image: np.ndarray, path: str | os.PathLike[str], *, compression: PngCompression = "fast"
+) -> None:
     """Writes an image; the format follows the extension (``-`` writes PNG to stdout).
 
     Shapes: (H, W) or (H, W, 1) grey, (H, W, 3) RGB, (H, W, 4) RGBA. Dtypes and formats:
@@ -346,7 +340,14 @@ def save_image(image: np.ndarray, path: str | os.PathLike[str]) -> None:
     - anything else Pillow writes (JPEG, BMP, ...): 8-bit, float through :func:`to_uint8`.
 
     Values are never silently cut to fewer bits than the format holds: uint16 into an 8-bit
-    format and float colour into TIFF are errors that say what to use instead."""
+    format and float colour into TIFF are errors that say what to use instead.
+
+    ``compression`` (PNG only): "none", "fastest", "fast" (default), "balanced" or "high";
+    every setting is lossless, the slower ones write smaller files."""
+    if compression not in PNG_COMPRESSIONS:
+        raise ValueError(
+            f"compression must be one of {', '.join(PNG_COMPRESSIONS)}, got {compression!r}"
+        )
     a = np.asarray(image)
     ext = "png" if os.fspath(path) == "-" else Path(path).suffix.lower().lstrip(".")
     if ext == "npy":
@@ -361,7 +362,7 @@ def save_image(image: np.ndarray, path: str | os.PathLike[str]) -> None:
     if ext == "png":
         if a.dtype.kind == "f":
             a = to_uint8(a)
-        _write(path, _png_bytes(a))
+        _write(path, _png_bytes(a, compression=compression))
         return
     if a.dtype == np.uint16:
         raise ValueError(f"uint16 images can be written as .png or .npy, not .{ext}")

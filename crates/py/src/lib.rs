@@ -12,6 +12,7 @@ mod light;
 mod material;
 mod mesh;
 mod pickle;
+mod png;
 mod render;
 mod scene;
 mod shadow;
@@ -49,6 +50,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(mesh::load_obj, m)?)?;
     m.add_function(wrap_pyfunction!(mesh::load_obj_parts, m)?)?;
     m.add_class::<render::PyRenderOptions>()?;
+    m.add_function(wrap_pyfunction!(png::encode_png, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(render::render_frame, m)?)?;
     m.add_function(wrap_pyfunction!(batch::render_batch, m)?)?;

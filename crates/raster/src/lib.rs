@@ -37,6 +37,7 @@ mod mtl_maps;
 mod obj;
 mod options;
 mod pipeline;
+mod png_out;
 mod pool;
 pub mod primitives;
 mod rays;
@@ -63,6 +64,7 @@ pub use options::{
 };
 pub use pipeline::shade::Pixel;
 pub use pipeline::MAX_RADIANCE;
+pub use png_out::{encode_png, PngCompression, PngSamples};
 pub use pool::{default_threads, MAX_THREADS};
 #[doc(hidden)]
 pub use pool::{max_in_flight, set_rendezvous};
