@@ -37,13 +37,17 @@ def main() -> None:
         crops.append(np.repeat(np.repeat(crop, ZOOM, 0), ZOOM, 1))
     gap = np.full((crops[0].shape[0], 6, 3), 255, np.uint8)
     row = np.concatenate([x for c in crops for x in (c, gap)][:-1], 1)
-    sl.save_image(row, HERE / "edges.png")
+    sl.save_image(row, HERE / "edges.png", compression="high")
 
     rgba = sl.render(scene, cam, W, H, dtype="float32", alpha=True, samples=8)
     yy, xx = np.mgrid[0:H, 0:W]
     checker = np.where(((yy // 16) + (xx // 16)) % 2 == 0, 0.85, 0.55).astype(np.float32)
     over = rgba[..., :3] + (1 - rgba[..., 3:]) * checker[..., None]
-    sl.save_image(np.floor(sl.srgb_encode(over) * 255 + 0.5).astype(np.uint8), HERE / "alpha.png")
+    sl.save_image(
+        np.floor(sl.srgb_encode(over) * 255 + 0.5).astype(np.uint8),
+        HERE / "alpha.png",
+        compression="high",
+    )
 
     lines = [
         "# Anti-aliasing pictures",

@@ -50,7 +50,11 @@ def main() -> None:
         cell(sharp, sl.frame_mesh(sharp, direction="iso")),
         cell(spot, sl.frame_mesh(spot), encoding="srgb"),
     ]
-    sl.save_image(np.concatenate([np.concatenate(row1, 1), np.concatenate(row2, 1)], 0), OUT)
+    sl.save_image(
+        np.concatenate([np.concatenate(row1, 1), np.concatenate(row2, 1)], 0),
+        OUT,
+        compression="high",
+    )
     print(f"wrote {OUT}")
 
 

@@ -9,7 +9,8 @@ this package adds file helpers, the bundled demo scene and the command line.
 (48, 64, 3)
 """
 
-from . import distributed
+from typing import TYPE_CHECKING, Any
+
 from ._core import (
     MAX_AREA_SAMPLES,
     MAX_IMAGE_SIZE,
@@ -34,7 +35,6 @@ from ._core import (
     load_obj,
     load_obj_parts,
 )
-from .batch import iter_render, render_batch
 from .demo import (
     VIEWS,
     camera_from_intrinsics,
@@ -46,7 +46,6 @@ from .demo import (
     orbit,
     view_direction,
 )
-from .figures import lecture_figures
 from .io import (
     file_up_axis,
     load_mesh,
@@ -55,20 +54,60 @@ from .io import (
     smooth_normals,
     to_uint8,
 )
-from .preview import RenderedImage, preview
+from .preview import RenderedImage, preview  # eager: the module shares the function's name
 from .rendering import EmptyRenderWarning, render, render_frame, srgb_encode
-from .scene_file import (
-    SceneFile,
-    SceneFileError,
-    frame_scene,
-    load_scene,
-    load_scene_dict,
-    save_scene,
-    scene_to_dict,
-    to_toml,
-)
-from .swatch import material_sheet
 from .textures import bake_texture, texel_centres
+
+# Imported on first use (PEP 562), so that `import shadelab_rs` costs little beyond NumPy's
+# import: these modules pull in tomllib/tomli-w, concurrent.futures, logging and dataclasses
+# (about half of the package's own import time; docs/COLD_START.md).
+_LAZY = {
+    "iter_render": "batch",
+    "render_batch": "batch",
+    "distributed": None,
+    "lecture_figures": "figures",
+    "SceneFile": "scene_file",
+    "SceneFileError": "scene_file",
+    "frame_scene": "scene_file",
+    "load_scene": "scene_file",
+    "load_scene_dict": "scene_file",
+    "save_scene": "scene_file",
+    "scene_to_dict": "scene_file",
+    "to_toml": "scene_file",
+    "material_sheet": "swatch",
+}
+
+if TYPE_CHECKING:
+    from . import distributed
+    from .batch import iter_render, render_batch
+    from .figures import lecture_figures
+    from .scene_file import (
+        SceneFile,
+        SceneFileError,
+        frame_scene,
+        load_scene,
+        load_scene_dict,
+        save_scene,
+        scene_to_dict,
+        to_toml,
+    )
+    from .swatch import material_sheet
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _LAZY:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    import importlib
+
+    module = importlib.import_module(f".{_LAZY[name] or name}", __name__)
+    value = module if _LAZY[name] is None else getattr(module, name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
+
 
 __all__ = [
     "MAX_AREA_SAMPLES",

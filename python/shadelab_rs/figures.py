@@ -166,7 +166,7 @@ def lecture_figures(directory: str | os.PathLike[str]) -> list[Path]:
     lines = ["# Lecture figures", "", "Rendered by `shadelab figures` (shadelab_rs).", ""]
     for name, (img, fig) in render_figures().items():
         path = out / name
-        save_image(img, path)
+        save_image(img, path, compression="high")  # kept in docs: smallest files
         written.append(path)
         lines += [f"## {fig.lecture}", "", f"![{fig.lecture}]({name})", "", fig.caption, ""]
     captions = out / "captions.md"
