@@ -46,6 +46,21 @@ def test_demo(tmp_path):
     np.testing.assert_array_equal(img, sl.render(scene, cam, width=160, height=120))
 
 
+def test_png_compression_flag(tmp_path):
+    scene, cam = sl.demo_scene()
+    want = sl.render(scene, cam, width=64, height=48)
+    sizes = {}
+    for c in ("none", "high"):
+        out = tmp_path / f"{c}.png"
+        assert cli.main(["demo", "-o", str(out), "--size", "64x48", "--compression", c]) in (
+            0,
+            None,
+        )
+        np.testing.assert_array_equal(read_png(out), want)  # lossless either way
+        sizes[c] = out.stat().st_size
+    assert sizes["high"] < sizes["none"]
+
+
 def test_demo_default_output_name(tmp_path):
     r = run("demo", "--size", "32x24", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
@@ -224,6 +239,7 @@ def test_bad_values_exit_1_with_a_message(tmp_path, args, message, capsys):
         ["render", CUBE, "--background", "1,2"],
         ["teleport"],
         [],
+        ["demo", "--compression", "zip"],
     ],
 )
 def test_usage_errors_exit_2(args, capsys):

@@ -16,7 +16,7 @@ import numpy as np
 
 from . import _core as core
 from .demo import VIEWS, demo_scene, view_direction
-from .io import file_up_axis, load_mesh, save_depth, save_image
+from .io import PNG_COMPRESSIONS, file_up_axis, load_mesh, save_depth, save_image
 from .rendering import EmptyRenderWarning, _finish, render, render_frame
 from .scene_file import frame_scene, light_with_shadows, load_scene
 from .swatch import material_sheet
@@ -115,6 +115,13 @@ def _render_args(p: argparse.ArgumentParser) -> None:
         help="linear (default, OpenGL's values) or srgb (encoded for display)",
     )
     p.add_argument(
+        "--compression",
+        choices=list(PNG_COMPRESSIONS),
+        default="fast",
+        help="PNG compression: fast (default) writes a 1080p image in ~10 ms; high makes the "
+        "smallest file (~40x slower); all are lossless",
+    )
+    p.add_argument(
         "--depth",
         default=None,
         metavar="FILE",
@@ -183,7 +190,7 @@ def _render(
     for warning in caught:
         print(f"shadelab: warning: {warning.message}", file=sys.stderr)
     dt = (time.perf_counter() - t0) * 1e3
-    save_image(img, args.output)
+    save_image(img, args.output, compression=args.compression)
     if args.depth is not None:
         save_depth(depth, args.depth)
     w, h = opts.width, opts.height
@@ -292,7 +299,7 @@ def _render_many(
         i: int, img: np.ndarray, depth: np.ndarray | None = None, alpha: np.ndarray | None = None
     ) -> None:
         img = _finish(img, alpha, out_dtype="uint8", encoding=args.encoding)
-        save_image(img, names[i])
+        save_image(img, names[i], compression=args.compression)
         if depth_names is not None:
             assert depth is not None
             save_depth(depth, depth_names[i])
@@ -311,7 +318,7 @@ def _render_many(
                 encoding=args.encoding,
                 return_depth=depth_names is not None,
             )
-            save_image(f["image"], names[i])
+            save_image(f["image"], names[i], compression=args.compression)
             if depth_names is not None:
                 assert f["depth"] is not None
                 save_depth(f["depth"], depth_names[i])
