@@ -170,28 +170,50 @@ class LlvmpipeRenderer:
             "moderngl": moderngl.__version__,
         }
         self.ctx.enable(moderngl.DEPTH_TEST)
-        self._fbos: dict[tuple[int, int, str], object] = {}
+        self._fbos: dict[tuple[int, int, str, int], tuple] = {}
         self._vaos: dict[str, object] = {}
         self._buffers: list = []
 
-    def _fbo(self, width: int, height: int, dtype: str):
-        key = (width, height, dtype)
+    def _fbo(self, width: int, height: int, dtype: str, samples: int = 1):
+        """The framebuffer to draw into and the one to read from (the same one without
+        multisampling; with ``samples`` > 1 a multisampled one and its single-sample
+        resolve target, filled by ``glBlitFramebuffer``)."""
+        key = (width, height, dtype, samples)
         if key not in self._fbos:
             if any(k[:2] != (width, height) for k in self._fbos):  # one image size at a time
-                for fbo in self._fbos.values():
-                    fbo.release()
+                for pair in self._fbos.values():
+                    for fbo in set(pair):
+                        fbo.release()
                 self._fbos = {}
-            color = self.ctx.renderbuffer((width, height), components=4, dtype=dtype)
-            depth = self.ctx.depth_renderbuffer((width, height))
-            self._fbos[key] = self.ctx.framebuffer([color], depth)
+
+            def make(n: int):
+                color = self.ctx.renderbuffer((width, height), 4, samples=n, dtype=dtype)
+                depth = self.ctx.depth_renderbuffer((width, height), samples=n)
+                return self.ctx.framebuffer([color], depth)
+
+            draw = make(samples if samples > 1 else 0)
+            self._fbos[key] = (draw, make(0) if samples > 1 else draw)
         return self._fbos[key]
 
-    def set_scene(self, vertices, normals, faces, *, material, lights, ambient, camera, aspect):
+    def set_scene(
+        self,
+        vertices,
+        normals,
+        faces,
+        *,
+        material,
+        lights,
+        ambient,
+        camera,
+        aspect,
+        projection_view=None,
+    ):
         """Uploads a mesh and sets the uniforms of every program.
 
         ``material`` has ambient/diffuse/specular/emission/shininess; ``lights`` is a list of
         ``("directional", travel_direction, color)`` or ``("point", position, color)``;
-        ``camera`` has eye/target/up/fov_y/near/far.
+        ``camera`` has eye/target/up/fov_y/near/far. ``projection_view`` (4x4, optional)
+        replaces the perspective camera's projection x view (e.g. an orthographic one).
         """
         for b in self._buffers:
             b.release()
@@ -201,7 +223,9 @@ class LlvmpipeRenderer:
         self._buffers = [vbo, ibo]
         flip = np.diag([1.0, -1.0, 1.0, 1.0])  # row 0 of the read-back image at the top
         view = _look_at(camera.eye, camera.target, camera.up)
-        mvp = flip @ perspective(camera.fov_y, aspect, camera.near, camera.far) @ view
+        if projection_view is None:
+            projection_view = perspective(camera.fov_y, aspect, camera.near, camera.far) @ view
+        mvp = flip @ np.asarray(projection_view, np.float64)
         vec = np.zeros((8, 4), "f4")
         col = np.zeros((8, 3), "f4")
         for i, (kind, v, c) in enumerate(lights):
@@ -223,22 +247,28 @@ class LlvmpipeRenderer:
             layout = ("3f 3f", "in_pos", "in_nrm") if mode != "flat" else ("3f 12x", "in_pos")
             self._vaos[mode] = self.ctx.vertex_array(prog, [(vbo, *layout)], ibo)
 
-    def render(self, mode: str, width: int, height: int) -> np.ndarray:
-        """One frame: clear, draw, read back into a new ``(H, W, 3)`` uint8 array."""
-        fbo = self._fbo(width, height, "f1")
-        fbo.use()
-        fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+    def _draw(self, mode: str, width: int, height: int, dtype: str, samples: int):
+        draw, read = self._fbo(width, height, dtype, samples)
+        draw.use()
+        draw.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
         self._vaos[mode].render(self._mgl.TRIANGLES)
-        buf = fbo.read(components=3, alignment=1)
+        if read is not draw:
+            self.ctx.copy_framebuffer(read, draw)  # the MSAA resolve (glBlitFramebuffer)
+        return read
+
+    def render(self, mode: str, width: int, height: int, samples: int = 1) -> np.ndarray:
+        """One frame: clear, draw (with ``samples`` > 1: multisampled, then resolved), read
+        back into a new ``(H, W, 3)`` uint8 array."""
+        buf = self._draw(mode, width, height, "f1", samples).read(components=3, alignment=1)
         return np.frombuffer(buf, np.uint8).reshape(height, width, 3)
 
-    def render_linear(self, mode: str, width: int, height: int) -> tuple[np.ndarray, np.ndarray]:
+    def render_linear(
+        self, mode: str, width: int, height: int, samples: int = 1
+    ) -> tuple[np.ndarray, np.ndarray]:
         """The unclamped float32 colour ``(H, W, 3)`` and coverage ``(H, W)`` of a frame,
-        from a float colour buffer (for the error figures, not timed)."""
-        fbo = self._fbo(width, height, "f4")
-        fbo.use()
-        fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
-        self._vaos[mode].render(self._mgl.TRIANGLES)
+        from a float colour buffer (for the error figures, not timed); with ``samples`` > 1
+        the resolved (averaged) colour, and coverage where any sample was drawn."""
+        fbo = self._draw(mode, width, height, "f4", samples)
         rgba = np.frombuffer(fbo.read(components=4, dtype="f4"), np.float32)
         rgba = rgba.reshape(height, width, 4)
         return rgba[..., :3].copy(), rgba[..., 3] > 0
