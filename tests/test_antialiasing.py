@@ -71,6 +71,17 @@ def test_edge_error_falls_as_samples_grow_and_supersampling_converges():
     assert ss[-1] < 0.03, ss
 
 
+def interior(covered: np.ndarray) -> np.ndarray:
+    """Pixels that are covered (with one sample) together with their 8 neighbours, away
+    from the image border: every sample position of theirs lies on the same surface."""
+    inner = covered.copy()
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            inner &= np.roll(np.roll(covered, dy, 0), dx, 1)
+    inner[[0, -1], :] = inner[:, [0, -1]] = False
+    return inner
+
+
 def test_interior_pixels_keep_the_single_sample_colour():
     # One big lit triangle: a pixel whose samples all fall inside it is shaded once at its
     # centre, exactly as with one sample.
@@ -81,13 +92,7 @@ def test_interior_pixels_keep_the_single_sample_colour():
     c = sl.Camera.look_at((0, 0, 0), (0, 0, -1), fov_y=60, near=0.1, far=50)
     for shading in ("flat", "gouraud", "phong"):
         one, d1 = sl.render(s, c, 96, 80, shading=shading, dtype="float32", return_depth=True)
-        covered = np.isfinite(d1)
-        # Interior: the pixel and its 8 neighbours covered with one sample.
-        inner = covered.copy()
-        for dy in (-1, 0, 1):
-            for dx in (-1, 0, 1):
-                inner &= np.roll(np.roll(covered, dy, 0), dx, 1)
-        inner[[0, -1], :] = inner[:, [0, -1]] = False
+        inner = interior(np.isfinite(d1))
         assert inner.sum() > 1000
         for n in (2, 4, 8, 16):
             img, d = sl.render(
@@ -208,12 +213,7 @@ def test_textured_surfaces_are_antialiased_and_keep_their_interior():
     c = sl.Camera.look_at((0, 0, 0), (0, 0, -1), fov_y=60, near=0.1, far=50)
     for shading in ("flat", "gouraud", "phong"):
         one, d1 = sl.render(s, c, 96, 80, shading=shading, dtype="float32", return_depth=True)
-        covered = np.isfinite(d1)
-        inner = covered.copy()
-        for dy in (-1, 0, 1):
-            for dx in (-1, 0, 1):
-                inner &= np.roll(np.roll(covered, dy, 0), dx, 1)
-        inner[[0, -1], :] = inner[:, [0, -1]] = False
+        inner = interior(np.isfinite(d1))
         four = sl.render(s, c, 96, 80, shading=shading, samples=4, dtype="float32", alpha=True)
         np.testing.assert_array_equal(four[..., :3][inner], one[inner], err_msg=shading)
         a = four[..., 3]
