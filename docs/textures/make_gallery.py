@@ -205,6 +205,41 @@ def vertex_colors() -> Image.Image:
     return labelled_row(panels)
 
 
+def shadows() -> Image.Image:
+    """Spot with its own texture (its MTL's map_Kd) casting a shadow on a checkerboard
+    floor: textured surfaces read each light's visibility like untextured ones."""
+    parts = sl.load_obj_parts(sl.data_path("spot/spot_triangulated.obj"))
+    lo = np.min([m.vertices.min(axis=0) for _, m, _ in parts], axis=0)
+    hi = np.max([m.vertices.max(axis=0) for _, m, _ in parts], axis=0)
+    y0, size = float(lo[1]), float((hi - lo).max())
+    ground = np.array([[-1, 0, 1], [1, 0, 1], [1, 0, -1], [-1, 0, -1]]) * 3 * size + [0, y0, 0]
+    floor_mesh = sl.Mesh(
+        ground,
+        [[0, 1, 2], [0, 2, 3]],
+        normals=np.tile([0, 1, 0], (4, 1)),
+        uvs=ground[:, [0, 2]] * 0.25,
+    )
+    light_grey = np.where(checker_image(8, 8) > 0.5, 0.8, 0.55).astype(np.float32)
+    board = sl.Texture(light_grey)
+    centre = (lo + hi) / 2
+    cam = sl.Camera.look_at(
+        centre + np.array([1.5, 0.8, 0.9]) * size, centre - [0, 0.2 * size, 0], fov_y=45
+    )
+    panels = []
+    for label, casts in (
+        ("shadows=False", False),
+        ("shadows=True (map)", True),
+        ('shadows="exact"', "exact"),
+    ):
+        scene = sl.Scene(ambient=(0.25, 0.25, 0.25))
+        for _, mesh, mtl in parts:
+            scene.add(mesh, material=mtl)
+        scene.add(floor_mesh, material=sl.Material(diffuse=(0.8,) * 3, diffuse_map=board))
+        scene.add_light(sl.DirectionalLight((0.4, -1.0, -0.5), intensity=0.9, shadows=casts))
+        panels.append((label, render(scene, cam)))
+    return labelled_row(panels)
+
+
 FIGURES = {
     "filters": filters,
     "wrap": wraps,
@@ -212,6 +247,7 @@ FIGURES = {
     "maps": maps,
     "modes": modes,
     "vertex_colors": vertex_colors,
+    "shadows": shadows,
 }
 
 

@@ -327,7 +327,8 @@ pub(crate) fn prepare(
         .par_iter()
         .map(|&(oi, fv, idx)| ctx.assemble(oi, fv, idx))
         .collect();
-    if lit && options.shading == ShadingMode::Flat {
+    // Textured flat lights its faces' split terms in the tile stage.
+    if lit && options.shading == ShadingMode::Flat && !textured {
         // Before the clip-made vertices join: faces are lit from the transformed ones.
         let two_sided = scene.two_sided();
         outs.par_iter_mut().for_each(|o| {
