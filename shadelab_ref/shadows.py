@@ -186,6 +186,7 @@ def shaded_terms(
 
     ``shadowed``: for each light (after area lights are expanded), whether it casts shadows
     (default: all). Lights' own ambient terms must be zero (they are not shadowed).
+    ``shininess``: a number, or (Phong) one per visible pixel (a shininess map).
     """
     lights = ref.expand_area_lights(lights if isinstance(lights, (list, tuple)) else [lights])
     if shadowed is None:

@@ -218,13 +218,16 @@ def render_textured_reference(
     anisotropy: int = 1,
     material: ref.Material,
     shadows: bool = False,
+    shininess_image=None,
     **kwargs,
 ):
     """A render with ``image`` as the diffuse map (weighing ambient too): the keyword
     arguments of :func:`~shadelab_ref.reference.render_reference` (perspective camera).
     ``shadows``: every light casts exact shadows (:func:`shadows.shaded_terms`: each light's
     diffuse and specular weighted by its visibility where the shading mode lights; the mesh
-    is its own occluder, identity transform).
+    is its own occluder, identity transform). ``shininess_image``: a shininess map, sampled
+    with the same filter and wrap: the material's shininess times the mean of the sample's
+    r, g, b, per pixel (Phong only).
     Returns ``(color, refimage)``: (H, W, 3) float64 linear colour (background where empty)
     and the reference's image of the unit ambient term (its mask, edge distances...)."""
     shin = material.shininess
@@ -245,7 +248,13 @@ def render_textured_reference(
     tex = sample(mip_pyramid(image), u, v, derivs, filter, wrap, anisotropy)
     ys, xs = np.nonzero(r.mask)
     terms = {k: parts[k].color[ys, xs] for k in unit}
-    if shadows:
+    if shininess_image is not None:
+        if kwargs.get("shading", "phong") != "phong":
+            raise ValueError("shininess maps need per-pixel lighting (shading='phong')")
+        t = sample(mip_pyramid(shininess_image), u, v, derivs, filter, wrap, anisotropy)
+        shin = shin * t.mean(axis=1)
+    if shadows or shininess_image is not None:
+        n_lights = len(ref.expand_area_lights(list(kwargs["lights"])))
         a, d, s = rsh.shaded_terms(
             r,
             vertices,
@@ -257,6 +266,7 @@ def render_textured_reference(
             ambient=kwargs.get("ambient", (0.2, 0.2, 0.2)),
             specular=kwargs.get("specular", "blinn"),
             shininess=shin,
+            shadowed=[bool(shadows)] * n_lights,
         )
         terms = {"a": a, "d": d, "s": s}
     ka, kd, ks = (

@@ -91,11 +91,17 @@ fn attenuation(k: [f32; 3], d: f32) -> f32 {
     1.0 / (k[0] + d * (k[1] + d * k[2])).max(crate::lights::MIN_ATTENUATION_DENOMINATOR)
 }
 
-/// Each light's visibility per lane, as the lane loop reads it: `None` for a light that is
-/// fully visible (evaluated exactly as without shadows).
+/// What the lane loop may read per point beyond its normal and position: each light's
+/// visibility (`None`: fully visible, evaluated exactly as without shadows) and the specular
+/// exponent (`None`: the surface's shininess).
 pub(crate) trait Visibility: Copy {
     /// Light `i`'s visibility per lane, or `None` (fully visible).
     fn of(&self, i: usize) -> Option<&Lanes>;
+    /// The specular exponent per lane (a shininess map), or `None` (the surface's).
+    #[inline(always)]
+    fn shininess(&self) -> Option<&Lanes> {
+        None
+    }
 }
 
 /// Every light fully visible: the plain equation (no scene with shadows reaches it).
@@ -114,6 +120,24 @@ impl Visibility for &[Option<Lanes>] {
     #[inline(always)]
     fn of(&self, i: usize) -> Option<&Lanes> {
         self.get(i).and_then(Option::as_ref)
+    }
+}
+
+/// Visibilities (possibly none: an empty slice) and a specular exponent per lane.
+#[derive(Clone, Copy)]
+pub(crate) struct WithShininess<'a> {
+    pub visibility: &'a [Option<Lanes>],
+    pub shininess: &'a Lanes,
+}
+
+impl Visibility for WithShininess<'_> {
+    #[inline(always)]
+    fn of(&self, i: usize) -> Option<&Lanes> {
+        self.visibility.of(i)
+    }
+    #[inline(always)]
+    fn shininess(&self) -> Option<&Lanes> {
+        Some(self.shininess)
     }
 }
 
@@ -179,8 +203,9 @@ impl Surface {
                 (eye.x - p[0][k], eye.y - p[1][k], eye.z - p[2][k])
             });
         }
+        // `None` under `AllVisible` (and for every light): the branches below fold away.
+        let shin = vis.shininess();
         for (i, light) in self.lights.iter().enumerate() {
-            // `None` for every light under `AllVisible`: the branches below fold away.
             let seen = vis.of(i);
             match light.geometry {
                 // Its own arm with a constant `l`, so the compiler keeps the splat in
@@ -190,7 +215,7 @@ impl Surface {
                     let l = [[d.x; LANES], [d.y; LANES], [d.z; LANES]];
                     match seen {
                         Some(s) => {
-                            self.light_loop::<T, SPECULAR, BLINN, true>(light, n, &l, &v, s, &mut c)
+                            self.light_loop::<T, SPECULAR, BLINN, true>(light, n, &l, &v, s, shin, &mut c)
                         }
                         None => self.light_loop::<T, SPECULAR, BLINN, false>(
                             light,
@@ -198,6 +223,7 @@ impl Surface {
                             &l,
                             &v,
                             &[1.0; LANES],
+                            shin,
                             &mut c,
                         ),
                     }
@@ -219,10 +245,12 @@ impl Surface {
                         || matches!(light.geometry, Geometry::Spot { .. })
                         || seen.is_some()
                     {
-                        self.light_loop::<T, SPECULAR, BLINN, true>(light, n, &l, &v, &att, &mut c);
+                        self.light_loop::<T, SPECULAR, BLINN, true>(
+                            light, n, &l, &v, &att, shin, &mut c,
+                        );
                     } else {
                         self.light_loop::<T, SPECULAR, BLINN, false>(
-                            light, n, &l, &v, &att, &mut c,
+                            light, n, &l, &v, &att, shin, &mut c,
                         );
                     }
                 }
@@ -232,7 +260,7 @@ impl Surface {
     }
 
     /// One light's diffuse and specular terms over the lanes; `SCALED` multiplies them by
-    /// `att` (attenuation × spot factor).
+    /// `att` (attenuation × spot factor); `shin` replaces the surface's shininess per lane.
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
     pub(super) fn light_loop<
@@ -247,6 +275,7 @@ impl Surface {
         l: &[Lanes; 3],
         v: &[Lanes; 3],
         att: &Lanes,
+        shin: Option<&Lanes>,
         c: &mut T,
     ) {
         for k in 0..LANES {
@@ -282,7 +311,7 @@ impl Surface {
                     );
                     ((rx * vx + ry * vy + rz * vz).max(0.0), true)
                 };
-                let sp = pow01(s, self.shininess);
+                let sp = pow01(s, shin.map_or(self.shininess, |f| f[k]));
                 let sp = if lit && ok {
                     if SCALED {
                         sp * att[k]

@@ -6,7 +6,7 @@
 
 use glam::Vec3;
 
-use super::equation::Terms;
+use super::equation::{Terms, WithShininess};
 use super::lanes::Lanes;
 use super::surface::Surface;
 
@@ -22,6 +22,24 @@ impl Surface {
         visibility: &[Option<Lanes>],
     ) -> T {
         self.terms_lanes_with(n, p, eye, visibility)
+    }
+
+    /// [`Surface::terms_lanes_visible`] with the specular exponent `shininess` per lane (a
+    /// shininess map) instead of the surface's; `visibility` may be empty (no shadows).
+    #[inline(always)]
+    pub fn terms_lanes_shininess<T: Terms>(
+        &self,
+        n: &[Lanes; 3],
+        p: &[Lanes; 3],
+        eye: Vec3,
+        visibility: &[Option<Lanes>],
+        shininess: &Lanes,
+    ) -> T {
+        let per_point = WithShininess {
+            visibility,
+            shininess,
+        };
+        self.terms_lanes_with(n, p, eye, per_point)
     }
 }
 
@@ -100,6 +118,42 @@ mod tests {
                 }
             }
             assert!(lit_sum(&all) > lit_sum(&dark), "light {i} lights the point");
+        }
+    }
+
+    #[test]
+    #[allow(clippy::needless_range_loop)]
+    fn per_lane_shininess_is_a_surface_of_that_shininess() {
+        let lights: Vec<Light> = vec![
+            DirectionalLight::new(Vec3::new(-0.3, -1.0, -0.2), Vec3::ONE, 1.0)
+                .unwrap()
+                .into(),
+            PointLight::new(Vec3::new(0.5, 2.0, 1.0), Vec3::ONE, 2.0)
+                .unwrap()
+                .with_attenuation(1.0, 0.2, 0.0)
+                .unwrap()
+                .into(),
+        ];
+        let set = LightSet::new(&lights);
+        let n = [[0.1; LANES], [1.0; LANES], [0.05; LANES]];
+        let mut nn = [[0.0; LANES]; 3];
+        normalize_lanes(&mut nn, |k| (n[0][k], n[1][k], n[2][k]));
+        let p = [[0.0; LANES], [0.0; LANES], [0.3; LANES]];
+        let eye = Vec3::new(0.0, 1.0, 4.0);
+        let f: Lanes = std::array::from_fn(|k| 5.0 * (k + 1) as f32);
+        for model in [SpecularModel::BlinnPhong, SpecularModel::Phong] {
+            let mut m = Material::preset("brass").unwrap();
+            let unit = Surface::unit(&m, Vec3::splat(0.2), &set, model);
+            let got: Split = unit.terms_lanes_shininess(&nn, &p, eye, &[], &f);
+            for k in 0..LANES {
+                m.shininess = f[k];
+                let want: Split =
+                    Surface::unit(&m, Vec3::splat(0.2), &set, model).terms_lanes(&nn, &p, eye);
+                for ch in 0..3 {
+                    assert_eq!(got.specular[ch][k], want.specular[ch][k], "lane {k}");
+                    assert_eq!(got.diffuse[ch][k], want.diffuse[ch][k]);
+                }
+            }
         }
     }
 

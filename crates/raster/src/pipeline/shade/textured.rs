@@ -27,7 +27,7 @@ use super::store::{fill_out, put, Out, Pixel};
 use super::{background_row, ShadeContext};
 use crate::lighting::{normalize_lanes, Lanes, Split, Surface, LANES};
 use crate::material::Material;
-use crate::options::ShadingMode;
+use crate::options::{ShadingMode, SpecularModel};
 use crate::pipeline::raster::{TileBuffers, NO_TRIANGLE};
 use crate::pipeline::setup::SetupTri;
 use crate::pipeline::tiles::{TileRect, TILE};
@@ -197,6 +197,17 @@ struct Batch {
 }
 
 impl Batch {
+    /// The specular exponent of each live lane: `shininess` times `map`'s value there
+    /// ([`Maps::shininess_at`]).
+    fn shininess(&self, map: &Texture, shininess: f32) -> Lanes {
+        let mut f = [0.0; LANES];
+        for (k, fk) in f.iter_mut().enumerate().take(self.len) {
+            let (u, v) = self.uv[k];
+            *fk = Maps::shininess_at(shininess, map.sample(u, v, &self.fp[k]));
+        }
+        f
+    }
+
     fn flush<P: Pixel>(
         &mut self,
         ctx: &ShadeContext<'_>,
@@ -210,24 +221,40 @@ impl Batch {
         }
         let (object, back) = self.key;
         let obj = &tex.objects[object as usize];
+        let m = &obj.material[back as usize];
         if mode == ShadingMode::Phong {
             let unit = &tex.units[object as usize][back as usize];
             let mut n = [[0.0; LANES]; 3];
             let raw = &self.n;
             normalize_lanes(&mut n, |k| (raw[0][k], raw[1][k], raw[2][k]));
+            if let Some(s) = &ctx.shadows {
+                s.visibility(&n, &self.p, &self.g, self.len, &mut self.vis);
+            }
             // Per pixel, as untextured Phong: each shadowed light scaled by its visibility.
-            let t: Split = match &ctx.shadows {
-                None => unit.terms_lanes(&n, &self.p, ctx.eye),
-                Some(s) => {
-                    s.visibility(&n, &self.p, &self.g, self.len, &mut self.vis);
-                    unit.terms_lanes_visible(&n, &self.p, ctx.eye, &self.vis)
+            let shininess_map = obj.maps.and_then(|m| m.shininess.as_ref());
+            let t: Split = match (shininess_map, &ctx.shadows) {
+                (None, None) => unit.terms_lanes(&n, &self.p, ctx.eye),
+                (None, Some(_)) => unit.terms_lanes_visible(&n, &self.p, ctx.eye, &self.vis),
+                (Some(map), _) => {
+                    let f = self.shininess(map, m.shininess);
+                    let mut t: Split =
+                        unit.terms_lanes_shininess(&n, &self.p, ctx.eye, &self.vis, &f);
+                    if unit.specular_on && unit.model == SpecularModel::NormalizedBlinnPhong {
+                        // The unit surface folded the lobe's (f + 8)/8π for the material's f.
+                        let base = m.shininess + 8.0;
+                        for ch in &mut t.specular {
+                            for (s, fk) in ch.iter_mut().zip(&f) {
+                                *s *= (fk + 8.0) / base;
+                            }
+                        }
+                    }
+                    t
                 }
             };
             for k in 0..self.len {
                 self.terms[k] = split_at(&t, k);
             }
         }
-        let m = &obj.material[back as usize];
         let mut c = [[0.0; LANES]; 3];
         #[allow(clippy::needless_range_loop)] // lane k of several arrays
         for k in 0..self.len {
