@@ -134,7 +134,8 @@ def procedural() -> Image.Image:
 
 
 def maps() -> Image.Image:
-    """One material, maps added: the specular highlight stays the light's colour."""
+    """One material, maps added: the specular highlight stays the light's colour; a
+    shininess map scales the exponent per pixel."""
     mesh = sphere()
     stripes = sl.Texture.procedural(
         "stripes", scale=10, color_a=(1, 0.2, 0.1), color_b=(0.2, 0.4, 1)
@@ -143,6 +144,8 @@ def maps() -> Image.Image:
     glow = sl.Texture.procedural(
         "grid", scale=8, width=0.08, color_a=(0, 0, 0), color_b=(1, 0.8, 0.2)
     )
+    # Shininess x 0.1 (a broad sheen) on one half of each check, x 4 (a tight spark) on the other.
+    rough = sl.Texture.procedural("checker", scale=6, color_a=(0.1,) * 3, color_b=(4.0,) * 3)
     base = sl.Material((0.3,) * 3, (0.9,) * 3, (0.7,) * 3, 40, emission=(1, 1, 1))
     panels = []
     for label, m in (
@@ -163,6 +166,14 @@ def maps() -> Image.Image:
         (
             "+ emission_map",
             base.with_maps(diffuse_map=stripes, specular_map=spots, emission_map=glow),
+        ),
+        (
+            "diffuse_map + shininess_map (x0.1 | x4)",
+            base.with_maps(
+                diffuse_map=stripes,
+                shininess_map=rough,
+                emission_map=sl.Texture(np.zeros((1, 1, 3), np.float32)),
+            ),
         ),
     ):
         scene = lit(sl.Scene())

@@ -214,9 +214,9 @@ impl Surface {
                 Geometry::Directional(d) => {
                     let l = [[d.x; LANES], [d.y; LANES], [d.z; LANES]];
                     match seen {
-                        Some(s) => {
-                            self.light_loop::<T, SPECULAR, BLINN, true>(light, n, &l, &v, s, shin, &mut c)
-                        }
+                        Some(s) => self.light_loop::<T, SPECULAR, BLINN, true>(
+                            light, n, &l, &v, s, shin, &mut c,
+                        ),
                         None => self.light_loop::<T, SPECULAR, BLINN, false>(
                             light,
                             n,
