@@ -263,6 +263,7 @@ impl Surface {
     /// `att` (attenuation × spot factor); `shin` replaces the surface's shininess per lane.
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn light_loop<
         T: Terms,
         const SPECULAR: bool,
