@@ -510,7 +510,8 @@ def lighting(
     ka = _vec3(material.ambient, "ambient")
     kd = _vec3(material.diffuse, "diffuse")
     ks = _vec3(material.specular, "specular")
-    shin = float(material.shininess)
+    # A number, or one per point (a shininess map: broadcast against p[..., 0]).
+    shin = np.asarray(material.shininess, dtype=np.float64)
     ia = _vec3(ambient, "ambient")
     ke = _vec3(getattr(material, "emission", (0.0, 0.0, 0.0)), "emission")
     color = np.broadcast_to(ke + ka * ia, shape).copy()

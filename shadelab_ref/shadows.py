@@ -159,3 +159,80 @@ def shaded_phong(
         total += vis[:, None] * contrib
     color[sel] = total
     return color.reshape(h, w, 3), np.array(vis_rows).reshape(len(lights), len(sel))
+
+
+def shaded_terms(
+    img: ref.RefImage,
+    vertices,
+    faces,
+    normals=None,
+    *,
+    shading: str,
+    camera: ref.Camera,
+    lights,
+    ambient=(0.2, 0.2, 0.2),
+    specular: str = "blinn",
+    shininess: float,
+    shadowed=None,
+):
+    """The unit material's ambient, diffuse and specular terms ``(A, D, S)`` at every visible
+    pixel of ``img`` (each ``(P, 3)``, row-major over ``img.tri >= 0``), lit where
+    ``shading`` lights -- per pixel (``"phong"``), at each face's centroid with its face
+    normal (``"flat"``) or at each vertex with its normal, then interpolated (``"gouraud"``)
+    -- with each light's diffuse and specular weighted by its exact visibility from that
+    point (:func:`visibility`; flat and Gouraud offset along the shading normal, Phong along
+    the face normal). ``img`` is :func:`reference.render_reference`'s image of the same
+    world-space ``vertices`` and ``faces`` (identity transform, front faces).
+
+    ``shadowed``: for each light (after area lights are expanded), whether it casts shadows
+    (default: all). Lights' own ambient terms must be zero (they are not shadowed).
+    ``shininess``: a number, or (Phong) one per visible pixel (a shininess map).
+    """
+    lights = ref.expand_area_lights(lights if isinstance(lights, (list, tuple)) else [lights])
+    if shadowed is None:
+        shadowed = [True] * len(lights)
+    for light in lights:
+        if np.any(np.asarray(getattr(light, "ambient", (0, 0, 0)), dtype=np.float64) != 0):
+            raise ValueError("shaded_terms needs lights without their own ambient term")
+    v = np.asarray(vertices, dtype=np.float64).reshape(-1, 3)
+    f = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    tri = img.tri.reshape(-1)
+    sel = np.nonzero(tri >= 0)[0]
+    ts = tri[sel]
+    fn = ref.face_normals(v, f)
+    if shading == "phong":
+        pts, n, g = img.position.reshape(-1, 3)[sel], phong_normals(img, v, f, normals), fn[ts]
+    elif shading == "flat":
+        pts, n = v[f].mean(axis=1), fn
+        g = n
+    elif shading == "gouraud":
+        nv = ref.vertex_normals(v, f) if normals is None else np.asarray(normals, np.float64)
+        pts, n = v, nv / np.linalg.norm(nv, axis=1, keepdims=True)
+        g = n
+    else:
+        raise ValueError(f"unknown shading mode {shading!r}")
+    eye = np.asarray(camera.eye, dtype=np.float64)
+    offset = scene_offset(v)
+    vis = [
+        visibility(pts, g, n, light, v, f, offset) if casts else np.ones(len(pts))
+        for light, casts in zip(lights, shadowed)
+    ]
+    zero, one = (0.0, 0.0, 0.0), (1.0, 1.0, 1.0)
+    out = []
+    for unit in (
+        ref.Material(one, zero, zero, shininess),
+        ref.Material(zero, one, zero, shininess),
+        ref.Material(zero, zero, one, shininess),
+    ):
+        base = ref.lighting(pts, n, eye, unit, [], ambient, specular)
+        total = base.copy()
+        for light, vl in zip(lights, vis):
+            lit = ref.lighting(pts, n, eye, unit, [light], ambient, specular)
+            total += vl[:, None] * (lit - base)
+        if shading == "flat":
+            total = total[ts]
+        elif shading == "gouraud":
+            b = img.bary.reshape(-1, 3)[sel]
+            total = np.einsum("pk,pkc->pc", b, total[f[ts]])
+        out.append(total)
+    return tuple(out)

@@ -25,6 +25,7 @@ from dataclasses import replace
 import numpy as np
 
 from . import reference as ref
+from . import shadows as rsh
 
 __all__ = ["mip_pyramid", "render_textured_reference", "sample", "uv_and_derivatives"]
 
@@ -216,10 +217,17 @@ def render_textured_reference(
     wrap=("repeat", "repeat"),
     anisotropy: int = 1,
     material: ref.Material,
+    shadows: bool = False,
+    shininess_image=None,
     **kwargs,
 ):
     """A render with ``image`` as the diffuse map (weighing ambient too): the keyword
     arguments of :func:`~shadelab_ref.reference.render_reference` (perspective camera).
+    ``shadows``: every light casts exact shadows (:func:`shadows.shaded_terms`: each light's
+    diffuse and specular weighted by its visibility where the shading mode lights; the mesh
+    is its own occluder, identity transform). ``shininess_image``: a shininess map, sampled
+    with the same filter and wrap: the material's shininess times the mean of the sample's
+    r, g, b, per pixel (Phong only).
     Returns ``(color, refimage)``: (H, W, 3) float64 linear colour (background where empty)
     and the reference's image of the unit ambient term (its mask, edge distances...)."""
     shin = material.shininess
@@ -239,15 +247,32 @@ def render_textured_reference(
     )
     tex = sample(mip_pyramid(image), u, v, derivs, filter, wrap, anisotropy)
     ys, xs = np.nonzero(r.mask)
+    terms = {k: parts[k].color[ys, xs] for k in unit}
+    if shininess_image is not None:
+        if kwargs.get("shading", "phong") != "phong":
+            raise ValueError("shininess maps need per-pixel lighting (shading='phong')")
+        t = sample(mip_pyramid(shininess_image), u, v, derivs, filter, wrap, anisotropy)
+        shin = shin * t.mean(axis=1)
+    if shadows or shininess_image is not None:
+        n_lights = len(ref.expand_area_lights(list(kwargs["lights"])))
+        a, d, s = rsh.shaded_terms(
+            r,
+            vertices,
+            faces,
+            kwargs.get("normals"),
+            shading=kwargs.get("shading", "phong"),
+            camera=kwargs["camera"],
+            lights=kwargs["lights"],
+            ambient=kwargs.get("ambient", (0.2, 0.2, 0.2)),
+            specular=kwargs.get("specular", "blinn"),
+            shininess=shin,
+            shadowed=[bool(shadows)] * n_lights,
+        )
+        terms = {"a": a, "d": d, "s": s}
     ka, kd, ks = (
         np.asarray(c, np.float64) for c in (material.ambient, material.diffuse, material.specular)
     )
     ke = np.asarray(material.emission, np.float64)
     color = parts["a"].color.copy()  # the background where nothing is drawn
-    color[ys, xs] = (
-        ke
-        + ka * tex * parts["a"].color[ys, xs]
-        + kd * tex * parts["d"].color[ys, xs]
-        + ks * parts["s"].color[ys, xs]
-    )
+    color[ys, xs] = ke + ka * tex * terms["a"] + kd * tex * terms["d"] + ks * terms["s"]
     return color, replace(r, color=color)

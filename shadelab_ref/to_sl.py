@@ -17,8 +17,9 @@ _CLASSES = {
 }
 
 
-def sl_light(light):
+def sl_light(light, **extra):
     """The shadelab_rs light with every parameter of the reference ``light``: the two
-    sides' dataclass fields and keyword arguments have the same names."""
+    sides' dataclass fields and keyword arguments have the same names. ``extra``: keyword
+    arguments the reference does not hold (``shadows=``)."""
     kwargs = {f.name: getattr(light, f.name) for f in dataclasses.fields(light)}
-    return _CLASSES[type(light)](**kwargs)
+    return _CLASSES[type(light)](**kwargs, **extra)

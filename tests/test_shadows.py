@@ -670,12 +670,27 @@ def test_shadow_map_memory_is_bounded():
     assert getattr(e.value, "field", None) == "shadows"
 
 
-def test_shadows_with_textured_scenes_are_refused_clearly():
-    """The texture stage does not read visibility yet: a clear error, not silent light."""
-    v, f = box((0, 0.5, 0), 0.5)
-    scene = sl.Scene(ambient=(0.1, 0.1, 0.1))
-    scene.add(sl.Mesh(v, f, colors=np.full((len(v), 3), 0.5)), material="gold")
-    scene.add_light(sl.DirectionalLight((-1, -2, -1), shadows="exact"))
-    with pytest.raises(ValueError, match="texture") as e:
-        sl.render(scene, sl.Camera.look_at((3, 3, 4), (0, 0, 0)), width=32, height=24)
-    assert getattr(e.value, "field", None) == "shadows"
+@pytest.mark.parametrize("shading", ["flat", "gouraud", "phong"])
+@pytest.mark.parametrize("shadows", ["exact", True])
+def test_textured_scenes_cast_the_untextured_shadows(shading, shadows):
+    """The texture stage reads visibility where each mode lights, as the untextured loops
+    do: vertex colours c under a white material give the shadows (and colours) of the
+    material c without them, in every mode and for maps and exact shadows alike."""
+    c = (0.7, 0.6, 0.5)
+    cam = sl_camera(SPHERE_PLANE.camera)
+    # The plane as a grid, so flat's centroids and Gouraud's vertices see the shadow.
+    parts = [grid(2.5, 30), sphere((0.0, 1.0, 0.0), 0.5)]
+
+    def draw(textured: bool, casts) -> np.ndarray:
+        scene = sl.Scene(ambient=AMBIENT)
+        for v, f in parts:
+            colors = np.tile(c, (len(v), 1)) if textured else None
+            m = sl.Material((1, 1, 1) if textured else c, (1, 1, 1) if textured else c)
+            scene.add(sl.Mesh(v, f, normals=ref.vertex_normals(v, f), colors=colors), material=m)
+        scene.add_light(sl_light(SPHERE_PLANE.lights[0], shadows=casts))
+        return sl.render(scene, cam, width=W, height=H, dtype="float32", shading=shading)
+
+    shadowed = draw(True, shadows)
+    np.testing.assert_allclose(shadowed, draw(False, shadows), atol=2e-5)
+    dark = (draw(True, False) - shadowed).max(axis=2) > 0.1
+    assert dark.sum() > 300  # the sphere's shadow on the plane

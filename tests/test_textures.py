@@ -64,8 +64,22 @@ MATERIAL = ref.Material((0.3, 0.3, 0.3), (0.8, 0.7, 0.6), (0.4, 0.4, 0.4), 20.0,
 W, H = 160, 120
 
 
-def render_pair(shading: str, filt: str, wrap, image=IMAGE, size=(W, H), anisotropy=1):
-    v, f, n, uv = floor_mesh()
+def render_pair(
+    shading: str,
+    filt: str,
+    wrap,
+    image=IMAGE,
+    size=(W, H),
+    anisotropy=1,
+    mesh=None,
+    shadows=False,
+    shininess_image=None,
+    specular="blinn",
+):
+    """Our render and the reference's (uint8) of a textured mesh (the floor by default);
+    ``shadows``: every light casts them (the reference's are exact; ours as given);
+    ``shininess_image``: a shininess map (same filter and wrap as the diffuse map)."""
+    v, f, n, uv = floor_mesh() if mesh is None else mesh
     w, h = size
     color, r = rtex.render_textured_reference(
         v,
@@ -83,14 +97,28 @@ def render_pair(shading: str, filt: str, wrap, image=IMAGE, size=(W, H), anisotr
         ambient=(0.2, 0.2, 0.2),
         normals=n,
         shading=shading,
+        shadows=bool(shadows),
+        shininess_image=shininess_image,
+        specular=specular,
     )
-    tex = sl.Texture(image.astype(np.float32), filter=filt, wrap=wrap, anisotropy=anisotropy)
+
+    def texture(a):
+        return sl.Texture(a.astype(np.float32), filter=filt, wrap=wrap, anisotropy=anisotropy)
+
     m = MATERIAL
-    mat = sl.Material(m.ambient, m.diffuse, m.specular, m.shininess, m.emission, diffuse_map=tex)
+    mat = sl.Material(
+        m.ambient,
+        m.diffuse,
+        m.specular,
+        m.shininess,
+        m.emission,
+        diffuse_map=texture(image),
+        shininess_map=None if shininess_image is None else texture(shininess_image),
+    )
     scene = sl.Scene(ambient=(0.2, 0.2, 0.2))
     scene.add(sl.Mesh(v, f, normals=n, uvs=uv), material=mat)
     for light in LIGHTS:
-        scene.add_light(sl_light(light))
+        scene.add_light(sl_light(light, shadows=shadows))
     cam = sl.Camera.look_at(
         CAMERA.eye,
         CAMERA.target,
@@ -99,7 +127,7 @@ def render_pair(shading: str, filt: str, wrap, image=IMAGE, size=(W, H), anisotr
         near=CAMERA.near,
         far=CAMERA.far,
     )
-    img = sl.render(scene, cam, width=w, height=h, shading=shading)
+    img = sl.render(scene, cam, width=w, height=h, shading=shading, specular=specular)
     return img, ref.to_uint8(color), r
 
 
@@ -152,6 +180,177 @@ def test_minification_reaches_coarse_levels():
     b, _, _ = render_pair("phong", "trilinear", "repeat")
     differ = (np.abs(a.astype(int) - b.astype(int)).max(axis=2) > 8) & r.mask
     assert differ.mean() > 0.1  # measured 0.16
+
+
+# ---- textures with shadows ----------------------------------------------------------------
+
+
+def box_mesh(center, half: float):
+    """An axis-aligned cube: 6 faces of 4 vertices (face normals, each face's UVs 0..1)."""
+    c = np.asarray(center, float)
+    verts, faces, normals, uvs = [], [], [], []
+    for axis in range(3):
+        for sign in (-1.0, 1.0):
+            a, b = (axis + 1) % 3, (axis + 2) % 3
+            k = len(verts)
+            for s, t in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
+                p = np.zeros(3)
+                p[axis], p[a], p[b] = sign * half, s * half, t * half
+                verts.append(c + p)
+                uvs.append(((s + 1) / 2, (t + 1) / 2))
+                normals.append(np.eye(3)[axis] * sign)
+            # (a, b) order is counter-clockwise seen from +axis.
+            if sign > 0:
+                faces += [[k, k + 1, k + 2], [k, k + 2, k + 3]]
+            else:
+                faces += [[k, k + 2, k + 1], [k, k + 3, k + 2]]
+    return np.array(verts), np.array(faces), np.array(normals), np.array(uvs)
+
+
+def floor_and_box():
+    """The textured floor (finer, so Gouraud's vertices see the shadow) and a textured cube
+    floating above it, casting shadows from both LIGHTS onto it: one mesh, as the
+    reference's occluders are its own triangles."""
+    parts = [floor_mesh(24), box_mesh((0.3, 0.6, -1.6), 0.35)]
+    off = np.cumsum([0] + [len(p[0]) for p in parts[:-1]])
+    return (
+        np.concatenate([p[0] for p in parts]),
+        np.concatenate([p[1] + o for p, o in zip(parts, off)]),
+        np.concatenate([p[2] for p in parts]),
+        np.concatenate([p[3] for p in parts]),
+    )
+
+
+@pytest.mark.parametrize("shading", SHADINGS)
+def test_textured_shadows_match_the_reference(shading):
+    """Textured shading reads each light's visibility where its mode lights (per pixel,
+    face centroid, vertex), as untextured shading does: exact shadows within 1 level of
+    the reference on >= 99.9 % of interior pixels, and the shadow really darkens the floor."""
+    mesh = floor_and_box()
+    img, want, r = render_pair(shading, "trilinear", "repeat", mesh=mesh, shadows="exact")
+    frac = within_one_level(img, want, r)
+    assert frac >= MIN_FRACTION_1LSB, f"{shading}: {frac:.5f} within 1 level"
+    plain, _, _ = render_pair(shading, "trilinear", "repeat", mesh=mesh)
+    interior = r.mask & (r.edge_dist > EDGE_PX)
+    darker = (plain.astype(int) - img.astype(int)).max(axis=2) > 8
+    assert darker[interior].sum() > 200, darker[interior].sum()
+    assert (img.astype(int) <= plain.astype(int) + 1).all()  # shadows only remove light
+
+
+@pytest.mark.parametrize("shading", SHADINGS)
+def test_textured_shadow_maps_agree_with_exact_shadows(shading):
+    """Shadow maps at default settings on a textured scene: the exact render's shadow
+    state except on a thin band along the boundaries; under 4 samples too."""
+    mesh = floor_and_box()
+    exact, _, r = render_pair(shading, "bilinear", "repeat", mesh=mesh, shadows="exact")
+    mapped, _, _ = render_pair(shading, "bilinear", "repeat", mesh=mesh, shadows=True)
+    interior = r.mask & (r.edge_dist > EDGE_PX)
+    differ = np.abs(exact.astype(int) - mapped.astype(int)).max(axis=2) > 8
+    assert differ[interior].mean() < 0.01, differ[interior].mean()
+    v, f, n, uv = mesh
+    scene = sl.Scene(ambient=(0.2, 0.2, 0.2))
+    mat = sl.Material(diffuse_map=sl.Texture(IMAGE.astype(np.float32)))
+    scene.add(sl.Mesh(v, f, normals=n, uvs=uv), material=mat)
+    for light in LIGHTS:
+        scene.add_light(sl_light(light, shadows="exact"))
+    cam = sl.Camera.look_at(CAMERA.eye, CAMERA.target, fov_y=CAMERA.fov_y)
+    one = sl.render(scene, cam, width=W, height=H, shading=shading, dtype="float32")
+    four = sl.render(scene, cam, width=W, height=H, shading=shading, dtype="float32", samples=4)
+    # Multi-sample tiles shade their layers through the same texture stage: a pixel whose
+    # samples share one triangle keeps its single-sample colour (most of them), the others
+    # blend their edges.
+    diff = np.abs(one - four).max(axis=2)
+    assert (diff < 1e-6).mean() > 0.5
+    assert diff.mean() < 0.01
+
+
+# ---- shininess maps ------------------------------------------------------------------------
+
+#: Shininess scales from 0.25 to 3 (the material's 20 becomes 5 to 60), non-power-of-two.
+SHINY = 0.25 + 2.75 * RNG.random((13, 19, 3))
+
+
+@pytest.mark.parametrize("specular", ["blinn", "phong", "blinn-normalized"])
+@pytest.mark.parametrize("shadows", [False, "exact"])
+def test_shininess_maps_match_the_reference(specular, shadows):
+    """shininess x mean(r, g, b) of the map, per pixel (through the same fast pow as a
+    constant shininess): within 1 level of the reference on >= 99.9 % of interior pixels,
+    with and without shadows, for every specular model."""
+    mesh = floor_and_box() if shadows else None
+    img, want, r = render_pair(
+        "phong",
+        "trilinear",
+        "repeat",
+        mesh=mesh,
+        shadows=shadows,
+        shininess_image=SHINY,
+        specular=specular,
+    )
+    frac = within_one_level(img, want, r)
+    assert frac >= MIN_FRACTION_1LSB, f"{specular} {shadows}: {frac:.5f} within 1 level"
+    plain, _, _ = render_pair("phong", "trilinear", "repeat", mesh=mesh, specular=specular)
+    assert (np.abs(plain.astype(int) - img).max(axis=2) > 2).mean() > 0.01  # the map shows
+
+
+@pytest.mark.parametrize("specular", ["blinn", "phong", "blinn-normalized"])
+def test_constant_shininess_map_scales_the_shininess(specular):
+    """A map of constant value t is the material with shininess x t (the normalised lobe's
+    scale follows it), exactly up to float rounding."""
+    half = sl.Texture(np.full((2, 2, 3), 0.5, np.float32))
+    spec = (0.6, 0.6, 0.6)
+
+    def draw(material):
+        v, f, n, uv = floor_mesh(2, x=1.0, z0=-2.0, z1=0.0)
+        scene = sl.Scene()
+        scene.add(sl.Mesh(v, f, n, uv), material=material)
+        scene.add_light(sl.PointLight((0.2, 1.0, -0.5)))
+        cam = sl.Camera.look_at((0, 1.5, 1.0), (0, 0, -1))
+        return sl.render(scene, cam, width=48, height=36, dtype="float32", specular=specular)
+
+    a = draw(sl.Material((0.2,) * 3, (0.5,) * 3, spec, 40, shininess_map=half))
+    b = draw(sl.Material((0.2,) * 3, (0.5,) * 3, spec, 20))
+    np.testing.assert_allclose(a, b, rtol=1e-5, atol=1e-6)
+    zero = draw(
+        sl.Material(
+            (0.2,) * 3,
+            (0.5,) * 3,
+            spec,
+            40,
+            shininess_map=sl.Texture(np.zeros((2, 2, 3), np.float32)),
+        )
+    )
+    assert np.isfinite(zero).all()
+    if specular != "blinn-normalized":  # which refuses an infinite shininess
+        # inf x 0.5 is still the mirror.
+        mirror = draw(sl.Material((0.2,) * 3, (0.5,) * 3, spec, math.inf, shininess_map=half))
+        want = draw(sl.Material((0.2,) * 3, (0.5,) * 3, spec, math.inf))
+        np.testing.assert_allclose(mirror, want, rtol=1e-5, atol=1e-6)
+
+
+def test_shininess_maps_need_phong_and_round_trip(tmp_path):
+    """Flat and Gouraud light at faces and vertices: a shininess map is refused there with
+    an error naming it. The map pickles, goes through scene files and loads from MTL."""
+    tex = sl.Texture.procedural("checker", scale=4, color_a=(2, 2, 2), color_b=(0.25,) * 3)
+    m = sl.Material(shininess_map=tex)
+    assert m.shininess_map is not None and "shininess_map" in repr(m)
+    v, f, n, uv = floor_mesh(2)
+    scene = sl.Scene()
+    scene.add(sl.Mesh(v, f, n, uv), material=m)
+    scene.add_light(sl.PointLight((0.2, 1.0, -0.5)))
+    cam = sl.Camera.look_at((0, 1.5, 1.0), (0, 0, -1))
+    for shading in ("flat", "gouraud"):
+        with pytest.raises(ValueError, match="shininess map") as e:
+            sl.render(scene, cam, width=32, height=24, shading=shading)
+        assert getattr(e.value, "field", None) == "shininess_map"
+    want = sl.render(scene, cam, width=32, height=24)
+    back = pickle.loads(pickle.dumps(scene))
+    assert back.objects[0].material.shininess_map is not None
+    assert sl.render(back, cam, width=32, height=24).tobytes() == want.tobytes()
+    again = sl.Scene.from_dict(sl.scene_file.tomllib.loads(sl.to_toml(scene.to_dict())))
+    assert sl.render(again, cam, width=32, height=24).tobytes() == want.tobytes()
+    obj = write_obj(tmp_path, "newmtl a\nNs 30\nmap_Ns -imfchan l t.png\n")
+    [(_name, _mesh, mat)] = sl.load_obj_parts(obj)
+    assert mat.shininess_map is not None and mat.diffuse_map is None
 
 
 # ---- the sampler ---------------------------------------------------------------------------

@@ -134,7 +134,8 @@ def procedural() -> Image.Image:
 
 
 def maps() -> Image.Image:
-    """One material, maps added: the specular highlight stays the light's colour."""
+    """One material, maps added: the specular highlight stays the light's colour; a
+    shininess map scales the exponent per pixel."""
     mesh = sphere()
     stripes = sl.Texture.procedural(
         "stripes", scale=10, color_a=(1, 0.2, 0.1), color_b=(0.2, 0.4, 1)
@@ -143,6 +144,8 @@ def maps() -> Image.Image:
     glow = sl.Texture.procedural(
         "grid", scale=8, width=0.08, color_a=(0, 0, 0), color_b=(1, 0.8, 0.2)
     )
+    # Shininess x 0.1 (a broad sheen) on one half of each check, x 4 (a tight spark) on the other.
+    rough = sl.Texture.procedural("checker", scale=6, color_a=(0.1,) * 3, color_b=(4.0,) * 3)
     base = sl.Material((0.3,) * 3, (0.9,) * 3, (0.7,) * 3, 40, emission=(1, 1, 1))
     panels = []
     for label, m in (
@@ -163,6 +166,14 @@ def maps() -> Image.Image:
         (
             "+ emission_map",
             base.with_maps(diffuse_map=stripes, specular_map=spots, emission_map=glow),
+        ),
+        (
+            "diffuse_map + shininess_map (x0.1 | x4)",
+            base.with_maps(
+                diffuse_map=stripes,
+                shininess_map=rough,
+                emission_map=sl.Texture(np.zeros((1, 1, 3), np.float32)),
+            ),
         ),
     ):
         scene = lit(sl.Scene())
@@ -205,6 +216,41 @@ def vertex_colors() -> Image.Image:
     return labelled_row(panels)
 
 
+def shadows() -> Image.Image:
+    """Spot with its own texture (its MTL's map_Kd) casting a shadow on a checkerboard
+    floor: textured surfaces read each light's visibility like untextured ones."""
+    parts = sl.load_obj_parts(sl.data_path("spot/spot_triangulated.obj"))
+    lo = np.min([m.vertices.min(axis=0) for _, m, _ in parts], axis=0)
+    hi = np.max([m.vertices.max(axis=0) for _, m, _ in parts], axis=0)
+    y0, size = float(lo[1]), float((hi - lo).max())
+    ground = np.array([[-1, 0, 1], [1, 0, 1], [1, 0, -1], [-1, 0, -1]]) * 3 * size + [0, y0, 0]
+    floor_mesh = sl.Mesh(
+        ground,
+        [[0, 1, 2], [0, 2, 3]],
+        normals=np.tile([0, 1, 0], (4, 1)),
+        uvs=ground[:, [0, 2]] * 0.25,
+    )
+    light_grey = np.where(checker_image(8, 8) > 0.5, 0.8, 0.55).astype(np.float32)
+    board = sl.Texture(light_grey)
+    centre = (lo + hi) / 2
+    cam = sl.Camera.look_at(
+        centre + np.array([1.5, 0.8, 0.9]) * size, centre - [0, 0.2 * size, 0], fov_y=45
+    )
+    panels = []
+    for label, casts in (
+        ("shadows=False", False),
+        ("shadows=True (map)", True),
+        ('shadows="exact"', "exact"),
+    ):
+        scene = sl.Scene(ambient=(0.25, 0.25, 0.25))
+        for _, mesh, mtl in parts:
+            scene.add(mesh, material=mtl)
+        scene.add(floor_mesh, material=sl.Material(diffuse=(0.8,) * 3, diffuse_map=board))
+        scene.add_light(sl.DirectionalLight((0.4, -1.0, -0.5), intensity=0.9, shadows=casts))
+        panels.append((label, render(scene, cam)))
+    return labelled_row(panels)
+
+
 FIGURES = {
     "filters": filters,
     "wrap": wraps,
@@ -212,6 +258,7 @@ FIGURES = {
     "maps": maps,
     "modes": modes,
     "vertex_colors": vertex_colors,
+    "shadows": shadows,
 }
 
 

@@ -207,7 +207,8 @@ class Material:
     by default). Omitted arguments take the default grey plastic's values. Texture maps
     (``diffuse_map``, ``ambient_map`` (default: the diffuse map), ``specular_map``,
     ``emission_map``) multiply their coefficient per point; the specular term is added after
-    the texture. Materials compare equal when all their values are equal and they hold the
+    the texture. ``shininess_map``: the mean of a texel's r, g, b multiplies the shininess per
+    pixel (Phong shading only). Materials compare equal when all their values are equal and they hold the
     same Texture objects (and are not hashable)."""
 
     def __copy__(self) -> Material: ...
@@ -225,6 +226,7 @@ class Material:
         ambient_map: Texture | None = None,
         specular_map: Texture | None = None,
         emission_map: Texture | None = None,
+        shininess_map: Texture | None = None,
     ) -> Material: ...
     def with_maps(
         self,
@@ -232,6 +234,7 @@ class Material:
         ambient_map: Texture | None = None,
         specular_map: Texture | None = None,
         emission_map: Texture | None = None,
+        shininess_map: Texture | None = None,
     ) -> Material:
         """The same material with these texture maps (the others dropped)."""
     @property
@@ -246,6 +249,9 @@ class Material:
     @property
     def emission_map(self) -> Texture | None:
         """The emission map, or None."""
+    @property
+    def shininess_map(self) -> Texture | None:
+        """The shininess map, or None."""
     @staticmethod
     def preset(name: str) -> Material:
         """The named classic preset (case-insensitive; "polished_silver" = "polished silver").

@@ -205,7 +205,13 @@ def _call(
 # Materials
 
 
-_MAP_KEYS = ("diffuse_map", "ambient_map", "specular_map", "emission_map")
+_MAP_KEYS = (
+    "diffuse_map",
+    "ambient_map",
+    "specular_map",
+    "emission_map",
+    "shininess_map",
+)
 _MATERIAL_KEYS = ("preset", "ambient", "diffuse", "specular", "shininess", "emission", *_MAP_KEYS)
 _IMAGE_KEYS = ("filter", "wrap", "srgb", "anisotropy", "uv_scale", "uv_offset")
 _PROCEDURAL_KEYS = ("scale", "color_a", "color_b", "width", "octaves", "seed")

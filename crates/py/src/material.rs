@@ -71,7 +71,8 @@ impl PyMaterial {
     }
     #[new]
     #[pyo3(signature = (ambient=None, diffuse=None, specular=None, shininess=None, emission=None,
-                         diffuse_map=None, ambient_map=None, specular_map=None, emission_map=None))]
+                         diffuse_map=None, ambient_map=None, specular_map=None, emission_map=None,
+                         shininess_map=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         ambient: Option<&Bound<'_, PyAny>>,
@@ -83,6 +84,7 @@ impl PyMaterial {
         ambient_map: Option<PyRef<'_, PyTexture>>,
         specular_map: Option<PyRef<'_, PyTexture>>,
         emission_map: Option<PyRef<'_, PyTexture>>,
+        shininess_map: Option<PyRef<'_, PyTexture>>,
     ) -> PyResult<Self> {
         let d = core::Material::default();
         let pick = |v: Option<&Bound<'_, PyAny>>, name: &str, dflt| -> PyResult<glam::Vec3> {
@@ -102,6 +104,7 @@ impl PyMaterial {
             ambient: map_arg(ambient_map),
             specular: map_arg(specular_map),
             emission: map_arg(emission_map),
+            shininess: map_arg(shininess_map),
         };
         Ok(PyMaterial {
             inner,
@@ -111,19 +114,22 @@ impl PyMaterial {
 
     /// The same material with other texture maps (each a Texture or None; the others
     /// are dropped).
-    #[pyo3(signature = (diffuse_map=None, ambient_map=None, specular_map=None, emission_map=None))]
+    #[pyo3(signature = (diffuse_map=None, ambient_map=None, specular_map=None, emission_map=None,
+                         shininess_map=None))]
     fn with_maps(
         &self,
         diffuse_map: Option<PyRef<'_, PyTexture>>,
         ambient_map: Option<PyRef<'_, PyTexture>>,
         specular_map: Option<PyRef<'_, PyTexture>>,
         emission_map: Option<PyRef<'_, PyTexture>>,
+        shininess_map: Option<PyRef<'_, PyTexture>>,
     ) -> Self {
         let maps = core::Maps {
             diffuse: map_arg(diffuse_map),
             ambient: map_arg(ambient_map),
             specular: map_arg(specular_map),
             emission: map_arg(emission_map),
+            shininess: map_arg(shininess_map),
         };
         PyMaterial {
             inner: self.inner,
@@ -153,6 +159,12 @@ impl PyMaterial {
     #[getter]
     fn emission_map(&self) -> Option<PyTexture> {
         map_out(self.maps.as_ref().and_then(|m| m.emission.as_ref()))
+    }
+
+    /// The shininess map or None (its texels' mean over r, g, b multiplies the shininess).
+    #[getter]
+    fn shininess_map(&self) -> Option<PyTexture> {
+        map_out(self.maps.as_ref().and_then(|m| m.shininess.as_ref()))
     }
 
     /// The named classic preset (case-insensitive; "polished_silver" = "polished silver").
@@ -207,6 +219,7 @@ impl PyMaterial {
                 ("ambient_map", &mp.ambient),
                 ("specular_map", &mp.specular),
                 ("emission_map", &mp.emission),
+                ("shininess_map", &mp.shininess),
             ]
             .iter()
             .filter(|(_, t)| t.is_some())

@@ -498,12 +498,13 @@ pub fn restore_texture(state: &Bound<'_, PyAny>) -> PyResult<PyTexture> {
     Ok(PyTexture::of(Arc::new(tex)))
 }
 
-/// The pickled form of a material's maps: (diffuse, ambient, specular, emission), each a
-/// Texture or None.
+/// The pickled form of a material's maps: (diffuse, ambient, specular, emission,
+/// shininess), each a Texture or None.
 #[allow(clippy::type_complexity)]
 pub fn maps_state(
     maps: &core::Maps,
 ) -> (
+    Option<PyTexture>,
     Option<PyTexture>,
     Option<PyTexture>,
     Option<PyTexture>,
@@ -515,24 +516,26 @@ pub fn maps_state(
         t(&maps.ambient),
         t(&maps.specular),
         t(&maps.emission),
+        t(&maps.shininess),
     )
 }
 
-/// Maps from [`maps_state`].
+/// Maps from [`maps_state`] (or its earlier four-map form, without a shininess map).
 pub fn restore_maps(state: &Bound<'_, PyAny>) -> PyResult<Option<Arc<core::Maps>>> {
+    type Map<'py> = Option<PyRef<'py, PyTexture>>;
     #[allow(clippy::type_complexity)]
-    let (d, a, s, e): (
-        Option<PyRef<'_, PyTexture>>,
-        Option<PyRef<'_, PyTexture>>,
-        Option<PyRef<'_, PyTexture>>,
-        Option<PyRef<'_, PyTexture>>,
-    ) = state.extract()?;
+    let (d, a, s, e, n): (Map<'_>, Map<'_>, Map<'_>, Map<'_>, Map<'_>) =
+        match state.extract::<(Map<'_>, Map<'_>, Map<'_>, Map<'_>)>() {
+            Ok((d, a, s, e)) => (d, a, s, e, None),
+            Err(_) => state.extract()?,
+        };
     let t = |x: Option<PyRef<'_, PyTexture>>| x.map(|x| x.inner.clone());
     let maps = core::Maps {
         diffuse: t(d),
         ambient: t(a),
         specular: t(s),
         emission: t(e),
+        shininess: t(n),
     };
     Ok((!maps.is_empty()).then(|| Arc::new(maps)))
 }

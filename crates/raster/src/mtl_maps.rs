@@ -1,5 +1,5 @@
-//! Texture maps of MTL materials: `map_Kd`, `map_Ka`, `map_Ks`, `map_Ke` (and `map_Ns`,
-//! read and refused: shininess maps are not supported yet) with the `-s` (scale) and `-o`
+//! Texture maps of MTL materials: `map_Kd`, `map_Ka`, `map_Ks`, `map_Ke` and `map_Ns` (a
+//! shininess map: `Maps::shininess_at`) with the `-s` (scale) and `-o`
 //! (offset) options of the texture coordinates and `-clamp on|off`; the other standard
 //! options (`-blendu`, `-blendv`, `-bm`, `-boost`, `-cc`, `-imfchan`, `-mm`, `-texres`,
 //! `-t`) are read and ignored. `bump`, `map_bump`, `norm`, `map_d` and reflection maps are
@@ -22,6 +22,7 @@ pub(crate) enum Slot {
     Ambient,
     Specular,
     Emission,
+    Shininess,
 }
 
 /// One map line of an MTL file.
@@ -59,11 +60,7 @@ pub(crate) fn scan(text: &[u8], mtl: &Path) -> Result<HashMap<String, Vec<MapLin
             "map_Ka" => Slot::Ambient,
             "map_Ks" => Slot::Specular,
             "map_Ke" => Slot::Emission,
-            "map_Ns" => {
-                return Err(err(
-                    "map_Ns (a shininess map) is not supported yet; remove the line".into(),
-                ))
-            }
+            "map_Ns" => Slot::Shininess,
             _ => continue,
         };
         let rest: Vec<&str> = fields.collect();
@@ -194,6 +191,7 @@ pub(crate) fn load_maps(
             Slot::Ambient => &mut maps.ambient,
             Slot::Specular => &mut maps.specular,
             Slot::Emission => &mut maps.emission,
+            Slot::Shininess => &mut maps.shininess,
         };
         *slot = Some(Arc::new(tex));
     }
@@ -216,6 +214,9 @@ mod tests {
         assert!(a[0].clamp);
         assert_eq!(a[1].slot, Slot::Specular);
         assert_eq!(a[1].file, "s.png");
+        let m = scan(b"newmtl b\nmap_Ns -imfchan l n.png\n", Path::new("x.mtl")).unwrap();
+        assert_eq!(m["b"][0].slot, Slot::Shininess);
+        assert_eq!(m["b"][0].file, "n.png");
     }
 
     #[test]
@@ -226,7 +227,7 @@ mod tests {
             ("map_Kd t.png\n", "before any newmtl"),
             ("newmtl a\n\nmap_Kd -zz 1 t.png\n", "unknown option"),
             ("newmtl a\nmap_Kd -clamp maybe t.png\n", "on or off"),
-            ("newmtl a\nmap_Ns n.png\n", "not supported"),
+            ("newmtl a\nmap_Ns\n", "map_Ns: no texture file"),
         ] {
             let e = scan(text.as_bytes(), Path::new("x.mtl"))
                 .unwrap_err()

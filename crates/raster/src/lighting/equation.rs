@@ -91,6 +91,56 @@ fn attenuation(k: [f32; 3], d: f32) -> f32 {
     1.0 / (k[0] + d * (k[1] + d * k[2])).max(crate::lights::MIN_ATTENUATION_DENOMINATOR)
 }
 
+/// What the lane loop may read per point beyond its normal and position: each light's
+/// visibility (`None`: fully visible, evaluated exactly as without shadows) and the specular
+/// exponent (`None`: the surface's shininess).
+pub(crate) trait Visibility: Copy {
+    /// Light `i`'s visibility per lane, or `None` (fully visible).
+    fn of(&self, i: usize) -> Option<&Lanes>;
+    /// The specular exponent per lane (a shininess map), or `None` (the surface's).
+    #[inline(always)]
+    fn shininess(&self) -> Option<&Lanes> {
+        None
+    }
+}
+
+/// Every light fully visible: the plain equation (no scene with shadows reaches it).
+#[derive(Clone, Copy)]
+pub(crate) struct AllVisible;
+
+impl Visibility for AllVisible {
+    #[inline(always)]
+    fn of(&self, _: usize) -> Option<&Lanes> {
+        None
+    }
+}
+
+/// One entry per light of the surface (a shadow effect's answer).
+impl Visibility for &[Option<Lanes>] {
+    #[inline(always)]
+    fn of(&self, i: usize) -> Option<&Lanes> {
+        self.get(i).and_then(Option::as_ref)
+    }
+}
+
+/// Visibilities (possibly none: an empty slice) and a specular exponent per lane.
+#[derive(Clone, Copy)]
+pub(crate) struct WithShininess<'a> {
+    pub visibility: &'a [Option<Lanes>],
+    pub shininess: &'a Lanes,
+}
+
+impl Visibility for WithShininess<'_> {
+    #[inline(always)]
+    fn of(&self, i: usize) -> Option<&Lanes> {
+        self.visibility.of(i)
+    }
+    #[inline(always)]
+    fn shininess(&self) -> Option<&Lanes> {
+        Some(self.shininess)
+    }
+}
+
 impl Surface {
     /// Colour at one point with unit (or zero) normal `n`, position `p`, eye `eye`: the
     /// lane evaluation with every lane at that point.
@@ -109,25 +159,40 @@ impl Surface {
     /// The terms of [`LANES`] points into the target `T`.
     #[inline(always)]
     pub fn terms_lanes<T: Terms>(&self, n: &[Lanes; 3], p: &[Lanes; 3], eye: Vec3) -> T {
+        self.terms_lanes_with(n, p, eye, AllVisible)
+    }
+
+    /// The terms of [`LANES`] points into `T`, each light's diffuse and specular scaled per
+    /// lane by its visibility from `vis` (see [`Visibility`]; [`AllVisible`] compiles to the
+    /// plain equation).
+    #[inline(always)]
+    pub(super) fn terms_lanes_with<T: Terms, V: Visibility>(
+        &self,
+        n: &[Lanes; 3],
+        p: &[Lanes; 3],
+        eye: Vec3,
+        vis: V,
+    ) -> T {
         if self.specular_on {
             match self.model {
                 SpecularModel::BlinnPhong | SpecularModel::NormalizedBlinnPhong => {
-                    self.lanes_with::<T, true, true>(n, p, eye)
+                    self.lanes_with::<T, V, true, true>(n, p, eye, vis)
                 }
-                SpecularModel::Phong => self.lanes_with::<T, true, false>(n, p, eye),
+                SpecularModel::Phong => self.lanes_with::<T, V, true, false>(n, p, eye, vis),
             }
         } else {
-            self.lanes_with::<T, false, true>(n, p, eye)
+            self.lanes_with::<T, V, false, true>(n, p, eye, vis)
         }
     }
 
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
-    fn lanes_with<T: Terms, const SPECULAR: bool, const BLINN: bool>(
+    fn lanes_with<T: Terms, V: Visibility, const SPECULAR: bool, const BLINN: bool>(
         &self,
         n: &[Lanes; 3],
         p: &[Lanes; 3],
         eye: Vec3,
+        vis: V,
     ) -> T {
         let mut c = T::new(self.base);
         let mut v = [[0.0; LANES]; 3];
@@ -138,36 +203,54 @@ impl Surface {
                 (eye.x - p[0][k], eye.y - p[1][k], eye.z - p[2][k])
             });
         }
-        for light in &self.lights {
+        // `None` under `AllVisible` (and for every light): the branches below fold away.
+        let shin = vis.shininess();
+        for (i, light) in self.lights.iter().enumerate() {
+            let seen = vis.of(i);
             match light.geometry {
                 // Its own arm with a constant `l`, so the compiler keeps the splat in
                 // registers (a shared `l` that point_lanes writes through memory cost the
                 // one-directional-light scene 5 % more instructions).
                 Geometry::Directional(d) => {
                     let l = [[d.x; LANES], [d.y; LANES], [d.z; LANES]];
-                    self.light_loop::<T, SPECULAR, BLINN, false>(
-                        light,
-                        n,
-                        &l,
-                        &v,
-                        &[1.0; LANES],
-                        &mut c,
-                    );
+                    match seen {
+                        Some(s) => self.light_loop::<T, SPECULAR, BLINN, true>(
+                            light, n, &l, &v, s, shin, &mut c,
+                        ),
+                        None => self.light_loop::<T, SPECULAR, BLINN, false>(
+                            light,
+                            n,
+                            &l,
+                            &v,
+                            &[1.0; LANES],
+                            shin,
+                            &mut c,
+                        ),
+                    }
                 }
                 Geometry::Point(q) | Geometry::Spot { position: q, .. } => {
                     let mut l = [[0.0; LANES]; 3];
                     let mut att = [1.0; LANES];
+                    // The ambient term is added here, before a visibility scales `att`.
                     point_lanes(light, q, p, &mut l, &mut att, c.ambient());
-                    // Unscaled lights (no attenuation, no cone) take the plain loop, which
-                    // vectorises; reading `att` in it defeats the vectoriser (measured: 40 %
-                    // slower Phong).
+                    if let Some(s) = seen {
+                        for k in 0..LANES {
+                            att[k] *= s[k];
+                        }
+                    }
+                    // Unscaled lights (no attenuation, no cone, no visibility) take the plain
+                    // loop, which vectorises; reading `att` in it defeats the vectoriser
+                    // (measured: 40 % slower Phong).
                     if light.attenuation.is_some()
                         || matches!(light.geometry, Geometry::Spot { .. })
+                        || seen.is_some()
                     {
-                        self.light_loop::<T, SPECULAR, BLINN, true>(light, n, &l, &v, &att, &mut c);
+                        self.light_loop::<T, SPECULAR, BLINN, true>(
+                            light, n, &l, &v, &att, shin, &mut c,
+                        );
                     } else {
                         self.light_loop::<T, SPECULAR, BLINN, false>(
-                            light, n, &l, &v, &att, &mut c,
+                            light, n, &l, &v, &att, shin, &mut c,
                         );
                     }
                 }
@@ -177,9 +260,10 @@ impl Surface {
     }
 
     /// One light's diffuse and specular terms over the lanes; `SCALED` multiplies them by
-    /// `att` (attenuation × spot factor).
+    /// `att` (attenuation × spot factor); `shin` replaces the surface's shininess per lane.
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn light_loop<
         T: Terms,
         const SPECULAR: bool,
@@ -192,6 +276,7 @@ impl Surface {
         l: &[Lanes; 3],
         v: &[Lanes; 3],
         att: &Lanes,
+        shin: Option<&Lanes>,
         c: &mut T,
     ) {
         for k in 0..LANES {
@@ -227,7 +312,7 @@ impl Surface {
                     );
                     ((rx * vx + ry * vy + rz * vz).max(0.0), true)
                 };
-                let sp = pow01(s, self.shininess);
+                let sp = pow01(s, shin.map_or(self.shininess, |f| f[k]));
                 let sp = if lit && ok {
                     if SCALED {
                         sp * att[k]

@@ -1,18 +1,17 @@
 //! The equation with a visibility per light and lane (shadows): each shadowed light's
 //! diffuse and specular are scaled by its visibility, its ambient is not. A light without a
-//! visibility (`None`) is evaluated exactly as in [`Surface::terms_lanes`]; scenes without
-//! shadows never come here, so their loops are unchanged.
+//! visibility (`None`) is evaluated exactly as in [`Surface::terms_lanes`]: both are the one
+//! lane loop of `equation.rs`, which scenes without shadows compile with `AllVisible`, so
+//! their loops carry no visibility code.
 
 use glam::Vec3;
 
-use super::equation::{point_lanes, Terms};
-use super::lanes::{normalize_lanes, Lanes, LANES};
-use super::light_set::Geometry;
+use super::equation::{Terms, WithShininess};
+use super::lanes::Lanes;
 use super::surface::Surface;
-use crate::options::SpecularModel;
 
 impl Surface {
-    /// The terms of [`LANES`] points into `T`, light `i`'s diffuse and specular scaled by
+    /// The terms of [`LANES`](super::LANES) points into `T`, light `i`'s diffuse and specular scaled by
     /// `visibility[i]` per lane when it is `Some` (one entry per light of the surface).
     #[inline(always)]
     pub fn terms_lanes_visible<T: Terms>(
@@ -22,85 +21,35 @@ impl Surface {
         eye: Vec3,
         visibility: &[Option<Lanes>],
     ) -> T {
-        if self.specular_on {
-            match self.model {
-                SpecularModel::BlinnPhong | SpecularModel::NormalizedBlinnPhong => {
-                    self.visible_with::<T, true, true>(n, p, eye, visibility)
-                }
-                SpecularModel::Phong => self.visible_with::<T, true, false>(n, p, eye, visibility),
-            }
-        } else {
-            self.visible_with::<T, false, true>(n, p, eye, visibility)
-        }
+        self.terms_lanes_with(n, p, eye, visibility)
     }
 
+    /// [`Surface::terms_lanes_visible`] with the specular exponent `shininess` per lane (a
+    /// shininess map) instead of the surface's; `visibility` may be empty (no shadows).
     #[inline(always)]
-    #[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
-    fn visible_with<T: Terms, const SPECULAR: bool, const BLINN: bool>(
+    pub fn terms_lanes_shininess<T: Terms>(
         &self,
         n: &[Lanes; 3],
         p: &[Lanes; 3],
         eye: Vec3,
         visibility: &[Option<Lanes>],
+        shininess: &Lanes,
     ) -> T {
-        let mut c = T::new(self.base);
-        let mut v = [[0.0; LANES]; 3];
-        if let (true, Some(d)) = (SPECULAR, self.infinite_view) {
-            v = [[d.x; LANES], [d.y; LANES], [d.z; LANES]];
-        } else if SPECULAR {
-            normalize_lanes(&mut v, |k| {
-                (eye.x - p[0][k], eye.y - p[1][k], eye.z - p[2][k])
-            });
-        }
-        for (light, vis) in self.lights.iter().zip(visibility) {
-            match light.geometry {
-                Geometry::Directional(d) => {
-                    let l = [[d.x; LANES], [d.y; LANES], [d.z; LANES]];
-                    match vis {
-                        Some(vis) => self
-                            .light_loop::<T, SPECULAR, BLINN, true>(light, n, &l, &v, vis, &mut c),
-                        None => self.light_loop::<T, SPECULAR, BLINN, false>(
-                            light,
-                            n,
-                            &l,
-                            &v,
-                            &[1.0; LANES],
-                            &mut c,
-                        ),
-                    }
-                }
-                Geometry::Point(q) | Geometry::Spot { position: q, .. } => {
-                    let mut l = [[0.0; LANES]; 3];
-                    let mut att = [1.0; LANES];
-                    // The ambient term is added here, before the visibility scales `att`.
-                    point_lanes(light, q, p, &mut l, &mut att, c.ambient());
-                    let scaled = light.attenuation.is_some()
-                        || matches!(light.geometry, Geometry::Spot { .. });
-                    if let Some(vis) = vis {
-                        for k in 0..LANES {
-                            att[k] *= vis[k];
-                        }
-                    }
-                    if scaled || vis.is_some() {
-                        self.light_loop::<T, SPECULAR, BLINN, true>(light, n, &l, &v, &att, &mut c);
-                    } else {
-                        self.light_loop::<T, SPECULAR, BLINN, false>(
-                            light, n, &l, &v, &att, &mut c,
-                        );
-                    }
-                }
-            }
-        }
-        c
+        let per_point = WithShininess {
+            visibility,
+            shininess,
+        };
+        self.terms_lanes_with(n, p, eye, per_point)
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::super::{Folded, LightSet, Split};
+    use super::super::{normalize_lanes, Folded, LightSet, Split, LANES};
     use super::*;
     use crate::lights::{DirectionalLight, Light, PointLight, SpotLight};
     use crate::material::Material;
+    use crate::options::SpecularModel;
 
     #[test]
     #[allow(clippy::needless_range_loop)]
@@ -169,6 +118,42 @@ mod tests {
                 }
             }
             assert!(lit_sum(&all) > lit_sum(&dark), "light {i} lights the point");
+        }
+    }
+
+    #[test]
+    #[allow(clippy::needless_range_loop)]
+    fn per_lane_shininess_is_a_surface_of_that_shininess() {
+        let lights: Vec<Light> = vec![
+            DirectionalLight::new(Vec3::new(-0.3, -1.0, -0.2), Vec3::ONE, 1.0)
+                .unwrap()
+                .into(),
+            PointLight::new(Vec3::new(0.5, 2.0, 1.0), Vec3::ONE, 2.0)
+                .unwrap()
+                .with_attenuation(1.0, 0.2, 0.0)
+                .unwrap()
+                .into(),
+        ];
+        let set = LightSet::new(&lights);
+        let n = [[0.1; LANES], [1.0; LANES], [0.05; LANES]];
+        let mut nn = [[0.0; LANES]; 3];
+        normalize_lanes(&mut nn, |k| (n[0][k], n[1][k], n[2][k]));
+        let p = [[0.0; LANES], [0.0; LANES], [0.3; LANES]];
+        let eye = Vec3::new(0.0, 1.0, 4.0);
+        let f: Lanes = std::array::from_fn(|k| 5.0 * (k + 1) as f32);
+        for model in [SpecularModel::BlinnPhong, SpecularModel::Phong] {
+            let mut m = Material::preset("brass").unwrap();
+            let unit = Surface::unit(&m, Vec3::splat(0.2), &set, model);
+            let got: Split = unit.terms_lanes_shininess(&nn, &p, eye, &[], &f);
+            for k in 0..LANES {
+                m.shininess = f[k];
+                let want: Split =
+                    Surface::unit(&m, Vec3::splat(0.2), &set, model).terms_lanes(&nn, &p, eye);
+                for ch in 0..3 {
+                    assert_eq!(got.specular[ch][k], want.specular[ch][k], "lane {k}");
+                    assert_eq!(got.diffuse[ch][k], want.diffuse[ch][k]);
+                }
+            }
         }
     }
 

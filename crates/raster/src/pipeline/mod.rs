@@ -244,6 +244,19 @@ pub(crate) fn prepare(
              gouraud='normals' (the default)",
         ));
     }
+    if textured && options.shading != ShadingMode::Phong {
+        let shiny = |o: &crate::scene::Object| o.maps().is_some_and(|m| m.shininess.is_some());
+        if let Some(i) = scene.objects().iter().position(shiny) {
+            return Err(RasterError::invalid_field(
+                "shininess_map",
+                format!(
+                    "object {i}: a shininess map varies the specular exponent per pixel and \
+                     needs per-pixel lighting: use shading='phong' (flat and Gouraud light \
+                     at faces and vertices)"
+                ),
+            ));
+        }
+    }
     let units: Vec<Sides> = scene
         .objects()
         .iter()
@@ -323,7 +336,8 @@ pub(crate) fn prepare(
         options,
         tiles: tiles::tile_counts(w, h),
     };
-    let flat_lit = lit && options.shading == ShadingMode::Flat;
+    // Textured flat lights its faces' split terms in the tile stage.
+    let flat_lit = lit && options.shading == ShadingMode::Flat && !textured;
     let mut outs: Vec<ChunkOut> = work
         .par_iter()
         .map(|&(oi, fv, idx)| {

@@ -10,7 +10,7 @@ use super::shade::{put, Out, Pixel, Program, ShadeContext, TexturedObject, Textu
 use super::{isa, prepare, tiles, Needs};
 use crate::camera::Camera;
 use crate::effects::FogEffect;
-use crate::error::{RasterError, Result};
+use crate::error::Result;
 use crate::frame::RenderStats;
 use crate::options::{Interpolation, RenderOptions, ShadingMode};
 use crate::scene::Scene;
@@ -49,22 +49,12 @@ pub(crate) fn color_pass<P: Pixel>(
     options: &RenderOptions,
     out: Buffers<'_, P>,
 ) -> Result<RenderStats> {
-    let textured = scene
-        .objects()
-        .iter()
-        .any(|o| o.maps().is_some() || o.mesh().colors().is_some());
-    if textured && scene.lights().iter().any(|l| l.shadows().on()) {
-        // The texture stage lights through its own loops, which do not read visibility yet.
-        return Err(RasterError::invalid_field(
-            "shadows",
-            "shadows cannot yet be combined with texture maps or vertex colours; \
-             remove the maps or the lights' shadows",
-        ));
-    }
     let mut prep = prepare(scene, camera, options, Needs::Color)?;
-    // Phong reads them per pixel; flat and Gouraud have used them already (prelight).
+    // Phong reads them per pixel, and the texture stage where it lights (every mode); the
+    // untextured flat and Gouraud have used them already (prelight).
     let shadows = match options.shading {
         ShadingMode::Phong => prep.shadows.take(),
+        _ if !prep.units.is_empty() => prep.shadows.take(),
         _ => None,
     };
     let (w, h) = (options.width as usize, options.height as usize);

@@ -246,6 +246,9 @@ pub struct Maps {
     pub specular: Option<Arc<Texture>>,
     /// Multiplies the emission `ke`.
     pub emission: Option<Arc<Texture>>,
+    /// Multiplies the shininess (the mean of the texel's r, g, b: [`Maps::shininess_at`]);
+    /// per-pixel lighting (Phong) only.
+    pub shininess: Option<Arc<Texture>>,
 }
 
 impl Maps {
@@ -255,6 +258,20 @@ impl Maps {
             && self.ambient.is_none()
             && self.specular.is_none()
             && self.emission.is_none()
+            && self.shininess.is_none()
+    }
+
+    /// The specular exponent at a point whose shininess map reads `t`: `shininess × (r + g +
+    /// b)/3`, with an infinite or overflowing product the perfect mirror's `f32::MAX` (as an
+    /// infinite shininess is lit) and a NaN-free result for every texel in [0, 1e6].
+    #[inline]
+    pub fn shininess_at(shininess: f32, t: Vec3) -> f32 {
+        let f = shininess * ((t.x + t.y + t.z) / 3.0);
+        if f.is_nan() {
+            0.0 // inf × 0: a zero map value
+        } else {
+            f.min(f32::MAX)
+        }
     }
 
     /// The map that weighs the ambient term: its own, else the diffuse map.
@@ -275,5 +292,6 @@ impl PartialEq for Maps {
             && same(&self.ambient, &other.ambient)
             && same(&self.specular, &other.specular)
             && same(&self.emission, &other.emission)
+            && same(&self.shininess, &other.shininess)
     }
 }

@@ -3,9 +3,9 @@
 use glam::Vec3;
 
 use super::planes::{weight_planes, Plane, PlaneCache};
-use super::program::Fragments;
+use super::program::finish_batch;
 use super::runs::run_length;
-use super::store::{fill_out, put, store_out, Out, Pixel};
+use super::store::{fill_out, put, Out, Pixel};
 use super::{background_row, ShadeContext};
 use crate::lighting::{normalize_lanes, Folded, Lanes, Surface, LANES};
 use crate::pipeline::raster::{TileBuffers, NO_TRIANGLE};
@@ -133,23 +133,7 @@ impl<'a> PhongBatch<'a> {
                 }
                 _ => m.shade_lanes(&n, &self.p, eye),
             };
-            let mut frags = Fragments {
-                color: lit,
-                at: &self.at[..self.len],
-                depth: &self.depth,
-                origin: (rect.x0, rect.y0),
-            };
-            // The render's program after lighting: one branch per stage per batch.
-            for stage in &ctx.program {
-                stage.run(ctx, &mut frags);
-            }
-            let c = &frags.color;
-            for (k, &(j, i)) in self.at[..self.len].iter().enumerate() {
-                store_out(
-                    &mut color[j][i * 3..i * 3 + 3],
-                    Vec3::new(c[0][k], c[1][k], c[2][k]),
-                );
-            }
+            finish_batch(ctx, lit, &self.at[..self.len], &self.depth, rect, color);
         }
         self.len = 0;
     }

@@ -6,9 +6,11 @@
 
 use glam::Vec3;
 
+use super::store::{store_out, Out, Pixel};
 use super::ShadeContext;
 use crate::effects::FogEffect;
 use crate::lighting::Lanes;
+use crate::pipeline::tiles::TileRect;
 
 /// Lit fragments of one batch (at most [`LANES`](crate::lighting::LANES)), in flight through the program.
 pub(crate) struct Fragments<'a> {
@@ -81,6 +83,35 @@ impl Program {
         self.stages.iter().any(|s| match s {
             Stage::Fog => true,
         })
+    }
+}
+
+/// The end of every batch path (Phong, textured): runs the render's program over a batch of
+/// lit lanes (`lit`, the first `at.len()` live, at tile slots `at` with eye depths `depth`)
+/// and stores each into the tile's output rows `color` (one branch per stage per batch).
+#[inline(always)]
+pub(super) fn finish_batch<P: Pixel>(
+    ctx: &ShadeContext<'_>,
+    lit: [Lanes; 3],
+    at: &[(usize, usize)],
+    depth: &Lanes,
+    rect: TileRect,
+    color: &mut [&mut [Out<P>]],
+) {
+    let mut frags = Fragments {
+        color: lit,
+        at,
+        depth,
+        origin: (rect.x0, rect.y0),
+    };
+    for stage in &ctx.program {
+        stage.run(ctx, &mut frags);
+    }
+    // Zipped with the live lanes, so no lane access needs a bounds check (indexing the
+    // lanes by position cost Phong 0.1-0.4 % more instructions per frame).
+    let [r, g, b] = &frags.color;
+    for (((&(j, i), r), g), b) in at.iter().zip(r).zip(g).zip(b) {
+        store_out(&mut color[j][i * 3..i * 3 + 3], Vec3::new(*r, *g, *b));
     }
 }
 

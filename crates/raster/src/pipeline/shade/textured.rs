@@ -21,17 +21,18 @@ use glam::{Vec2, Vec3};
 
 use super::phong::face_normal;
 use super::planes::{weight_planes, Plane, PlaneCache};
-use super::program::Fragments;
+use super::program::finish_batch;
 use super::runs::run_length;
-use super::store::{fill_out, put, store_out, Out, Pixel};
+use super::store::{fill_out, put, Out, Pixel};
 use super::{background_row, ShadeContext};
 use crate::lighting::{normalize_lanes, Lanes, Split, Surface, LANES};
 use crate::material::Material;
-use crate::options::ShadingMode;
+use crate::options::{ShadingMode, SpecularModel};
 use crate::pipeline::raster::{TileBuffers, NO_TRIANGLE};
 use crate::pipeline::setup::SetupTri;
 use crate::pipeline::tiles::{TileRect, TILE};
 use crate::pipeline::Sides;
+use crate::shadows::ShadowEffect;
 use crate::texture::{Footprint, Maps, Texture};
 
 /// What the texture stage reads of each object, per render.
@@ -69,12 +70,22 @@ struct Current {
     /// Phong: vertex normals (world) and positions.
     normal: [Vec3; 3],
     pos: [Vec3; 3],
+    /// Phong with shadows: the geometric normal (the shadow ray offset's direction).
+    face: Vec3,
     /// (object, back side) of the material.
     key: (u32, bool),
 }
 
-/// The split terms of up to three points lit by `unit` (lanes 0..n).
-fn light_points(unit: &Surface, n: &[Vec3], p: &[Vec3], eye: Vec3) -> [Terms3; 3] {
+/// The split terms of up to three points lit by `unit` (lanes 0..n), each shadow-casting
+/// light's diffuse and specular scaled by its visibility from the point (as untextured flat
+/// and Gouraud light: `prelight::lit`, the normal standing in for the geometric one).
+fn light_points(
+    unit: &Surface,
+    shadows: Option<&ShadowEffect>,
+    n: &[Vec3],
+    p: &[Vec3],
+    eye: Vec3,
+) -> [Terms3; 3] {
     let mut nl = [[0.0; LANES]; 3];
     let mut pl = [[0.0; LANES]; 3];
     for (k, (n, p)) in n.iter().zip(p).enumerate() {
@@ -83,13 +94,25 @@ fn light_points(unit: &Surface, n: &[Vec3], p: &[Vec3], eye: Vec3) -> [Terms3; 3
             pl[ax][k] = p[ax];
         }
     }
-    let t: Split = unit.terms_lanes(&nl, &pl, eye);
-    let at = |x: &[Lanes; 3], k: usize| Vec3::new(x[0][k], x[1][k], x[2][k]);
-    [0, 1, 2].map(|k| Terms3 {
-        a: at(&t.ambient, k),
-        d: at(&t.diffuse, k),
-        s: at(&t.specular, k),
-    })
+    let t: Split = match shadows {
+        None => unit.terms_lanes(&nl, &pl, eye),
+        Some(s) => {
+            let mut vis = vec![None; s.sources()];
+            s.visibility(&nl, &pl, &nl, n.len(), &mut vis);
+            unit.terms_lanes_visible(&nl, &pl, eye, &vis)
+        }
+    };
+    [0, 1, 2].map(|k| split_at(&t, k))
+}
+
+/// Lane `k` of split terms.
+fn split_at(t: &Split, k: usize) -> Terms3 {
+    let at = |x: &[Lanes; 3]| Vec3::new(x[0][k], x[1][k], x[2][k]);
+    Terms3 {
+        a: at(&t.ambient),
+        d: at(&t.diffuse),
+        s: at(&t.specular),
+    }
 }
 
 impl Current {
@@ -121,6 +144,7 @@ impl Current {
             terms: [Terms3::default(); 3],
             normal: [Vec3::ZERO; 3],
             pos: v.map(|k| verts.world[k]),
+            face: Vec3::ZERO,
             key: (t.object, back),
         };
         match mode {
@@ -134,15 +158,20 @@ impl Current {
                 };
                 let n = if back { -n } else { n }.normalize_or_zero();
                 let centroid = (a + b + c) / 3.0;
-                let f = light_points(unit, &[n], &[centroid], ctx.eye)[0];
+                let f = light_points(unit, ctx.shadows.as_ref(), &[n], &[centroid], ctx.eye)[0];
                 cur.terms = [f; 3];
             }
             ShadingMode::Gouraud => {
                 let flip = if back { -1.0 } else { 1.0 };
                 let n = v.map(|k| verts.normal[k] * flip);
-                cur.terms = light_points(unit, &n, &cur.pos, ctx.eye);
+                cur.terms = light_points(unit, ctx.shadows.as_ref(), &n, &cur.pos, ctx.eye);
             }
-            ShadingMode::Phong => cur.normal = v.map(|k| verts.normal[k]),
+            ShadingMode::Phong => {
+                cur.normal = v.map(|k| verts.normal[k]);
+                if ctx.shadows.is_some() {
+                    cur.face = face_normal(t, &verts.world);
+                }
+            }
         }
         cur
     }
@@ -160,11 +189,25 @@ struct Batch {
     /// Phong: the interpolated normal (not normalised) and position.
     n: [Lanes; 3],
     p: [Lanes; 3],
+    /// Phong with shadows: each lane's geometric normal, and each source's visibility.
+    g: [Lanes; 3],
+    vis: Vec<Option<Lanes>>,
     depth: Lanes,
     key: (u32, bool),
 }
 
 impl Batch {
+    /// The specular exponent of each live lane: `shininess` times `map`'s value there
+    /// ([`Maps::shininess_at`]).
+    fn shininess(&self, map: &Texture, shininess: f32) -> Lanes {
+        let mut f = [0.0; LANES];
+        for (k, fk) in f.iter_mut().enumerate().take(self.len) {
+            let (u, v) = self.uv[k];
+            *fk = Maps::shininess_at(shininess, map.sample(u, v, &self.fp[k]));
+        }
+        f
+    }
+
     fn flush<P: Pixel>(
         &mut self,
         ctx: &ShadeContext<'_>,
@@ -178,22 +221,40 @@ impl Batch {
         }
         let (object, back) = self.key;
         let obj = &tex.objects[object as usize];
+        let m = &obj.material[back as usize];
         if mode == ShadingMode::Phong {
             let unit = &tex.units[object as usize][back as usize];
             let mut n = [[0.0; LANES]; 3];
             let raw = &self.n;
             normalize_lanes(&mut n, |k| (raw[0][k], raw[1][k], raw[2][k]));
-            let t: Split = unit.terms_lanes(&n, &self.p, ctx.eye);
-            let at = |x: &[Lanes; 3], k: usize| Vec3::new(x[0][k], x[1][k], x[2][k]);
+            if let Some(s) = &ctx.shadows {
+                s.visibility(&n, &self.p, &self.g, self.len, &mut self.vis);
+            }
+            // Per pixel, as untextured Phong: each shadowed light scaled by its visibility.
+            let shininess_map = obj.maps.and_then(|m| m.shininess.as_ref());
+            let t: Split = match (shininess_map, &ctx.shadows) {
+                (None, None) => unit.terms_lanes(&n, &self.p, ctx.eye),
+                (None, Some(_)) => unit.terms_lanes_visible(&n, &self.p, ctx.eye, &self.vis),
+                (Some(map), _) => {
+                    let f = self.shininess(map, m.shininess);
+                    let mut t: Split =
+                        unit.terms_lanes_shininess(&n, &self.p, ctx.eye, &self.vis, &f);
+                    if unit.specular_on && unit.model == SpecularModel::NormalizedBlinnPhong {
+                        // The unit surface folded the lobe's (f + 8)/8π for the material's f.
+                        let base = m.shininess + 8.0;
+                        for ch in &mut t.specular {
+                            for (s, fk) in ch.iter_mut().zip(&f) {
+                                *s *= (fk + 8.0) / base;
+                            }
+                        }
+                    }
+                    t
+                }
+            };
             for k in 0..self.len {
-                self.terms[k] = Terms3 {
-                    a: at(&t.ambient, k),
-                    d: at(&t.diffuse, k),
-                    s: at(&t.specular, k),
-                };
+                self.terms[k] = split_at(&t, k);
             }
         }
-        let m = &obj.material[back as usize];
         let mut c = [[0.0; LANES]; 3];
         #[allow(clippy::needless_range_loop)] // lane k of several arrays
         for k in 0..self.len {
@@ -223,22 +284,7 @@ impl Batch {
             let out = ke + ka * ta * t.a + kd * td * t.d + m.specular * ts * t.s;
             (c[0][k], c[1][k], c[2][k]) = (out.x, out.y, out.z);
         }
-        let mut frags = Fragments {
-            color: c,
-            at: &self.at[..self.len],
-            depth: &self.depth,
-            origin: (rect.x0, rect.y0),
-        };
-        for stage in &ctx.program {
-            stage.run(ctx, &mut frags);
-        }
-        let c = &frags.color;
-        for (k, &(j, i)) in self.at[..self.len].iter().enumerate() {
-            store_out(
-                &mut color[j][i * 3..i * 3 + 3],
-                Vec3::new(c[0][k], c[1][k], c[2][k]),
-            );
-        }
+        finish_batch(ctx, c, &self.at[..self.len], &self.depth, rect, color);
         self.len = 0;
     }
 }
@@ -268,6 +314,11 @@ pub(super) fn shade_textured<P: Pixel, const AFFINE: bool>(
         terms: [Terms3::default(); LANES],
         n: [[0.0; LANES]; 3],
         p: [[0.0; LANES]; 3],
+        g: [[0.0; LANES]; 3],
+        vis: ctx
+            .shadows
+            .as_ref()
+            .map_or(Vec::new(), |s| vec![None; s.sources()]),
         depth: [0.0; LANES],
         key: (u32::MAX, false),
     };
@@ -348,6 +399,7 @@ pub(super) fn shade_textured<P: Pixel, const AFFINE: bool>(
                         for ax in 0..3 {
                             batch.n[ax][k] = n[ax];
                             batch.p[ax][k] = p[ax];
+                            batch.g[ax][k] = c.face[ax];
                         }
                     }
                 }
