@@ -94,7 +94,13 @@ if TYPE_CHECKING:
     from .swatch import material_sheet
 
 
+#: The lazily imported submodules themselves (``sl.scene_file.…`` works as before).
+_LAZY_MODULES = {m for m in _LAZY.values() if m is not None}
+
+
 def __getattr__(name: str) -> Any:
+    if name in _LAZY_MODULES:
+        _LAZY[name] = None
     if name not in _LAZY:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
     import importlib
@@ -106,7 +112,7 @@ def __getattr__(name: str) -> Any:
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY))
+    return sorted(set(globals()) | set(_LAZY) | _LAZY_MODULES)
 
 
 __all__ = [
