@@ -208,8 +208,8 @@ class Material:
     (``diffuse_map``, ``ambient_map`` (default: the diffuse map), ``specular_map``,
     ``emission_map``) multiply their coefficient per point; the specular term is added after
     the texture. ``shininess_map``: the mean of a texel's r, g, b multiplies the shininess per
-    pixel (Phong shading only). Materials compare equal when all their values are equal and they hold the
-    same Texture objects (and are not hashable)."""
+    pixel (Phong shading only). Materials compare equal when all their values are equal and
+    they hold the same Texture objects (and are not hashable)."""
 
     def __copy__(self) -> Material: ...
     def __deepcopy__(self, _memo: Any) -> Material:
