@@ -40,6 +40,9 @@ pub(crate) struct LinePass<'a> {
     segments: Segments,
     /// Hidden-line test on (visible, features); `all` draws every covered sample.
     hidden_line: bool,
+    /// The ribbon comparison only for neighbours of the edge's faces (visible: every other
+    /// owner's own edges cover its samples; see `visibility.rs`).
+    neighbours_only: bool,
     color: Vec3,
     /// Sample offsets from the pixel centre, in pixels (the multi-sample pattern).
     offsets: Vec<[f64; 2]>,
@@ -91,6 +94,9 @@ impl<'a> LinePass<'a> {
             weld: topo.weld,
             segments,
             hidden_line: options.edges != EdgeMode::All,
+            // Features too: a grazing occluder next to a hidden feature line would pass the
+            // comparison against an unrelated face's extended plane (measured on a torus).
+            neighbours_only: true,
             color: options.edge_color,
             offsets: pattern
                 .iter()
@@ -140,7 +146,14 @@ impl<'a> LinePass<'a> {
                         let owner = ids.map_or(NO_TRIANGLE, |ids| ids[k][slot]);
                         if !self.hidden_line
                             || visibility::visible(
-                                seg, p, t, owner, self.tris, &self.weld, &mut cache,
+                                seg,
+                                p,
+                                t,
+                                owner,
+                                self.tris,
+                                &self.weld,
+                                self.neighbours_only,
+                                &mut cache,
                             )
                         {
                             mask[slot] |= 1 << k;

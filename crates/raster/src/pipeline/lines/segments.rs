@@ -70,8 +70,9 @@ pub(crate) struct Segment {
     pub z: [f64; 2],
     /// Welded ids of the endpoints: a triangle having both is one of the edge's faces.
     pub ends: [u32; 2],
-    /// The depth planes of the edge's first two faces (the line's "ribbon"), where known.
-    pub ribbon: [Option<ZPlane>; 2],
+    /// The depth planes of the edge's first two faces (the line's "ribbon"), where known,
+    /// with the faces' welded vertex ids.
+    pub ribbon: [Option<(ZPlane, [u32; 3])>; 2],
     /// Inclusive pixel bounds the line can touch: x0, y0, x1, y1.
     pub bbox: [i32; 4],
 }
@@ -166,7 +167,7 @@ impl Segments {
         let inv = 1.0 / ONE as f64;
         let width = options.edge_width as f64;
         // A face's depth plane, from its snapped vertices when all three were snapped.
-        let face_plane = |f: u32| -> Option<ZPlane> {
+        let face_plane = |f: u32| -> Option<(ZPlane, [u32; 3])> {
             if f == NO_FACE {
                 return None;
             }
@@ -175,7 +176,8 @@ impl Segments {
                 return None;
             }
             let s = v.map(|i| verts.screen[i as usize]);
-            ZPlane::of_snapped(s.map(|p| p.0), s.map(|p| p.1), s.map(|p| p.2))
+            let plane = ZPlane::of_snapped(s.map(|p| p.0), s.map(|p| p.1), s.map(|p| p.2))?;
+            Some((plane, v.map(|i| topo.weld[i as usize])))
         };
         let project = |c: DVec4| -> Option<([f64; 2], f64)> {
             let iw = 1.0 / c.w;

@@ -8,12 +8,15 @@
 //!    lies on the visible surface, whatever the depths; no depth comparison, so no
 //!    stitching where the line and its surface have equal depth, or
 //! 3. `O` does not hide the edge: its depth plane, extended to `q`, is not in front of the
-//!    edge's depth at `q`; or, at `p`, it is not in front of one of the edge's face planes
-//!    (the ribbon the line lies on), each comparison with [`ZPlane::tolerance`].
+//!    edge's depth at `q` (exact whenever `O` also covers `q`: the extension is then
+//!    interpolation over `O`); or `O` shares a vertex with one of the edge's faces and, at
+//!    `p`, is not in front of that face's plane (a convex neighbour of a face thinner than
+//!    the line lies behind the face's plane; a concave one passes the first test). Each
+//!    comparison allows [`ZPlane::tolerance`].
 //!
-//! Rule 3's two comparisons keep neighbours of a thin face drawn on curved surfaces (a
-//! convex neighbour lies behind the face's plane at `p`, a concave one behind the edge at
-//! `q`), while a surface in front of the edge is in front of both.
+//! The second comparison is limited to the faces' neighbours because a face's plane
+//! extended off the face is meaningless for a face seen nearly edge-on (its depth slope is
+//! huge): an unrelated surface in front of the edge would pass it.
 
 use super::segments::{Segment, ZPlane};
 use crate::pipeline::bin::{Binned, LOCAL_BITS};
@@ -85,6 +88,7 @@ pub(crate) fn visible(
     owner: u32,
     tris: &Binned,
     weld: &[u32],
+    neighbours_only: bool,
     cache: &mut OwnerCache,
 ) -> bool {
     if owner == NO_TRIANGLE {
@@ -107,8 +111,9 @@ pub(crate) fn visible(
         return true;
     }
     let zo = plane.at(p);
-    seg.ribbon.iter().flatten().any(|r| {
+    seg.ribbon.iter().flatten().any(|(r, face)| {
         let zr = r.at(p);
-        zo <= zr + r.tolerance(zr)
+        (!neighbours_only || o.welded.iter().any(|v| face.contains(v)))
+            && zo <= zr + r.tolerance(zr)
     })
 }
