@@ -7,8 +7,8 @@ import math
 
 import numpy as np
 import pytest
-
 import shadelab_rs as sl
+
 from shadelab_ref import edges as ref_edges
 from shadelab_ref import reference as ref
 
@@ -290,3 +290,29 @@ def test_bad_line_options_raise(kwargs, field, exc):
     scene.add(sl.Mesh.cube())
     with pytest.raises(exc, match=field):
         sl.render(scene, None, 32, 24, **kwargs)
+
+
+def test_scene_files_and_the_command_line_know_the_line_options(tmp_path):
+    from shadelab_rs import cli
+
+    scene, cam = sl.demo_scene()
+    o = sl.RenderOptions(80, 60, edges="visible", edge_color=(1, 0, 0), edge_width=1.5)
+    path = tmp_path / "s.toml"
+    sl.save_scene(path, scene, cam, render=o)
+    text = path.read_text()
+    assert 'edges = "visible"' in text and "edge_width = 1.5" in text
+    f = sl.load_scene(path)
+    assert np.array_equal(f.render(), sl.render(scene, cam, options=o))
+    plain = tmp_path / "plain.toml"
+    sl.save_scene(plain, scene, cam, render=sl.RenderOptions(80, 60))
+    assert "edge" not in plain.read_text()
+    out = tmp_path / "lines.npy"
+    args = ["render", str(path), "-o", str(out), "--edges", "features", "--edge-width", "2"]
+    assert cli.main(args + ["--edge-color", "0,0,1", "--edges-only"]) in (0, None)
+    img = np.load(out)
+    want = sl.render(
+        scene,
+        cam,
+        options=o.replace(edges="features", edge_width=2.0, edge_color=(0, 0, 1), edges_only=True),
+    )
+    assert np.array_equal(img, want)
