@@ -308,7 +308,7 @@ def test_scene_files_and_the_command_line_know_the_line_options(tmp_path):
     assert "edge" not in plain.read_text()
     out = tmp_path / "lines.npy"
     args = ["render", str(path), "-o", str(out), "--edges", "features", "--edge-width", "2"]
-    assert cli.main(args + ["--edge-color", "0,0,1", "--edges-only"]) in (0, None)
+    assert cli.main([*args, "--edge-color", "0,0,1", "--edges-only"]) in (0, None)
     img = np.load(out)
     want = sl.render(
         scene,
