@@ -227,9 +227,9 @@ impl<'a> LinePass<'a> {
                 let c = if self.edges_only {
                     self.background
                 } else {
+                    let px = &color[j * TILE * 3 + i * 3..][..3];
                     // SAFETY: the tile body wrote every sample of the rows it was given
                     // (each tile writes every pixel of its rows: background or shaded).
-                    let px = &color[j * TILE * 3 + i * 3..][..3];
                     unsafe {
                         Vec3::new(
                             px[0].assume_init(),

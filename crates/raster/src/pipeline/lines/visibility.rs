@@ -81,6 +81,7 @@ impl OwnerCache {
 /// Whether the line sample at `p`, nearest the edge point of parameter `t`, is visible
 /// when triangle `owner` (or [`NO_TRIANGLE`]) owns `p`.
 #[inline]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn visible(
     seg: &Segment,
     p: [f64; 2],
