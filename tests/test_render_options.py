@@ -36,6 +36,11 @@ def test_defaults_and_round_trip():
         "interpolation": "perspective",
         "samples": 1,
         "supersample": 1,
+        "edges": None,
+        "edge_color": (0.0, 0.0, 0.0),
+        "edge_width": 1.0,
+        "edge_angle": 30.0,
+        "edges_only": False,
     }
     p = sl.RenderOptions(64, 48, shading="FLAT", specular="blinn-normalized", threads=2)
     assert (p.width, p.height, p.shading, p.specular, p.threads) == (

@@ -62,6 +62,7 @@ _Shading: TypeAlias = Literal["flat", "gouraud", "phong"]
 _Specular: TypeAlias = Literal["blinn", "phong", "blinn-normalized"]
 _Gouraud: TypeAlias = Literal["normals", "face-intensities"]
 _Interpolation: TypeAlias = Literal["perspective", "screen"]
+_Edges: TypeAlias = Literal["all", "visible", "features"]
 #: What Scene.add takes as a mesh: a Mesh, trimesh.Trimesh / Scene, (V, F), PyVista PolyData.
 _MeshLike: TypeAlias = Mesh | tuple[ArrayLike, ArrayLike] | Any
 #: A Material or a preset name.
@@ -961,7 +962,13 @@ class RenderOptions:
     1 (default) or 2, 4, 8, 16: multi-sample anti-aliasing at the standard D3D/Vulkan
     sample positions, each pixel shaded once per visible triangle and resolved by coverage.
     ``supersample``: k from 1 (default) to 8: render k x k pixels per output pixel and
-    average them (exact but k^2 times the work)."""
+    average them (exact but k^2 times the work). ``edges``: None (default), "all" (every
+    triangle edge, a wireframe), "visible" (hidden-line removal: every edge not hidden by a
+    nearer surface) or "features" (visible silhouettes, boundaries and creases) drawn as
+    lines over the image; ``edge_color`` (linear RGB, each >= 0), ``edge_width`` (pixels,
+    > 0, at most 256; anti-aliased with ``samples`` > 1), ``edge_angle`` (degrees, 0 to
+    180: the crease angle of "features", default 30), ``edges_only`` (draw the lines
+    alone: surfaces still hide what is behind them but show the background)."""
 
     def __new__(
         cls,
@@ -976,6 +983,11 @@ class RenderOptions:
         interpolation: _Interpolation = "perspective",
         samples: int | None = 1,
         supersample: int | None = 1,
+        edges: _Edges | None = None,
+        edge_color: _Vec3Like | None = (0.0, 0.0, 0.0),
+        edge_width: float | None = 1.0,
+        edge_angle: float | None = 30.0,
+        edges_only: bool = False,
     ) -> RenderOptions: ...
     def __copy__(self) -> RenderOptions: ...
     def __deepcopy__(self, _memo: Any) -> RenderOptions:
@@ -988,6 +1000,8 @@ class RenderOptions:
     """The names ``gouraud`` takes (in any case)."""
     interpolation_names: ClassVar[tuple[str, str]]
     """The names ``interpolation`` takes (in any case)."""
+    edges_names: ClassVar[tuple[str, str, str]]
+    """The names ``edges`` takes besides None (in any case)."""
     def replace(self, **changes: Unpack[_RenderOptionsArgs]) -> RenderOptions:
         """The same options with the given ones changed."""
     def to_dict(self) -> dict[str, Any]:
@@ -1025,6 +1039,21 @@ class RenderOptions:
     @property
     def supersample(self) -> int:
         """Supersampling factor k (k x k pixels averaged per output pixel)."""
+    @property
+    def edges(self) -> str | None:
+        """Which edges are drawn as lines: None, "all", "visible" or "features"."""
+    @property
+    def edge_color(self) -> _Vec3:
+        """Linear RGB of the lines."""
+    @property
+    def edge_width(self) -> float:
+        """Line width in pixels."""
+    @property
+    def edge_angle(self) -> float:
+        """Crease angle in degrees ("features")."""
+    @property
+    def edges_only(self) -> bool:
+        """Whether the lines are drawn alone (surfaces painted as the background)."""
 
 class _RenderOptionsArgs(TypedDict, total=False):
     """The keywords of :class:`RenderOptions` (tests/test_render_options.py checks that
@@ -1041,6 +1070,11 @@ class _RenderOptionsArgs(TypedDict, total=False):
     interpolation: _Interpolation
     samples: int | None
     supersample: int | None
+    edges: _Edges | None
+    edge_color: _Vec3Like | None
+    edge_width: float | None
+    edge_angle: float | None
+    edges_only: bool
 
 # One overload per output type; the render options are RenderOptions' arguments.
 @overload

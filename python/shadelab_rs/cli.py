@@ -107,6 +107,26 @@ def _render_args(p: argparse.ArgumentParser) -> None:
         default=None,
         help="render KxK pixels per output pixel and average them (1..8)",
     )
+    p.add_argument(
+        "--edges",
+        choices=core.RenderOptions.edges_names,
+        default=None,
+        help="draw triangle edges as lines: all (wireframe), visible (hidden lines removed) "
+        "or features (silhouettes, boundaries, creases)",
+    )
+    p.add_argument(
+        "--edge-color", type=_triple, default=None, help="r,g,b of the lines (linear, 0,0,0)"
+    )
+    p.add_argument("--edge-width", type=float, default=None, help="line width in pixels (1)")
+    p.add_argument(
+        "--edge-angle", type=float, default=None, help="crease angle in degrees (features, 30)"
+    )
+    p.add_argument(
+        "--edges-only",
+        action="store_true",
+        default=None,
+        help="draw the lines alone over the background (surfaces still hide what is behind)",
+    )
     p.add_argument("--alpha", action="store_true", help="write RGBA with a transparent background")
     p.add_argument(
         "--encoding",
@@ -159,7 +179,19 @@ def _render(
         scene.clear_lights()
         for light in lights:
             scene.add_light(light)
-    names = ("shading", "specular", "background", "threads", "samples", "supersample")
+    names = (
+        "shading",
+        "specular",
+        "background",
+        "threads",
+        "samples",
+        "supersample",
+        "edges",
+        "edge_color",
+        "edge_width",
+        "edge_angle",
+        "edges_only",
+    )
     flags = {k: getattr(args, k) for k in names}
     flags["cull_backfaces"] = args.cull_backfaces
     if args.size is not None:

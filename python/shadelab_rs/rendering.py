@@ -303,7 +303,15 @@ def render(
       multi-sample anti-aliasing (standard D3D/Vulkan sample positions; each pixel shaded
       once per visible triangle, weighted by the share of samples it covers).
       ``supersample``: k in 1..8, render k x k pixels per output pixel and average them
-      (exact, k^2 times the work).
+      (exact, k^2 times the work). ``edges``: draw triangle edges as lines over the
+      image: None (default), "all" (every edge, hidden ones too: a wireframe), "visible"
+      (hidden-line removal: every edge no nearer surface hides, diagonals of flat quads
+      included) or "features" (visible silhouettes, boundary edges and creases sharper
+      than ``edge_angle`` degrees, default 30). ``edge_color``: linear RGB (default
+      black); ``edge_width``: pixels (default 1; a sample within width/2 of an edge is
+      covered, so lines are anti-aliased with ``samples`` > 1); ``edges_only``: the lines
+      alone over the ``background`` (surfaces still hide what is behind them; with
+      ``alpha``, over transparency).
     - ``dtype``: "uint8" (default, ``round(clamp(c, 0, 1) * 255)``) or "float32" (linear,
       unclamped unless ``encoding="srgb"``).
     - ``return_depth``: also return the float32 eye-space depth (distance along the viewing

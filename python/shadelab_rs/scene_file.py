@@ -628,9 +628,14 @@ def _render_options(v: Any, where: str) -> dict[str, Any]:
         "interpolation": _string,
         "background": _numbers,
         "cull_backfaces": _boolean,
+        "edges": _string,
+        "edge_color": _numbers,
+        "edge_width": _number,
+        "edge_angle": _number,
+        "edges_only": _boolean,
     }
     for k, value in t.items():
-        if value is not None or k != "threads":
+        if value is not None or k not in ("threads", "edges"):
             types.get(k, _integer)(value, _at(where, k))
     _call(where, lambda: RenderOptions(**t))
     return t
@@ -989,6 +994,11 @@ def scene_to_dict(
             "render",
         )
         d["render"] = {k: v for k, v in d["render"].items() if v is not None}
+        if "edges" not in d["render"]:
+            # No lines: their settings are the defaults' or unused; a file without lines
+            # reads as before this option existed.
+            for k in ("edge_color", "edge_width", "edge_angle", "edges_only"):
+                d["render"].pop(k, None)
     d["lights"] = [light_to_dict(light) for light in scene.lights]
     objects = []
     for o in scene.objects:

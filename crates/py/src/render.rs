@@ -74,6 +74,58 @@ fn count_arg(obj: Option<&Bound<'_, PyAny>>, name: &str, expected: &str) -> PyRe
         .ok_or_else(|| value_error(name, format!("{name} must be {expected}, got {obj}")))
 }
 
+/// A float argument (`edge_width`, `edge_angle`; None keeps `default`); the range is the
+/// core's check, which names the field.
+fn float_arg(obj: Option<&Bound<'_, PyAny>>, name: &str, default: f32) -> PyResult<f32> {
+    let Some(obj) = obj.filter(|o| !o.is_none()) else {
+        return Ok(default);
+    };
+    if obj.is_instance_of::<pyo3::types::PyBool>() {
+        return Err(crate::errors::type_error(
+            name,
+            format!("{name} must be a number, got bool"),
+        ));
+    }
+    obj.extract::<f64>().map(|v| v as f32).map_err(|_| {
+        crate::errors::type_error(
+            name,
+            format!(
+                "{name} must be a number, got {}",
+                obj.get_type().name().map_or("?".into(), |n| n.to_string())
+            ),
+        )
+    })
+}
+
+/// `edges`: None or one of the mode names.
+fn edges_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<core::EdgeMode> {
+    let Some(obj) = obj.filter(|o| !o.is_none()) else {
+        return Ok(core::EdgeMode::None);
+    };
+    let name: String = obj.extract().map_err(|_| {
+        crate::errors::type_error(
+            "edges",
+            "edges must be None, 'all', 'visible' or 'features'",
+        )
+    })?;
+    if name.eq_ignore_ascii_case("none") {
+        return Err(value_error(
+            "edges",
+            "edges must be None (not the string 'none'), 'all', 'visible' or 'features'",
+        ));
+    }
+    name.parse().map_err(to_py)
+}
+
+fn edges_name(mode: core::EdgeMode) -> Option<&'static str> {
+    match mode {
+        core::EdgeMode::None => None,
+        core::EdgeMode::All => Some("all"),
+        core::EdgeMode::Visible => Some("visible"),
+        core::EdgeMode::Features => Some("features"),
+    }
+}
+
 fn shading_name(mode: core::ShadingMode) -> &'static str {
     match mode {
         core::ShadingMode::Flat => "flat",
@@ -132,8 +184,9 @@ impl PyRenderOptions {
     #[pyo3(signature = (width=None, height=None, shading="phong", specular="blinn",
                         background=None, cull_backfaces=false, threads=None,
                         gouraud="normals", interpolation="perspective", samples=None,
-                        supersample=None),
-           text_signature = "(width=800, height=600, shading='phong', specular='blinn', background=None, cull_backfaces=False, threads=None, gouraud='normals', interpolation='perspective', samples=1, supersample=1)")]
+                        supersample=None, edges=None, edge_color=None, edge_width=None,
+                        edge_angle=None, edges_only=false),
+           text_signature = "(width=800, height=600, shading='phong', specular='blinn', background=None, cull_backfaces=False, threads=None, gouraud='normals', interpolation='perspective', samples=1, supersample=1, edges=None, edge_color=(0.0, 0.0, 0.0), edge_width=1.0, edge_angle=30.0, edges_only=False)")]
     #[allow(clippy::too_many_arguments)]
     fn new(
         width: Option<&Bound<'_, PyAny>>,
@@ -147,6 +200,11 @@ impl PyRenderOptions {
         interpolation: &str,
         samples: Option<&Bound<'_, PyAny>>,
         supersample: Option<&Bound<'_, PyAny>>,
+        edges: Option<&Bound<'_, PyAny>>,
+        edge_color: Option<&Bound<'_, PyAny>>,
+        edge_width: Option<&Bound<'_, PyAny>>,
+        edge_angle: Option<&Bound<'_, PyAny>>,
+        edges_only: bool,
     ) -> PyResult<Self> {
         let mut inner =
             core::RenderOptions::new(size(width, 800, "width")?, size(height, 600, "height")?);
@@ -170,6 +228,13 @@ impl PyRenderOptions {
         inner.samples = count_arg(samples, "samples", "1, 2, 4, 8 or 16")?;
         let max_ss = core::MAX_SUPERSAMPLE;
         inner.supersample = count_arg(supersample, "supersample", &format!("1 to {max_ss}"))?;
+        inner.edges = edges_arg(edges)?;
+        if let Some(c) = edge_color.filter(|c| !c.is_none()) {
+            inner.edge_color = convert::vec3(c, "edge_color")?;
+        }
+        inner.edge_width = float_arg(edge_width, "edge_width", 1.0)?;
+        inner.edge_angle = float_arg(edge_angle, "edge_angle", core::DEFAULT_EDGE_ANGLE)?;
+        inner.edges_only = edges_only;
         inner.validate().map_err(to_py)?;
         Ok(Self { inner })
     }
@@ -242,6 +307,11 @@ impl PyRenderOptions {
         )?;
         d.set_item("samples", self.inner.samples)?;
         d.set_item("supersample", self.inner.supersample)?;
+        d.set_item("edges", edges_name(self.inner.edges))?;
+        d.set_item("edge_color", self.edge_color())?;
+        d.set_item("edge_width", self.inner.edge_width)?;
+        d.set_item("edge_angle", self.inner.edge_angle)?;
+        d.set_item("edges_only", self.inner.edges_only)?;
         Ok(d)
     }
 
@@ -249,6 +319,42 @@ impl PyRenderOptions {
     #[getter]
     fn samples(&self) -> u32 {
         self.inner.samples
+    }
+
+    /// Which edges are drawn as lines: None, "all", "visible" or "features".
+    #[getter]
+    fn edges(&self) -> Option<&'static str> {
+        edges_name(self.inner.edges)
+    }
+
+    /// Linear RGB of the lines.
+    #[getter]
+    fn edge_color(&self) -> (f32, f32, f32) {
+        self.inner.edge_color.into()
+    }
+
+    /// Line width in pixels.
+    #[getter]
+    fn edge_width(&self) -> f32 {
+        self.inner.edge_width
+    }
+
+    /// Crease angle in degrees ("features").
+    #[getter]
+    fn edge_angle(&self) -> f32 {
+        self.inner.edge_angle
+    }
+
+    /// Whether the lines are drawn alone (surfaces painted as the background).
+    #[getter]
+    fn edges_only(&self) -> bool {
+        self.inner.edges_only
+    }
+
+    /// The names `edges` takes besides None (it also accepts them in any case).
+    #[classattr]
+    fn edges_names() -> (&'static str, &'static str, &'static str) {
+        ("all", "visible", "features")
     }
 
     /// Supersampling factor k (k×k pixels rendered and box-filtered per output pixel).

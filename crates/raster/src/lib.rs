@@ -59,8 +59,8 @@ pub use material::{preset_names, Material, Preset, PRESETS};
 pub use mesh::{face_normal, generate_vertex_normals, Mesh};
 pub use obj::{load_obj, load_obj_parts, parse_obj_parts, ObjPart};
 pub use options::{
-    GouraudMethod, Interpolation, RenderOptions, ShadingMode, SpecularModel, MAX_IMAGE_SIZE,
-    MAX_SUPERSAMPLE, SAMPLE_COUNTS,
+    EdgeMode, GouraudMethod, Interpolation, RenderOptions, ShadingMode, SpecularModel,
+    DEFAULT_EDGE_ANGLE, MAX_EDGE_WIDTH, MAX_IMAGE_SIZE, MAX_SUPERSAMPLE, SAMPLE_COUNTS,
 };
 pub use pipeline::shade::Pixel;
 pub use pipeline::MAX_RADIANCE;

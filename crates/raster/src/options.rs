@@ -46,7 +46,43 @@ pub struct RenderOptions {
     /// (a box filter in linear colour): the exact-but-slow anti-aliasing, 1 (off) to
     /// [`MAX_SUPERSAMPLE`]. Combines with `samples`.
     pub supersample: u32,
+    /// Which triangle edges to draw as lines over the image ([`EdgeMode`]); `None` draws
+    /// none and runs exactly the renderer without lines.
+    pub edges: EdgeMode,
+    /// Linear RGB of the lines (finite, each ≥ 0).
+    pub edge_color: Vec3,
+    /// Line width in pixels (finite, > 0, at most [`MAX_EDGE_WIDTH`]): a sample point
+    /// within `edge_width / 2` of an edge's projected segment is covered.
+    pub edge_width: f32,
+    /// [`EdgeMode::Features`]: an edge between two faces whose normals differ by more than
+    /// this angle (degrees, 0..=180) is a crease.
+    pub edge_angle: f32,
+    /// Draw the lines alone: surfaces still hide what is behind them but are painted as the
+    /// background (with `alpha`, transparent). Needs `edges`.
+    pub edges_only: bool,
 }
+
+/// Which triangle edges a render draws as lines.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum EdgeMode {
+    /// No lines (the default).
+    #[default]
+    None,
+    /// Every triangle edge, hidden ones too (a wireframe).
+    All,
+    /// Every triangle edge not hidden by a nearer surface (hidden-line removal), diagonals of
+    /// flat quads included.
+    Visible,
+    /// Visible silhouettes (edges between a front- and a back-facing face), boundary and
+    /// non-manifold edges, and creases (faces meeting at more than `edge_angle`).
+    Features,
+}
+
+/// Largest [`RenderOptions::edge_width`] in pixels.
+pub const MAX_EDGE_WIDTH: f32 = 256.0;
+
+/// Default [`RenderOptions::edge_angle`] in degrees.
+pub const DEFAULT_EDGE_ANGLE: f32 = 30.0;
 
 /// The sample counts [`RenderOptions::samples`] accepts.
 pub const SAMPLE_COUNTS: [u32; 5] = [1, 2, 4, 8, 16];
@@ -70,6 +106,11 @@ impl RenderOptions {
             baseline_isa: false,
             samples: 1,
             supersample: 1,
+            edges: EdgeMode::None,
+            edge_color: Vec3::ZERO,
+            edge_width: 1.0,
+            edge_angle: DEFAULT_EDGE_ANGLE,
+            edges_only: false,
         }
     }
 
@@ -111,7 +152,44 @@ impl RenderOptions {
                 ),
             ));
         }
+        self.validate_edges()?;
         pool::check_threads(self.threads)
+    }
+
+    /// Checks the line options (each error names its field).
+    fn validate_edges(&self) -> Result<()> {
+        let c = self.edge_color;
+        if !c.is_finite() || c.min_element() < 0.0 {
+            return Err(RasterError::invalid_field(
+                "edge_color",
+                format!(
+                    "edge_color must be finite and non-negative, got {:?}",
+                    c.to_array()
+                ),
+            ));
+        }
+        let w = self.edge_width;
+        if !(w > 0.0 && w <= MAX_EDGE_WIDTH) {
+            return Err(RasterError::invalid_field(
+                "edge_width",
+                format!("edge_width must be > 0 and at most {MAX_EDGE_WIDTH} pixels, got {w}"),
+            ));
+        }
+        let a = self.edge_angle;
+        if !(0.0..=180.0).contains(&a) {
+            return Err(RasterError::invalid_field(
+                "edge_angle",
+                format!("edge_angle must be between 0 and 180 degrees, got {a}"),
+            ));
+        }
+        if self.edges_only && self.edges == EdgeMode::None {
+            return Err(RasterError::invalid_field(
+                "edges_only",
+                "edges_only draws the lines alone, but edges is None; give edges='all', \
+                 'visible' or 'features'",
+            ));
+        }
+        Ok(())
     }
 
     /// Number of pixels.
@@ -194,6 +272,22 @@ impl FromStr for Interpolation {
             _ => Err(RasterError::invalid(format!(
                 "unknown interpolation '{s}'; expected 'perspective' or 'screen'"
             ))),
+        }
+    }
+}
+
+impl FromStr for EdgeMode {
+    type Err = RasterError;
+    fn from_str(s: &str) -> Result<Self> {
+        match s.to_ascii_lowercase().as_str() {
+            "none" => Ok(EdgeMode::None),
+            "all" => Ok(EdgeMode::All),
+            "visible" => Ok(EdgeMode::Visible),
+            "features" => Ok(EdgeMode::Features),
+            _ => Err(RasterError::invalid_field(
+                "edges",
+                format!("unknown edges mode '{s}'; expected None, 'all', 'visible' or 'features'"),
+            )),
         }
     }
 }

@@ -183,6 +183,8 @@ fn supersampled<P: Pixel>(
     big.width *= options.supersample;
     big.height *= options.supersample;
     big.supersample = 1;
+    // Lines keep their width in output pixels.
+    big.edge_width *= options.supersample as f32;
     let n = big.pixel_count();
     let mut c = reserve::<f32>(n * 3)?;
     let mut d = match depth {

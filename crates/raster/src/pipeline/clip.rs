@@ -45,6 +45,24 @@ impl ClipPlanes {
         code
     }
 
+    /// Clips the segment `a`–`b` against every plane (the lines' stage): the part inside,
+    /// if any.
+    pub fn clip_segment(&self, a: DVec4, b: DVec4) -> Option<(DVec4, DVec4)> {
+        let (mut t0, mut t1) = (0.0f64, 1.0f64);
+        for plane in &self.planes {
+            let (da, db) = (plane.dot(a), plane.dot(b));
+            if da < 0.0 && db < 0.0 {
+                return None;
+            }
+            if da < 0.0 {
+                t0 = t0.max(da / (da - db));
+            } else if db < 0.0 {
+                t1 = t1.min(da / (da - db));
+            }
+        }
+        (t0 < t1).then(|| (a + (b - a) * t0, a + (b - a) * t1))
+    }
+
     /// Clips the triangle `tri` against the planes in `mask`. Each output vertex carries its
     /// clip position and its barycentric weights with respect to `tri`. Returns the convex
     /// polygon (empty when nothing remains).
@@ -110,6 +128,17 @@ mod tests {
             assert!(p.z <= p.w + 1e-12);
             assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-12);
         }
+    }
+
+    #[test]
+    fn segments_are_cut_at_the_near_plane() {
+        let planes = ClipPlanes::new(100, 100);
+        let a = DVec4::new(0.0, 0.0, 0.5, 1.0);
+        let b = DVec4::new(0.0, 0.0, 1.5, 1.0);
+        let (p, q) = planes.clip_segment(a, b).unwrap();
+        assert_eq!(p, a);
+        assert!((q.z - q.w).abs() < 1e-12);
+        assert!(planes.clip_segment(b, b * 1.1).is_none());
     }
 
     #[test]

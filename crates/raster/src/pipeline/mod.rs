@@ -10,6 +10,7 @@
 pub(crate) mod bin;
 pub(crate) mod clip;
 pub(crate) mod isa;
+mod lines;
 mod passes;
 pub(crate) mod raster;
 pub(crate) mod samples;

@@ -5,6 +5,7 @@
 
 use rayon::prelude::*;
 
+use super::lines::{LinePass, LineScratch, TileRows};
 use super::raster::{self, TileBuffers};
 use super::shade::{put, Out, Pixel, Program, ShadeContext, TexturedObject, TexturedScene};
 use super::{isa, prepare, tiles, Needs};
@@ -12,7 +13,7 @@ use crate::camera::Camera;
 use crate::effects::FogEffect;
 use crate::error::Result;
 use crate::frame::RenderStats;
-use crate::options::{Interpolation, RenderOptions, ShadingMode};
+use crate::options::{EdgeMode, Interpolation, RenderOptions, ShadingMode};
 use crate::scene::Scene;
 
 /// The row-major output buffers of a colour pass: `height·width·3` colour samples and,
@@ -91,6 +92,32 @@ pub(crate) fn color_pass<P: Pixel>(
                 .collect(),
         }),
     };
+    if options.edges != EdgeMode::None {
+        // Lines: a tile closure of its own, chosen once per render, so a render without
+        // them runs the closure below exactly as before.
+        let lines = LinePass::new(scene, camera, options, &prep.tris, &prep.verts);
+        let modes = (options.shading, screen, options.samples);
+        rects
+            .par_iter()
+            .zip(color_rows.par_iter_mut())
+            .zip(depth_rows.par_iter_mut())
+            .zip(coverage_rows.par_iter_mut())
+            .enumerate()
+            .for_each_init(
+                || (isa::Workspace::new(options.samples), LineScratch::new()),
+                |(work, scratch), (i, (((rect, crows), drows), vrows))| {
+                    let rows = TileRows {
+                        color: crows,
+                        depth: drows.as_deref_mut(),
+                        coverage: vrows.as_deref_mut(),
+                    };
+                    lines.run_tile(isa, &shade_ctx, modes, work, scratch, i, *rect, rows);
+                },
+            );
+        let mut stats = prep.stats;
+        stats.timings.raster_shade = prep.t_start.elapsed();
+        return Ok(stats);
+    }
     rects
         .par_iter()
         .zip(color_rows.par_iter_mut())

@@ -127,6 +127,12 @@ impl SampleTarget {
         !self.samples.is_empty()
     }
 
+    /// The owner of every pixel at each sample position of the tile last rasterized, in
+    /// pattern order.
+    pub fn sample_ids(&self) -> impl Iterator<Item = &[u32; TILE * TILE]> {
+        self.samples.iter().map(|s| &*s.id)
+    }
+
     /// The share of each pixel's samples owned by a triangle in the tile last rendered,
     /// into `rows`.
     pub fn write_coverage(&self, rect: TileRect, rows: &mut [&mut [Out<f32>]]) {
