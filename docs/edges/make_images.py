@@ -102,14 +102,17 @@ def _kw(kw: dict) -> str:
 def main() -> None:
     scene, cam = scene_and_camera()
     for name, kw in CALLS.items():
-        sl.save_image(sl.render(scene, cam, W, H, encoding="srgb", **kw), HERE / name)
+        img = sl.render(scene, cam, W, H, encoding="srgb", **kw)
+        sl.save_image(img, HERE / name, compression="high")
     crops = []
     for _, n in AA:
         img = sl.render(scene, cam, W, H, encoding="srgb", edges="visible", samples=n)
         crops.append(np.repeat(np.repeat(img[CROP], ZOOM, 0), ZOOM, 1))
     gap = np.full((crops[0].shape[0], 6, 3), 255, np.uint8)
     sl.save_image(
-        np.concatenate([x for c in crops for x in (c, gap)][:-1], 1), HERE / "antialiased.png"
+        np.concatenate([x for c in crops for x in (c, gap)][:-1], 1),
+        HERE / "antialiased.png",
+        compression="high",
     )
     lines = [
         "# Line drawing pictures",
