@@ -206,7 +206,17 @@ def _call(
 
 
 _MAP_KEYS = ("diffuse_map", "ambient_map", "specular_map", "emission_map")
-_MATERIAL_KEYS = ("preset", "ambient", "diffuse", "specular", "shininess", "emission", *_MAP_KEYS)
+_OPTICS_KEYS = ("reflectivity", "transparency", "ior", "fresnel", "absorption")
+_MATERIAL_KEYS = (
+    "preset",
+    "ambient",
+    "diffuse",
+    "specular",
+    "shininess",
+    "emission",
+    *_MAP_KEYS,
+    *_OPTICS_KEYS,
+)
 _IMAGE_KEYS = ("filter", "wrap", "srgb", "anisotropy", "uv_scale", "uv_offset")
 _PROCEDURAL_KEYS = ("scale", "color_a", "color_b", "width", "octaves", "seed")
 
@@ -334,6 +344,23 @@ def _material_table(v: Any, where: str) -> Material:
     for k in _MAP_KEYS:
         if k in t:
             values[k] = _texture(t[k], _at(where, k))
+    # Optics: a number or an RGB list (reflectivity, absorption), a number or a preset name
+    # (ior), a boolean (fresnel); their ranges are the core's to check.
+    for k in ("reflectivity", "absorption"):
+        if k in t:
+            values[k] = (
+                _number(t[k], _at(where, k)) if _is_number(t[k]) else _numbers(t[k], _at(where, k))
+            )
+    if "transparency" in t:
+        values["transparency"] = _number(t["transparency"], _at(where, "transparency"))
+    if "ior" in t:
+        values["ior"] = (
+            _string(t["ior"], _at(where, "ior"))
+            if isinstance(t["ior"], str)
+            else _number(t["ior"], _at(where, "ior"))
+        )
+    if "fresnel" in t:
+        values["fresnel"] = _boolean(t["fresnel"], _at(where, "fresnel"))
     return _call(where, lambda: Material(**values))
 
 
@@ -397,6 +424,13 @@ def material_to_dict(m: Material) -> dict[str, Any]:
         tex = getattr(m, k)
         if tex is not None:
             d[k] = texture_to_dict(tex)
+    # Optics only when they differ from an opaque material's, so older files stay as they were.
+    if any(m.reflectivity) or m.transparency or m.ior != 1.0 or not m.fresnel or any(m.absorption):
+        d["reflectivity"] = list(m.reflectivity)
+        d["transparency"] = float(m.transparency)
+        d["ior"] = float(m.ior)
+        d["fresnel"] = bool(m.fresnel)
+        d["absorption"] = list(m.absorption)
     return d
 
 
@@ -620,11 +654,13 @@ def _render_options(v: Any, where: str) -> dict[str, Any]:
         "specular": _string,
         "gouraud": _string,
         "interpolation": _string,
-        "background": _numbers,
+        "background": lambda v, w: v if v == "environment" else _numbers(v, w),
         "cull_backfaces": _boolean,
+        "reflections": _string,
+        "refractions": _string,
     }
     for k, value in t.items():
-        if value is not None or k != "threads":
+        if value is not None or k not in ("threads", "refractions"):
             types.get(k, _integer)(value, _at(where, k))
     _call(where, lambda: RenderOptions(**t))
     return t

@@ -187,7 +187,9 @@ fn restore_mesh(state: &Bound<'_, PyAny>) -> PyResult<PyMesh> {
 
 // ---- Material, Fog, Camera ----
 
-type MaterialState = (V3, V3, V3, f32, V3);
+/// ambient, diffuse, specular, shininess, emission, then the optics: reflectivity,
+/// transparency, ior, fresnel, absorption.
+type MaterialState = (V3, V3, V3, f32, V3, V3, f32, f32, bool, V3);
 
 pub fn material_state(m: &core::Material) -> MaterialState {
     (
@@ -196,12 +198,18 @@ pub fn material_state(m: &core::Material) -> MaterialState {
         m.specular.into(),
         m.shininess,
         m.emission.into(),
+        m.reflectivity.into(),
+        m.transparency,
+        m.ior,
+        m.fresnel,
+        m.absorption.into(),
     )
 }
 
 fn material(s: MaterialState) -> PyResult<core::Material> {
     core::Material::new(v3(s.0), v3(s.1), v3(s.2), s.3)
         .and_then(|m| m.with_emission(v3(s.4)))
+        .and_then(|m| m.with_optics(v3(s.5), s.6, s.7, s.8, v3(s.9)))
         .map_err(to_py)
 }
 
@@ -543,9 +551,15 @@ pub fn scene_state<'py>(py: Python<'py>, scene: &PyScene) -> PyResult<Bound<'py,
             .to_owned()
             .into_any(),
     ];
-    // Per-object texture maps, only when there are any: untextured scenes pickle as before.
-    if maps.iter().any(Option::is_some) {
+    // Per-object texture maps, only when there are any (or an environment follows):
+    // untextured scenes pickle as before.
+    let env = s.environment();
+    if maps.iter().any(Option::is_some) || env.is_some() {
         items.push(maps.into_pyobject(py)?.into_any());
+    }
+    if let Some(e) = env {
+        let e = crate::environment::PyEnvironment { inner: e.clone() };
+        items.push(Bound::new(py, e)?.into_any());
     }
     PyTuple::new(py, items)
 }
@@ -560,8 +574,17 @@ fn transform(cols: &[f32]) -> PyResult<Mat4> {
 #[allow(clippy::type_complexity)]
 fn restore_scene(state: &Bound<'_, PyAny>) -> PyResult<PyScene> {
     // A ninth item holds the objects' texture maps (scenes with textures only).
+    let environment: Option<core::Environment> = match state.len()? {
+        10 => Some(
+            state
+                .get_item(9)?
+                .extract::<crate::environment::PyEnvironment>()?
+                .inner,
+        ),
+        _ => None,
+    };
     let maps: Vec<Option<Arc<core::Maps>>> = match state.len()? {
-        9 => state
+        9 | 10 => state
             .get_item(8)?
             .try_iter()?
             .map(|m| {
@@ -588,6 +611,7 @@ fn restore_scene(state: &Bound<'_, PyAny>) -> PyResult<PyScene> {
     ) = state.extract()?;
     let mut scene = core::Scene::new(v3(ambient)).map_err(to_py)?;
     scene.set_fog(fog_s.map(fog).transpose()?);
+    scene.set_environment(environment);
     scene.set_two_sided(two_sided);
     scene.set_local_viewer(local_viewer);
     for (k, (i, m, back, t)) in objects.into_iter().enumerate() {

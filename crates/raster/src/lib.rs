@@ -40,6 +40,7 @@ mod pipeline;
 mod pool;
 pub mod primitives;
 mod rays;
+pub mod reflect;
 mod render;
 mod scene;
 mod shadows;
@@ -54,18 +55,19 @@ pub use lights::{
     MAX_AREA_SAMPLES, MIN_ATTENUATION_DENOMINATOR,
 };
 pub use lights::{ShadowFilter, ShadowSettings, Shadows, MAX_PCF_KERNEL, MAX_SHADOW_RESOLUTION};
-pub use material::{preset_names, Material, Preset, PRESETS};
+pub use material::{ior_preset, preset_names, Material, Preset, IOR_PRESETS, PRESETS};
 pub use mesh::{face_normal, generate_vertex_normals, Mesh};
 pub use obj::{load_obj, load_obj_parts, parse_obj_parts, ObjPart};
 pub use options::{
-    GouraudMethod, Interpolation, RenderOptions, ShadingMode, SpecularModel, MAX_IMAGE_SIZE,
-    MAX_SUPERSAMPLE, SAMPLE_COUNTS,
+    GouraudMethod, Interpolation, RenderOptions, ShadingMode, SpecularModel, Technique,
+    DEFAULT_TRACE_DEPTH, MAX_IMAGE_SIZE, MAX_SUPERSAMPLE, MAX_TRACE_DEPTH, SAMPLE_COUNTS,
 };
 pub use pipeline::shade::Pixel;
 pub use pipeline::MAX_RADIANCE;
 pub use pool::{default_threads, MAX_THREADS};
 #[doc(hidden)]
 pub use pool::{max_in_flight, set_rendezvous};
+pub use reflect::{Environment, MAX_ENVIRONMENT_SIZE};
 pub use render::{coverage_counts, render, render_depth_map, render_into, render_with};
 pub use scene::{Object, Scene};
 pub use texture::{Filter, Footprint, Maps, Procedural, Texture, Wrap};

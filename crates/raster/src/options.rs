@@ -46,7 +46,50 @@ pub struct RenderOptions {
     /// (a box filter in linear colour): the exact-but-slow anti-aliasing, 1 (off) to
     /// [`MAX_SUPERSAMPLE`]. Combines with `samples`.
     pub supersample: u32,
+    /// How mirrored light is found on reflective materials ([`Technique::Environment`] by
+    /// default). Read only when a material has `reflectivity > 0`.
+    pub reflections: Technique,
+    /// How transmitted light is found on transparent materials: `None` (the default) sees
+    /// what lies behind along the straight view ray (order-independent blending, no
+    /// bending); `Some` bends it by Snell's law and looks it up or traces it.
+    pub refractions: Option<Technique>,
+    /// Secondary rays followed at most from the first surface ([`Technique::Ray`]); at the
+    /// limit the environment is looked up instead. 0 ..= [`MAX_TRACE_DEPTH`].
+    pub max_depth: u32,
+    /// Show the scene's environment as the background (each pixel's view ray looked up)
+    /// instead of [`RenderOptions::background`]; needs a scene environment.
+    pub environment_background: bool,
 }
+
+/// How a reflection or refraction finds the light arriving along its direction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Technique {
+    /// One lookup of the scene's environment (or the background colour) along the
+    /// direction at the first surface: other objects are not seen.
+    Environment,
+    /// A secondary ray through the scene's BVH (Whitted): the nearest surface it hits is
+    /// lit and may reflect and refract again, up to [`RenderOptions::max_depth`].
+    Ray,
+}
+
+impl FromStr for Technique {
+    type Err = RasterError;
+    fn from_str(s: &str) -> Result<Self> {
+        match s.to_ascii_lowercase().as_str() {
+            "environment" => Ok(Technique::Environment),
+            "ray" => Ok(Technique::Ray),
+            _ => Err(RasterError::invalid(format!(
+                "unknown technique '{s}'; expected 'environment' or 'ray'"
+            ))),
+        }
+    }
+}
+
+/// Largest [`RenderOptions::max_depth`].
+pub const MAX_TRACE_DEPTH: u32 = 32;
+
+/// Default [`RenderOptions::max_depth`].
+pub const DEFAULT_TRACE_DEPTH: u32 = 5;
 
 /// The sample counts [`RenderOptions::samples`] accepts.
 pub const SAMPLE_COUNTS: [u32; 5] = [1, 2, 4, 8, 16];
@@ -70,6 +113,10 @@ impl RenderOptions {
             baseline_isa: false,
             samples: 1,
             supersample: 1,
+            reflections: Technique::Environment,
+            refractions: None,
+            max_depth: DEFAULT_TRACE_DEPTH,
+            environment_background: false,
         }
     }
 
@@ -108,6 +155,15 @@ impl RenderOptions {
                 format!(
                     "supersample {k} renders {w}x{h} pixels, above the limit of \
                      {MAX_IMAGE_SIZE} per side; lower it or the image size"
+                ),
+            ));
+        }
+        if self.max_depth > MAX_TRACE_DEPTH {
+            return Err(RasterError::invalid_field(
+                "max_depth",
+                format!(
+                    "max_depth must be between 0 and {MAX_TRACE_DEPTH}, got {}",
+                    self.max_depth
                 ),
             ));
         }

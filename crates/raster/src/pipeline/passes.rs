@@ -13,6 +13,7 @@ use crate::effects::FogEffect;
 use crate::error::{RasterError, Result};
 use crate::frame::RenderStats;
 use crate::options::{Interpolation, RenderOptions, ShadingMode};
+use crate::reflect::SecondaryEffect;
 use crate::scene::Scene;
 
 /// The row-major output buffers of a colour pass: `height·width·3` colour samples and,
@@ -61,6 +62,10 @@ pub(crate) fn color_pass<P: Pixel>(
              remove the maps or the lights' shadows",
         ));
     }
+    let secondary_wanted = SecondaryEffect::wanted(scene, options);
+    if secondary_wanted {
+        check_secondary(scene, options)?;
+    }
     let mut prep = prepare(scene, camera, options, Needs::Color)?;
     // Phong reads them per pixel; flat and Gouraud have used them already (prelight).
     let shadows = match options.shading {
@@ -74,6 +79,19 @@ pub(crate) fn color_pass<P: Pixel>(
     let mut coverage_rows = tile_rows(out.coverage, w, h, rects.len());
     let isa = isa::Isa::detect(options.baseline_isa);
     let screen = options.interpolation == Interpolation::Screen;
+    let fog = scene
+        .fog()
+        .map(|f| FogEffect::new(*f, camera.eye_distance(options.width, options.height)));
+    // With the secondary stage the fog comes after the mix, in that stage.
+    let (fog, secondary) = if secondary_wanted {
+        let world = &prep.verts.world[..prep.verts.world.len().min(scene_vertices(scene))];
+        (
+            None,
+            Some(SecondaryEffect::new(scene, camera, options, world, fog)),
+        )
+    } else {
+        (fog, None)
+    };
     let shade_ctx = ShadeContext {
         tris: &prep.tris,
         verts: &prep.verts,
@@ -83,10 +101,8 @@ pub(crate) fn color_pass<P: Pixel>(
         background: options.background,
         two_sided: scene.two_sided(),
         size: (options.width as f64, options.height as f64),
-        fog: scene
-            .fog()
-            .map(|f| FogEffect::new(*f, camera.eye_distance(options.width, options.height))),
-        program: Program::for_scene(scene.fog().is_some()),
+        fog,
+        program: Program::for_scene(fog.is_some()),
         shadows,
         textured: (!prep.units.is_empty()).then(|| TexturedScene {
             units: &prep.units,
@@ -100,6 +116,7 @@ pub(crate) fn color_pass<P: Pixel>(
                 })
                 .collect(),
         }),
+        secondary,
     };
     rects
         .par_iter()
@@ -129,6 +146,46 @@ pub(crate) fn color_pass<P: Pixel>(
     let mut stats = prep.stats;
     stats.timings.raster_shade = prep.t_start.elapsed();
     Ok(stats)
+}
+
+/// Every object's vertex count, summed (the vertex stage's positions before clip-made ones).
+fn scene_vertices(scene: &Scene) -> usize {
+    scene
+        .objects()
+        .iter()
+        .map(|o| o.mesh().positions().len())
+        .sum()
+}
+
+/// Combinations the secondary stage does not support yet, refused with the field to change.
+fn check_secondary(scene: &Scene, options: &RenderOptions) -> Result<()> {
+    if options.samples > 1 {
+        return Err(RasterError::invalid_field(
+            "samples",
+            "reflections, transparency and the environment background do not support \
+             samples > 1 yet; use supersample for anti-aliasing",
+        ));
+    }
+    if options.environment_background && scene.environment().is_none() {
+        return Err(RasterError::invalid_field(
+            "background",
+            "background='environment' needs a scene environment (Scene(environment=...))",
+        ));
+    }
+    if let Some(env) = scene.environment() {
+        let m = env.max_value();
+        if m > crate::pipeline::MAX_RADIANCE {
+            return Err(RasterError::invalid_field(
+                "intensity",
+                format!(
+                    "the environment reaches {m:.3e} (intensity x largest texel), beyond the \
+                     {:e} that float32 colours can safely hold",
+                    crate::pipeline::MAX_RADIANCE
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Depth-only pass: the visibility of every pixel, written as its window depth (reversed-Z:
