@@ -227,7 +227,9 @@ class TracedScene:
             else:
                 nn = np.asarray(s.normals, dtype=np.float64)
                 w0 = (1 - u[sel] - v[sel])[:, None]
-                ni = _unit(nn[f[:, 0]] * w0 + nn[f[:, 1]] * u[sel, None] + nn[f[:, 2]] * v[sel, None])
+                ni = _unit(
+                    nn[f[:, 0]] * w0 + nn[f[:, 1]] * u[sel, None] + nn[f[:, 2]] * v[sel, None]
+                )
                 ni = np.where(entering[:, None], ni, -ni)
                 n = np.where((np.sum(ni * view, axis=-1) > 0)[:, None], ni, g)
             lit_n = np.where(entering[:, None], n, -n)
@@ -293,7 +295,7 @@ def trace(
     the pixel centres, then :meth:`TracedScene.radiance` (the first surface at depth 0).
     Pixels whose ray hits nothing show ``scene.background`` (the environment with
     ``env_background``)."""
-    origin, direction = ref.pixel_rays(camera, width, height)
+    _origin, direction = ref.pixel_rays(camera, width, height)
     view = ref.look_at(camera.eye, camera.target, camera.up)
     rot = np.linalg.inv(view[:3, :3])
     eye = np.asarray(camera.eye, dtype=np.float64)

@@ -114,7 +114,9 @@ def test_environment_lookup_matches_the_reference():
     assert np.abs(got - want).max() < 1e-4
     # Row 0 is straight up; the centre column looks along -z.
     plain = sl.Environment(img)
-    assert np.allclose(plain.sample([0.0, 1.0, 0.0]), img[0].mean(axis=0) * 0 + img[0, 0], atol=0.05)
+    assert np.allclose(
+        plain.sample([0.0, 1.0, 0.0]), img[0].mean(axis=0) * 0 + img[0, 0], atol=0.05
+    )
     assert np.allclose(plain.sample([0.0, 0.0, -1.0]), img[7:9, 15:17].mean(axis=(0, 1)), atol=1e-6)
 
 
@@ -123,7 +125,7 @@ def test_environment_background_shows_each_view_ray():
     scene = sl.Scene(environment=sl.Environment(img))
     cam = sl.Camera.look_at((0, 0, 0), (0, 0, -1), (0, 1, 0), fov_y=60)
     out = sl.render(scene, cam, width=32, height=24, background="environment", dtype="float32")
-    origin, direction = ref.pixel_rays(ref.Camera((0, 0, 0), (0, 0, -1), (0, 1, 0), 60), 32, 24)
+    _origin, direction = ref.pixel_rays(ref.Camera((0, 0, 0), (0, 0, -1), (0, 1, 0), 60), 32, 24)
     want = rr.environment(img, direction)
     assert np.abs(out - want).max() < 1e-4
 
@@ -274,11 +276,23 @@ def ref_mirror(reflections="ray") -> rr.TracedScene:
 def edge_mask(scene, cam, w, h):
     """Pixels whose primary ray is farther than EDGE_PX from any triangle edge."""
     img = ref.render_reference(
-        np.concatenate([o.mesh.vertices @ o.transform[:3, :3].T + o.transform[:3, 3] for o in scene.objects]),
         np.concatenate(
-            [o.mesh.faces + off for o, off in zip(scene.objects, np.cumsum([0] + [len(o.mesh.vertices) for o in scene.objects])[:-1])]
+            [o.mesh.vertices @ o.transform[:3, :3].T + o.transform[:3, 3] for o in scene.objects]
         ),
-        camera=cam, width=w, height=h, material=ref.Material((0,)*3, (0,)*3, (0,)*3, 1.0), lights=[],
+        np.concatenate(
+            [
+                o.mesh.faces + off
+                for o, off in zip(
+                    scene.objects,
+                    np.cumsum([0] + [len(o.mesh.vertices) for o in scene.objects])[:-1],
+                )
+            ]
+        ),
+        camera=cam,
+        width=w,
+        height=h,
+        material=ref.Material((0,) * 3, (0,) * 3, (0,) * 3, 1.0),
+        lights=[],
     )
     return ~img.mask | (img.edge_dist > 0.5)
 
@@ -286,7 +300,9 @@ def edge_mask(scene, cam, w, h):
 @pytest.mark.parametrize("technique", ["ray", "environment"])
 def test_mirror_floor_reflects_the_sphere_like_the_reference(technique):
     w, h = 96, 72
-    got = sl.render(sl_mirror(), sl_cam(), width=w, height=h, reflections=technique, dtype="float32")
+    got = sl.render(
+        sl_mirror(), sl_cam(), width=w, height=h, reflections=technique, dtype="float32"
+    )
     want = rr.trace(ref_mirror(technique), CAM, w, h)
     keep = edge_mask(sl_mirror(), CAM, w, h)
     diff = np.abs(ref.to_uint8(got).astype(int) - ref.to_uint8(want).astype(int)).max(axis=-1)
@@ -362,7 +378,9 @@ def slab_scene(theta_deg: float, ior: float, refractions="ray"):
     for x0, m in ((-20.0, white), (0.0, black)):
         v = np.array([[x0, -20, -3.0], [x0 + 20, -20, -3.0], [x0 + 20, 20, -3.0], [x0, 20, -3.0]])
         scene.add(sl.Mesh(v, [[0, 1, 2], [0, 2, 3]]), material=m)
-    glass = sl.Material((0, 0, 0), (0, 0, 0), (0, 0, 0), 1.0, transparency=1.0, ior=ior, fresnel=False)
+    glass = sl.Material(
+        (0, 0, 0), (0, 0, 0), (0, 0, 0), 1.0, transparency=1.0, ior=ior, fresnel=False
+    )
     box = sl.Mesh.cube()  # [-1, 1]^3 -> thickness 1 in z, wide in x and y
     t = np.diag([4.0, 0.5, 0.5, 1.0])
     t[:3, :3] = ref_rot_y(theta_deg) @ t[:3, :3]
@@ -380,7 +398,9 @@ def ref_rot_y(deg):
 def test_glass_slab_shifts_the_view_by_the_exact_lateral_offset(theta):
     w, h = 400, 40
     cam = sl.Camera.orthographic((0, 0, 5), (0, 0, 0), (0, 1, 0), height=1.0, near=0.1, far=20)
-    img = sl.render(slab_scene(theta, 1.5), cam, width=w, height=h, refractions="ray", dtype="float32")
+    img = sl.render(
+        slab_scene(theta, 1.5), cam, width=w, height=h, refractions="ray", dtype="float32"
+    )
     px = 10.0 / w  # world units per pixel (width 10 at aspect 10)
     row = img[h // 4, :, 0]  # a row through the slab (|y| < 0.5)
     # The first black pixel near the centre (the slab's end faces are far to the sides).
@@ -400,11 +420,18 @@ def test_glass_slab_shifts_the_view_by_the_exact_lateral_offset(theta):
 def test_ior_one_and_full_transparency_are_invisible():
     # A pane with transparency 1 and ior 1 (ray or none) lets the scene through unchanged.
     base = sl_mirror()
-    base_img = sl.render(base, sl_cam(), width=64, height=48, reflections="environment", dtype="float32")
+    base_img = sl.render(
+        base, sl_cam(), width=64, height=48, reflections="environment", dtype="float32"
+    )
     # Rays through the pane that leave the scene read the environment.
     env_bg = sl.render(
-        base, sl_cam(), width=64, height=48, reflections="environment",
-        background="environment", dtype="float32",
+        base,
+        sl_cam(),
+        width=64,
+        height=48,
+        reflections="environment",
+        background="environment",
+        dtype="float32",
     )
     for refractions in (None, "ray"):
         s = sl_mirror()
@@ -412,8 +439,13 @@ def test_ior_one_and_full_transparency_are_invisible():
         v = np.array([[-3, -1, 1.5], [3, -1, 1.5], [3, 3, 1.5], [-3, 3, 1.5]], float)
         s.add(sl.Mesh(v, [[0, 1, 2], [0, 2, 3]]), material=pane)
         img = sl.render(
-            s, sl_cam(), width=64, height=48, reflections="environment",
-            refractions=refractions, dtype="float32",
+            s,
+            sl_cam(),
+            width=64,
+            height=48,
+            reflections="environment",
+            refractions=refractions,
+            dtype="float32",
         )
         if refractions is None:
             assert np.array_equal(img, base_img)
@@ -432,8 +464,13 @@ def test_ior_below_one_and_grazing_views_stay_finite():
         cam = sl.Camera.look_at((0, -0.95, 4), (0, -1.0, 0), (0, 1, 0))  # grazing the floor
         for technique in ("environment", "ray"):
             img = sl.render(
-                scene, cam, width=40, height=30, reflections=technique,
-                refractions=technique, dtype="float32",
+                scene,
+                cam,
+                width=40,
+                height=30,
+                reflections=technique,
+                refractions=technique,
+                dtype="float32",
             )
             assert np.isfinite(img).all() and img.min() >= 0
 
@@ -449,7 +486,14 @@ def planes_scene(order):
     scene = sl.Scene(ambient=(0, 0, 0), default_lights=False)
     for k in order:
         (cx, cy), z = offsets[k], zs[k]
-        v = np.array([[cx - 0.8, cy - 0.8, z], [cx + 0.8, cy - 0.8, z], [cx + 0.8, cy + 0.8, z], [cx - 0.8, cy + 0.8, z]])
+        v = np.array(
+            [
+                [cx - 0.8, cy - 0.8, z],
+                [cx + 0.8, cy - 0.8, z],
+                [cx + 0.8, cy + 0.8, z],
+                [cx - 0.8, cy + 0.8, z],
+            ]
+        )
         m = sl.Material((0, 0, 0), (0, 0, 0), (0, 0, 0), 1.0, emission=colors[k], transparency=0.4)
         scene.add(sl.Mesh(v, [[0, 1, 2], [0, 2, 3]]), material=m)
     return scene, colors, zs, offsets
@@ -460,21 +504,23 @@ def test_three_transparent_planes_give_the_same_pixels_in_every_order():
     imgs = {}
     for order in itertools.permutations(range(3)):
         scene, *_ = planes_scene(order)
-        imgs[order] = sl.render(scene, cam, width=80, height=60, background=(0.5, 0.5, 0.5), dtype="float32")
+        imgs[order] = sl.render(
+            scene, cam, width=80, height=60, background=(0.5, 0.5, 0.5), dtype="float32"
+        )
     first = next(iter(imgs.values()))
     for img in imgs.values():
         assert np.array_equal(img, first)
     # Against the reference's sorted blend, at pixel centres inside each overlap.
     _, colors, zs, offsets = planes_scene((0, 1, 2))
     rc = ref.Camera((0, 0, 4), (0, 0, 0), (0, 1, 0), 40)
-    origin, direction = ref.pixel_rays(rc, 80, 60)
+    _origin, direction = ref.pixel_rays(rc, 80, 60)
     checked = 0
     for y in range(60):
         for x in range(80):
             d = direction[y, x]  # eye at origin looking down -z: world = eye + t*d
             layers = []
             for k in range(3):
-                t = (4 - zs[k])  # eye depth of plane k
+                t = 4 - zs[k]  # eye depth of plane k
                 px, py = d[0] * t, d[1] * t
                 (cx, cy) = offsets[k]
                 inside = abs(px - cx) < 0.79 and abs(py - cy) < 0.79
@@ -509,3 +555,86 @@ def test_transparency_zero_is_opaque_and_thread_count_does_not_matter():
     with pytest.raises(ValueError) as e:
         sl.render(scene, cam, width=16, height=16, samples=4)
     assert e.value.field == "samples"
+
+
+# ---------------------------------------------------------------------------------------
+# Scene files, to_dict/from_dict, the command line
+
+
+def test_scene_file_round_trip_with_optics_and_environment(tmp_path):
+    np.save(tmp_path / "sky.npy", sky(8))
+    env = sl.load_environment(tmp_path / "sky.npy", rotation=15.0, intensity=1.25)
+    assert env.path == tmp_path / "sky.npy"
+    scene = sl.Scene(environment=env)
+    scene.add(
+        sl.Mesh.uv_sphere(8, 16),
+        material=sl.Material(reflectivity=(0.5, 0.4, 0.3), transparency=0.3, ior="water"),
+    )
+    scene.add(sl.Mesh.plane(), material="gold")
+    cam = sl.Camera.look_at((0, 1, 4), (0, 0, 0), (0, 1, 0))
+    opts = {
+        "width": 40,
+        "height": 30,
+        "reflections": "ray",
+        "refractions": "ray",
+        "max_depth": 3,
+        "background": "environment",
+    }
+    path = tmp_path / "glass.toml"
+    sl.save_scene(path, scene, cam, opts)
+    text = path.read_text()
+    assert "reflectivity" in text and "environment" in text and "max_depth" in text
+    sf = sl.load_scene(path)
+    assert sf.scene.environment == env
+    assert sf.scene.objects[0].material == scene.objects[0].material
+    assert sf.scene.objects[1].material == sl.Material.preset("gold")
+    assert sf.render().tobytes() == sl.render(scene, cam, **opts).tobytes()
+    back = sl.load_scene_dict(sl.scene_to_dict(scene, cam, opts), base_dir=tmp_path)
+    assert back.render().tobytes() == sf.render().tobytes()
+    # An array-made environment has no file to name.
+    scene.environment = sl.Environment(sky(4))
+    with pytest.raises(ValueError, match="array"):
+        sl.scene_to_dict(scene)
+    # Bad values are reported at their key.
+    bad = sl.scene_to_dict(sf.scene, cam, opts)
+    bad["objects"][0]["material"]["transparency"] = 1.5
+    with pytest.raises(sl.SceneFileError) as e:
+        sl.load_scene_dict(bad)
+    assert "objects[0].material.transparency" in str(e.value)
+    bad = sl.scene_to_dict(sf.scene, cam, opts)
+    bad["render"]["max_depth"] = 99
+    with pytest.raises(sl.SceneFileError) as e:
+        sl.load_scene_dict(bad)
+    assert "render.max_depth" in str(e.value)
+
+
+def test_command_line_flags(tmp_path):
+    from PIL import Image
+
+    np.save(tmp_path / "sky.npy", sky(8))
+    out = tmp_path / "m.png"
+    from shadelab_rs import cli
+
+    code = cli.main(
+        [
+            "render",
+            str(sl.data_path("cube/cube.obj")),
+            "-o",
+            str(out),
+            "--size",
+            "32x24",
+            "--environment",
+            str(tmp_path / "sky.npy"),
+            "--background",
+            "environment",
+            "--reflections",
+            "ray",
+            "--refractions",
+            "none",
+            "--max-depth",
+            "2",
+        ]
+    )
+    assert code == 0
+    img = np.asarray(Image.open(out))
+    assert img.shape == (24, 32, 3) and img.std() > 0

@@ -36,6 +36,9 @@ def test_defaults_and_round_trip():
         "interpolation": "perspective",
         "samples": 1,
         "supersample": 1,
+        "reflections": "environment",
+        "refractions": None,
+        "max_depth": 5,
     }
     p = sl.RenderOptions(64, 48, shading="FLAT", specular="blinn-normalized", threads=2)
     assert (p.width, p.height, p.shading, p.specular, p.threads) == (

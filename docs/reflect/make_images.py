@@ -25,6 +25,7 @@ import shadelab_rs as sl
 
 HERE = Path(__file__).parent
 W, H = 480, 320
+DEEP = (0.02, 0.12, 0.16)
 
 
 def sky(h: int = 128) -> sl.Environment:
@@ -82,7 +83,12 @@ def stripes(z: float) -> list[tuple[sl.Mesh, sl.Material]]:
         out.append((sl.Mesh(v, [[0, 1, 2], [0, 2, 3]]), m))
     # A blue bar across, so the flip shows vertically too.
     v = np.array([[-3, 1.2, z + 0.01], [3, 1.2, z + 0.01], [3, 1.5, z + 0.01], [-3, 1.5, z + 0.01]])
-    out.append((sl.Mesh(v, [[0, 1, 2], [0, 2, 3]]), sl.Material((0.05, 0.1, 0.3), (0.1, 0.3, 0.9), (0, 0, 0), 1.0)))
+    out.append(
+        (
+            sl.Mesh(v, [[0, 1, 2], [0, 2, 3]]),
+            sl.Material((0.05, 0.1, 0.3), (0.1, 0.3, 0.9), (0, 0, 0), 1.0),
+        )
+    )
     return out
 
 
@@ -92,7 +98,12 @@ def glass_scene() -> sl.Scene:
     for mesh, m in stripes(-2.0):
         scene.add(mesh, material=m)
     glass = sl.Material(
-        (0, 0, 0), (0, 0, 0), (1, 1, 1), 200.0, transparency=0.95, ior="glass",
+        (0, 0, 0),
+        (0, 0, 0),
+        (1, 1, 1),
+        200.0,
+        transparency=0.95,
+        ior="glass",
         absorption=(0.05, 0.02, 0.05),
     )
     scene.add(sl.Mesh.uv_sphere(48, 96), material=glass, transform=place(0.8, 0.0, 0.5, 0.5))
@@ -103,13 +114,14 @@ def water_scene() -> sl.Scene:
     scene = sl.Scene(ambient=(0.3, 0.3, 0.3), environment=sky())
     scene.add_light(sl.DirectionalLight(direction=(-0.2, -1.0, -0.3), intensity=0.7))
     # The pool floor: tiles of two colours, 3 m below the surface.
-    for i in range(-6, 6):
-        for j in range(-8, 4):
-            v = np.array(
-                [[i, -3, j], [i, -3, j + 1], [i + 1, -3, j + 1], [i + 1, -3, j]], float
-            )
+    for i in range(-14, 14):
+        for j in range(-24, 6):
+            v = np.array([[i, -3, j], [i, -3, j + 1], [i + 1, -3, j + 1], [i + 1, -3, j]], float)
             c = (0.1, 0.5, 0.6) if (i + j) % 2 else (0.85, 0.9, 0.9)
-            scene.add(sl.Mesh(v, [[0, 1, 2], [0, 2, 3]]), material=sl.Material((0.5 * c[0], 0.5 * c[1], 0.5 * c[2]), c, (0, 0, 0), 1.0))
+            scene.add(
+                sl.Mesh(v, [[0, 1, 2], [0, 2, 3]]),
+                material=sl.Material((0.5 * c[0], 0.5 * c[1], 0.5 * c[2]), c, (0, 0, 0), 1.0),
+            )
     scene.add(sl.Mesh.uv_sphere(24, 48), material="ruby", transform=place(0.6, 0.8, -1.6, -4.0))
     water = sl.Material((0, 0, 0), (0, 0, 0), (0, 0, 0), 1.0, transparency=0.95, ior="water")
     scene.add(floor(0.0, 40.0), material=water)
@@ -122,8 +134,13 @@ def transparent_scene(order=(0, 1, 2, 3)) -> sl.Scene:
     scene.add(floor(-0.6, 4.0), material="white plastic")
     parts = []
     ball = sl.Mesh.uv_sphere(32, 64)
-    for (x, z), c in zip([(-0.5, 0.0), (0.5, 0.0), (0.0, -0.7)], [(0.9, 0.1, 0.1), (0.1, 0.8, 0.2), (0.15, 0.3, 0.95)]):
-        m = sl.Material((0.3 * c[0], 0.3 * c[1], 0.3 * c[2]), c, (0.6, 0.6, 0.6), 60.0, transparency=0.55)
+    for (x, z), c in zip(
+        [(-0.5, 0.0), (0.5, 0.0), (0.0, -0.7)],
+        [(0.9, 0.1, 0.1), (0.1, 0.8, 0.2), (0.15, 0.3, 0.95)],
+    ):
+        m = sl.Material(
+            (0.3 * c[0], 0.3 * c[1], 0.3 * c[2]), c, (0.6, 0.6, 0.6), 60.0, transparency=0.55
+        )
         parts.append((ball, m, place(0.6, x, 0.1, z)))
     v = np.array([[-1.5, -0.6, 0.8], [1.5, -0.6, 0.8], [1.5, 0.5, 0.8], [-1.5, 0.5, 0.8]])
     pane = sl.Material((0.1, 0.1, 0.05), (0.9, 0.85, 0.3), (0, 0, 0), 1.0, transparency=0.7)
@@ -148,46 +165,50 @@ def side_by_side(a, b):
 def main() -> None:
     lines = ["# Reflection and refraction pictures", ""]
     cam = sl.Camera.look_at((0.0, 1.5, 4.2), (0.0, 0.4, 0.0), (0, 1, 0), fov_y=40)
-    env_img, t_env = timed(mirror_scene(), cam, reflections="environment")
-    ray_img, t_ray = timed(mirror_scene(), cam, reflections="ray")
+    env_img, t_env = timed(mirror_scene(), cam, reflections="environment", background="environment")
+    ray_img, t_ray = timed(mirror_scene(), cam, reflections="ray", background="environment")
     sl.save_image(side_by_side(env_img, ray_img), HERE / "mirror.png")
     lines += [
         "![mirror](mirror.png)",
         "",
         f"`sl.render(mirror_scene(), cam, {W}, {H}, encoding='srgb', "
-        f"reflections='environment')` (left, {t_env * 1000:.0f} ms) and "
+        f"reflections='environment', background='environment')` (left, {t_env * 1000:.0f} ms) and "
         f"`reflections='ray'` (right, {t_ray * 1000:.0f} ms; max_depth 5).",
         "",
     ]
     cam = sl.Camera.look_at((0.0, 0.5, 4.0), (0.0, 0.5, 0.0), (0, 1, 0), fov_y=40)
-    img, t = timed(glass_scene(), cam, refractions="ray", reflections="ray")
+    img, t = timed(
+        glass_scene(), cam, refractions="ray", reflections="ray", background="environment"
+    )
     sl.save_image(img, HERE / "glass.png")
     lines += [
         "![glass](glass.png)",
         "",
         f"`sl.render(glass_scene(), cam, {W}, {H}, encoding='srgb', refractions='ray', "
-        f"reflections='ray')` ({t * 1000:.0f} ms).",
+        f"reflections='ray', background='environment')` ({t * 1000:.0f} ms).",
         "",
     ]
     cam = sl.Camera.look_at((0.0, -2.2, 2.0), (0.0, -0.2, -3.0), (0, 1, 0), fov_y=70)
-    img, t = timed(water_scene(), cam, refractions="ray", reflections="ray")
+    img, t = timed(water_scene(), cam, refractions="ray", reflections="ray", background=DEEP)
     sl.save_image(img, HERE / "water.png")
     lines += [
         "![water](water.png)",
         "",
         f"`sl.render(water_scene(), cam, {W}, {H}, encoding='srgb', refractions='ray', "
-        f"reflections='ray')` ({t * 1000:.0f} ms): the camera is 2.2 below the surface.",
+        f"reflections='ray', background={DEEP})` ({t * 1000:.0f} ms): the camera is 2.2 "
+        "below the surface; the background is the colour of deep water.",
         "",
     ]
     cam = sl.Camera.look_at((0.0, 1.0, 3.5), (0.0, 0.0, 0.0), (0, 1, 0), fov_y=40)
-    img, t = timed(transparent_scene(), cam)
-    other, _ = timed(transparent_scene((3, 2, 0, 1)), cam)
+    img, t = timed(transparent_scene(), cam, background="environment")
+    other, _ = timed(transparent_scene((3, 2, 0, 1)), cam, background="environment")
     assert np.array_equal(img, other), "order-independent transparency changed with order"
     sl.save_image(img, HERE / "transparent.png")
     lines += [
         "![transparent](transparent.png)",
         "",
-        f"`sl.render(transparent_scene(), cam, {W}, {H}, encoding='srgb')` ({t * 1000:.0f} ms; "
+        f"`sl.render(transparent_scene(), cam, {W}, {H}, encoding='srgb', "
+        f"background='environment')` ({t * 1000:.0f} ms; "
         "refractions=None: sorted per pixel, identical for the objects in any order).",
         "",
     ]

@@ -52,6 +52,7 @@ from .demo import (
 from .figures import lecture_figures
 from .io import (
     file_up_axis,
+    load_environment,
     load_mesh,
     save_depth,
     save_image,
@@ -114,6 +115,7 @@ __all__ = [
     "intrinsics",
     "iter_render",
     "lecture_figures",
+    "load_environment",
     "load_mesh",
     "load_obj",
     "load_obj_parts",

@@ -723,7 +723,12 @@ class Environment:
         rotation: float = 0.0,
         intensity: float = 1.0,
         srgb: bool = False,
+        *,
+        path: _Path | None = None,
     ) -> Environment: ...
+    @property
+    def path(self) -> pathlib.Path | None:
+        """The file it was read from (:func:`shadelab_rs.load_environment`), or None."""
     def __copy__(self) -> Environment: ...
     def __deepcopy__(self, _memo: Any) -> Environment: ...
     @property

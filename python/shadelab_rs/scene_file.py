@@ -29,6 +29,7 @@ from ._core import (
     AreaLight,
     Camera,
     DirectionalLight,
+    Environment,
     Fog,
     Material,
     Mesh,
@@ -586,6 +587,32 @@ def fog_to_dict(fog: Fog) -> dict[str, Any]:
     return d
 
 
+def _environment(v: Any, where: str) -> Environment:
+    """``{file = "sky.png", rotation = 0.0, intensity = 1.0}`` (see :func:`load_environment`;
+    a relative path is read against the file's directory)."""
+    from .io import load_environment
+
+    t = _table(v, where, ("file",), ("rotation", "intensity"))
+    path = _BASE_DIR.get() / _string(t["file"], _at(where, "file"))
+    rotation = _number(t.get("rotation", 0.0), _at(where, "rotation"))
+    intensity = _number(t.get("intensity", 1.0), _at(where, "intensity"))
+    try:
+        return _call(where, lambda: load_environment(path, rotation, intensity))
+    except FileNotFoundError as e:
+        raise SceneFileError(str(e), _at(where, "file")) from e
+
+
+def environment_to_dict(env: Environment) -> dict[str, Any]:
+    """An environment as a scene-file table. One made from an array has no file to name:
+    ``ValueError`` (save it as .npy and use :func:`load_environment`)."""
+    if env.path is None:
+        raise ValueError(
+            "an Environment made from an array cannot be written to a scene file; save the "
+            "array (.npy) and use sl.load_environment"
+        )
+    return {"file": str(env.path), "rotation": env.rotation, "intensity": env.intensity}
+
+
 def _camera(v: Any, where: str) -> Camera:
     if not isinstance(v, Mapping):
         raise _fail(where, "a table", v)
@@ -786,6 +813,7 @@ def _add_object(
 
 _TOP_KEYS = (
     "ambient",
+    "environment",
     "two_sided",
     "local_viewer",
     "fog",
@@ -861,12 +889,23 @@ def load_scene_dict(d: Any, base_dir: _PathLike | None = None) -> SceneFile:
 
     ambient = checked(lambda: _numbers(t["ambient"], "ambient")) if "ambient" in t else None
     fog = checked(lambda: _fog(t["fog"], "fog")) if "fog" in t else None
+    environment = (
+        checked(lambda: _environment(t["environment"], "environment"))
+        if "environment" in t
+        else None
+    )
     two_sided = checked(lambda: _boolean(t.get("two_sided", False), "two_sided"), False)
     local_viewer = checked(lambda: _boolean(t.get("local_viewer", True), "local_viewer"), True)
     scene = checked(
         lambda: _call(
             "",
-            lambda: Scene(ambient=ambient, fog=fog, two_sided=two_sided, local_viewer=local_viewer),
+            lambda: Scene(
+                ambient=ambient,
+                fog=fog,
+                two_sided=two_sided,
+                local_viewer=local_viewer,
+                environment=environment,
+            ),
         )
     )
     if scene is None:
@@ -1009,6 +1048,8 @@ def scene_to_dict(
     }
     if scene.fog is not None:
         d["fog"] = fog_to_dict(scene.fog)
+    if scene.environment is not None:
+        d["environment"] = environment_to_dict(scene.environment)
     if camera is not None:
         d["camera"] = camera_to_dict(camera)
     if render:

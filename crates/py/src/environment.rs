@@ -18,6 +18,8 @@ use crate::errors::{to_py, type_error, value_error};
 #[derive(Clone, PartialEq)]
 pub struct PyEnvironment {
     pub inner: core::Environment,
+    /// The file it was read from (`sl.load_environment`), written to scene files.
+    pub path: Option<std::path::PathBuf>,
 }
 
 fn texels(obj: &Bound<'_, PyAny>, srgb: bool) -> PyResult<(usize, usize, Vec<f32>)> {
@@ -77,14 +79,26 @@ fn texels(obj: &Bound<'_, PyAny>, srgb: bool) -> PyResult<(usize, usize, Vec<f32
 #[pymethods]
 impl PyEnvironment {
     #[new]
-    #[pyo3(signature = (array, rotation=0.0, intensity=1.0, srgb=false))]
-    fn new(array: &Bound<'_, PyAny>, rotation: f64, intensity: f64, srgb: bool) -> PyResult<Self> {
+    #[pyo3(signature = (array, rotation=0.0, intensity=1.0, srgb=false, *, path=None))]
+    fn new(
+        array: &Bound<'_, PyAny>,
+        rotation: f64,
+        intensity: f64,
+        srgb: bool,
+        path: Option<std::path::PathBuf>,
+    ) -> PyResult<Self> {
         let (h, w, data) = texels(array, srgb)?;
         let inner = crate::errors::no_panic("Environment", || {
             core::Environment::new(&data, h, w, rotation as f32, intensity as f32)
         })?
         .map_err(to_py)?;
-        Ok(PyEnvironment { inner })
+        Ok(PyEnvironment { inner, path })
+    }
+
+    /// The file the image was read from (None for an array).
+    #[getter]
+    fn path(&self) -> Option<std::path::PathBuf> {
+        self.path.clone()
     }
 
     /// Pickle support: rebuilt from its linear float32 texels, rotation and intensity.
@@ -94,7 +108,20 @@ impl PyEnvironment {
             self.inner.rotation() as f64,
             self.inner.intensity() as f64,
         );
-        (py.get_type::<Self>(), args).into_pyobject(py)
+        let cls = py.get_type::<Self>();
+        match &self.path {
+            // The path is keyword-only: rebuilt through functools.partial.
+            Some(p) => {
+                let kwargs = PyDict::new(py);
+                kwargs.set_item("path", p)?;
+                let partial = py
+                    .import("functools")?
+                    .getattr("partial")?
+                    .call((cls,), Some(&kwargs))?;
+                (partial, args).into_pyobject(py)
+            }
+            None => (cls.into_any(), args).into_pyobject(py),
+        }
     }
 
     fn __copy__(&self) -> Self {

@@ -169,6 +169,8 @@ pub struct PyScene {
     pub(crate) given_directions: Vec<Option<[f64; 3]>>,
     /// Whether `render` lights a scene without lights with the camera's light rig.
     pub default_lights: bool,
+    /// The file the environment was read from, if any (scene files name it).
+    pub(crate) environment_path: Option<std::path::PathBuf>,
 }
 
 /// A material argument: a Material, a preset name, or None for the default.
@@ -274,6 +276,7 @@ impl PyScene {
             inner: self.inner.clone(),
             given_directions: self.given_directions.clone(),
             default_lights: self.default_lights,
+            environment_path: self.environment_path.clone(),
         }
     }
 }
@@ -309,6 +312,7 @@ impl PyScene {
             ambient.map_or(Ok(glam::Vec3::splat(0.2)), |a| convert::vec3(a, "ambient"))?;
         let mut inner = core::Scene::new(ambient).map_err(to_py)?;
         inner.set_fog(fog.map(|f| f.inner));
+        let environment_path = environment.as_ref().and_then(|e| e.path.clone());
         inner.set_environment(environment.map(|e| e.inner));
         inner.set_two_sided(two_sided);
         inner.set_local_viewer(local_viewer);
@@ -316,6 +320,7 @@ impl PyScene {
             inner,
             given_directions: Vec::new(),
             default_lights,
+            environment_path,
         })
     }
 
@@ -357,13 +362,15 @@ impl PyScene {
     /// read it; `background="environment"` shows it.
     #[getter]
     fn get_environment(&self) -> Option<PyEnvironment> {
-        self.inner
-            .environment()
-            .map(|e| PyEnvironment { inner: e.clone() })
+        self.inner.environment().map(|e| PyEnvironment {
+            inner: e.clone(),
+            path: self.environment_path.clone(),
+        })
     }
 
     #[setter]
     fn set_environment(&mut self, environment: Option<PyEnvironment>) {
+        self.environment_path = environment.as_ref().and_then(|e| e.path.clone());
         self.inner.set_environment(environment.map(|e| e.inner));
     }
 

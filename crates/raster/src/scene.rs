@@ -124,6 +124,11 @@ impl Object {
         }
     }
 
+    /// Replaces the (front) material.
+    pub fn set_material(&mut self, material: Material) {
+        self.material = material;
+    }
+
     /// The model matrix.
     pub fn transform(&self) -> Mat4 {
         self.transform

@@ -144,10 +144,15 @@ mod tests {
                 }
             }
         }
-        // The critical angle glass → air: 41.81°.
-        let crit = (1.0f32 / 1.5).asin().to_degrees();
-        assert!(refract(n, dir(crit - 0.01), 1.5, 1.0).is_some());
-        assert!(refract(n, dir(crit + 0.01), 1.5, 1.0).is_none());
+        // The critical angles into air: water 48.75°, glass 41.81°, diamond 24.62°.
+        for (ior, want) in [(1.33f32, 48.75f32), (1.5, 41.81), (2.4, 24.62)] {
+            let crit = (1.0 / ior).asin().to_degrees();
+            assert!((crit - want).abs() < 0.005, "{ior}: {crit}");
+            assert!(refract(n, dir(crit - 0.01), ior, 1.0).is_some());
+            assert!(refract(n, dir(crit + 0.01), ior, 1.0).is_none());
+            // Entering the denser medium there is never total internal reflection.
+            assert!(refract(n, dir(89.9), 1.0, ior).is_some());
+        }
     }
 
     #[test]
