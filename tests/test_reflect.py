@@ -638,3 +638,16 @@ def test_command_line_flags(tmp_path):
     assert code == 0
     img = np.asarray(Image.open(out))
     assert img.shape == (24, 32, 3) and img.std() > 0
+
+
+def test_gallery_is_linked_from_the_lighting_guide():
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent.parent
+    guide = (root / "docs" / "LIGHTING.md").read_text(encoding="utf-8")
+    captions = (root / "docs" / "reflect" / "captions.md").read_text(encoding="utf-8")
+    for name in ("mirror", "glass", "water", "transparent"):
+        png = root / "docs" / "reflect" / f"{name}.png"
+        assert png.is_file() and png.stat().st_size < 600_000
+        assert f"(reflect/{name}.png)" in guide
+        assert f"({name}.png)" in captions and "sl.render(" in captions

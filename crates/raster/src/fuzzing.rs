@@ -12,6 +12,7 @@ use glam::{DVec3, Mat4, Vec3, Vec4};
 
 use crate::camera::{Camera, Projection};
 use crate::effects::{Fog, FogMode};
+use crate::environment::Environment;
 use crate::error::RasterError;
 use crate::frame::{ColorBuffer, ColorFormat};
 use crate::lights::{AreaLight, AreaShape};
@@ -23,7 +24,6 @@ use crate::obj::{merge_parts, parse_obj_parts};
 use crate::options::{
     GouraudMethod, Interpolation, RenderOptions, ShadingMode, SpecularModel, Technique,
 };
-use crate::reflect::Environment;
 use crate::render::{coverage_counts, render};
 use crate::scene::{Object, Scene};
 

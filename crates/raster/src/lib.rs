@@ -24,6 +24,7 @@
 
 mod camera;
 mod effects;
+mod environment;
 mod error;
 mod frame;
 #[cfg(feature = "fuzzing")]
@@ -48,6 +49,7 @@ pub mod texture;
 
 pub use camera::{Camera, Intrinsics, Projection};
 pub use effects::{Fog, FogMode};
+pub use environment::{Environment, MAX_ENVIRONMENT_SIZE};
 pub use error::{RasterError, Result};
 pub use frame::{ColorBuffer, ColorFormat, Frame, Outputs, RenderStats, StageTimings};
 pub use lights::{
@@ -67,7 +69,6 @@ pub use pipeline::MAX_RADIANCE;
 pub use pool::{default_threads, MAX_THREADS};
 #[doc(hidden)]
 pub use pool::{max_in_flight, set_rendezvous};
-pub use reflect::{Environment, MAX_ENVIRONMENT_SIZE};
 pub use render::{coverage_counts, render, render_depth_map, render_into, render_with};
 pub use scene::{Object, Scene};
 pub use texture::{Filter, Footprint, Maps, Procedural, Texture, Wrap};

@@ -5,11 +5,11 @@ use std::sync::Arc;
 use glam::{DMat3, Mat3, Mat4, Vec3};
 
 use crate::effects::Fog;
+use crate::environment::Environment;
 use crate::error::{RasterError, Result};
 use crate::lights::Light;
 use crate::material::Material;
 use crate::mesh::Mesh;
-use crate::reflect::Environment;
 use crate::texture::Maps;
 
 /// A mesh placed in the world with a material.

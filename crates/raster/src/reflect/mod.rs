@@ -1,7 +1,6 @@
 //! The reflection and refraction room: what arrives at a surface point along its mirror and
 //! refracted directions, and how a material mixes it with the point's local colour.
 //!
-//! - [`environment`]: the equirectangular environment image and its lookup;
 //! - [`optics`]: the mirror direction, Snell's law with total internal reflection, Schlick's
 //!   Fresnel and a material's split `c = L·local + R·reflected + T·transmitted`;
 //! - [`trace`]: the scene as seen by secondary rays (the rays room's BVH plus what each
@@ -12,17 +11,16 @@
 //! background; the pipeline then shades through a tile body of its own
 //! (`shade/secondary.rs`).
 
-pub mod environment;
 pub mod optics;
 mod trace;
 
-pub use environment::{Environment, MAX_ENVIRONMENT_SIZE};
 pub(crate) use trace::{RayScene, World};
 
 use glam::{DMat4, DVec3, DVec4, Vec3};
 
 use crate::camera::Camera;
 use crate::effects::FogEffect;
+use crate::environment::Environment;
 use crate::material::Material;
 use crate::options::{RenderOptions, Technique};
 use crate::scene::Scene;
