@@ -651,3 +651,17 @@ def test_gallery_is_linked_from_the_lighting_guide():
         assert png.is_file() and png.stat().st_size < 600_000
         assert f"(reflect/{name}.png)" in guide
         assert f"({name}.png)" in captions and "sl.render(" in captions
+
+
+def test_material_sheet_has_optical_swatches():
+    from shadelab_rs.swatch import OPTICAL_SWATCHES
+
+    sheet = sl.material_sheet(["gold", *OPTICAL_SWATCHES], cell=48, columns=5, labels=False)
+    assert sheet.shape == (48, 240, 3)
+    cells = [sheet[:, 48 * k : 48 * (k + 1)].astype(int) for k in range(5)]
+    # Each optical swatch differs from the others (glass, water and diamond bend the sky
+    # differently; the mirror reflects it).
+    for a, b in itertools.combinations(cells[1:], 2):
+        assert np.abs(a - b).mean() > 1.0
+    with pytest.raises(ValueError, match="preset"):
+        sl.material_sheet(["unobtainium"])
