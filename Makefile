@@ -40,8 +40,8 @@ demo: $(BUILT)  ## render the built-in demo scene to demo.png (builds only when 
 lint: $(DEPS)  ## rustfmt, clippy (warnings are errors), ruff
 	cargo fmt --all -- --check
 	PYO3_PYTHON=$(abspath $(PY)) cargo clippy --workspace --all-targets --features shadelab-raster/fuzzing -- -D warnings
-	$(VENV)/bin/ruff check python tests bench shadelab_ref docs/lighting docs/first_minutes docs/antialiasing docs/edges examples
-	$(VENV)/bin/ruff format --check python tests bench shadelab_ref docs/lighting docs/first_minutes docs/antialiasing docs/edges examples
+	$(VENV)/bin/ruff check python tests bench shadelab_ref docs/lighting docs/first_minutes docs/antialiasing docs/edges docs/reflect examples
+	$(VENV)/bin/ruff format --check python tests bench shadelab_ref docs/lighting docs/first_minutes docs/antialiasing docs/edges docs/reflect examples
 
 test: lint build  ## lint, stub check, cargo test, pytest
 	$(PY) -m mypy.stubtest shadelab_rs._core
@@ -94,11 +94,12 @@ bench-batch: build  ## many views only: render_batch vs loop vs 2 processes, pic
 bench-cold: build  ## cold start only: import time, first picture, save_image per PNG compression -> docs/COLD_START.md (~1 min)
 	$(BENCH_ENV) $(PY) bench/bench_cold_start.py --write docs/COLD_START.md
 
-docs-images: build  ## render the guides' images -> docs/lighting/*.png, docs/first_minutes/*.png, docs/antialiasing/*.png, docs/edges/*.png, docs/textures/*.png
+docs-images: build  ## render the guides' images -> docs/lighting/*.png, docs/first_minutes/*.png, docs/antialiasing/*.png, docs/edges/*.png, docs/reflect/*.png, docs/textures/*.png
 	$(PY) docs/lighting/make_images.py
 	$(PY) docs/first_minutes/make_images.py
 	$(PY) docs/antialiasing/make_images.py
 	$(PY) docs/edges/make_images.py
+	$(PY) docs/reflect/make_images.py
 	$(PY) docs/textures/make_gallery.py
 
 # manylinux2014 (glibc 2.17: Ubuntu 18.04+, RHEL 7+) through zig as the linker, from the

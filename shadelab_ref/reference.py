@@ -517,8 +517,8 @@ def lighting(
     color = np.broadcast_to(ke + ka * ia, shape).copy()
     if view_dir is None:
         v = _normalize(_vec3(eye, "eye") - p)
-    else:  # infinite viewer: one direction toward the eye for every point
-        v = np.broadcast_to(_normalize(_vec3(view_dir, "view_dir")), shape)
+    else:  # infinite viewer: one direction toward the eye (or one per point) for every point
+        v = np.broadcast_to(_normalize(np.asarray(view_dir, dtype=np.float64)), shape)
     for light in lights:
         att = np.ones(shape[:-1])
         if isinstance(light, DirectionalLight):

@@ -239,13 +239,16 @@ def test_usemtl_groups_keep_their_materials_and_illum_is_mapped(tmp_path):
     assert matte.specular == (0.0, 0.0, 0.0) and matte.diffuse == pytest.approx((0.2, 0.6, 0.2))
     assert glow.ambient == glow.diffuse == glow.specular == (0.0, 0.0, 0.0)
     assert glow.emission == pytest.approx((0.2, 0.2, 0.9))
+    # d 0.5: half transparent (MTL dissolve), blended over what is behind it.
+    assert glow.transparency == 0.5 and red.transparency == 0.0
 
     scene = sl.Scene(ambient=(0, 0, 0), default_lights=False)
     assert scene.add_obj(path) == 4
     assert scene.n_objects == 4
     cam = sl.Camera.orthographic((3.5, 0.5, 5), (3.5, 0.5, 0), height=1.2)
     img = sl.render(scene, cam, 160, 24, dtype="float32")  # no lights: emission only
-    np.testing.assert_allclose(img[12, 140], [0.2, 0.2, 0.9], atol=1e-6)  # the glow quad
+    # The glow quad: its emission at half opacity over the black background.
+    np.testing.assert_allclose(img[12, 140], [0.1, 0.1, 0.45], atol=1e-6)
     assert (img[12, 20] == 0).all() and (img[12, 60] == 0).all()
     # Lit: each quad shows its own material; a preset overrides them all.
     scene.add_light(sl.DirectionalLight((0, 0, -1)))

@@ -80,6 +80,8 @@ def _objects() -> list[object]:
         sl.ShadowSettings(resolution=1024, kernel=5, bias=2.5),
         sl.Fog(mode="linear", start=1.5, end=7.25, color=(0.1, 0.2, 0.3)),
         sl.Fog(mode="exp", density=0.3),
+        sl.Material(reflectivity=(0.5, 0.25, 0.125), transparency=0.25, ior="glass", fresnel=False),
+        sl.Environment(np.linspace(0, 2, 24, dtype=np.float32).reshape(2, 4, 3), 12.5, 0.75),
         camera,
         sl.Camera.orthographic((0, 0, 5), (0, 0, 0), up=(0, 1, 0.1), height=3.5, near=-1, far=9),
         # Planes left as None are fitted at render time: they stay None.

@@ -41,6 +41,9 @@ def test_defaults_and_round_trip():
         "edge_width": 1.0,
         "edge_angle": 30.0,
         "edges_only": False,
+        "reflections": "environment",
+        "refractions": None,
+        "max_depth": 5,
     }
     p = sl.RenderOptions(64, 48, shading="FLAT", specular="blinn-normalized", threads=2)
     assert (p.width, p.height, p.shading, p.specular, p.threads) == (

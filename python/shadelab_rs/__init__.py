@@ -13,13 +13,16 @@ from typing import TYPE_CHECKING, Any
 
 from ._core import (
     MAX_AREA_SAMPLES,
+    MAX_ENVIRONMENT_SIZE,
     MAX_IMAGE_SIZE,
     MAX_SHADOW_RESOLUTION,
     MAX_TEXTURE_SIZE,
     MAX_THREADS,
+    MAX_TRACE_DEPTH,
     AreaLight,
     Camera,
     DirectionalLight,
+    Environment,
     Fog,
     Material,
     Mesh,
@@ -48,6 +51,7 @@ from .demo import (
 )
 from .io import (
     file_up_axis,
+    load_environment,
     load_mesh,
     save_depth,
     save_image,
@@ -117,15 +121,18 @@ def __dir__() -> list[str]:
 
 __all__ = [
     "MAX_AREA_SAMPLES",
+    "MAX_ENVIRONMENT_SIZE",
     "MAX_IMAGE_SIZE",
     "MAX_SHADOW_RESOLUTION",
     "MAX_TEXTURE_SIZE",
     "MAX_THREADS",
+    "MAX_TRACE_DEPTH",
     "VIEWS",
     "AreaLight",
     "Camera",
     "DirectionalLight",
     "EmptyRenderWarning",
+    "Environment",
     "Fog",
     "Material",
     "Mesh",
@@ -153,6 +160,7 @@ __all__ = [
     "intrinsics",
     "iter_render",
     "lecture_figures",
+    "load_environment",
     "load_mesh",
     "load_obj",
     "load_obj_parts",

@@ -19,13 +19,16 @@ from typing_extensions import TypeAlias, Unpack
 
 __all__ = [
     "MAX_AREA_SAMPLES",
+    "MAX_ENVIRONMENT_SIZE",
     "MAX_IMAGE_SIZE",
     "MAX_SHADOW_RESOLUTION",
     "MAX_TEXTURE_SIZE",
     "MAX_THREADS",
+    "MAX_TRACE_DEPTH",
     "AreaLight",
     "Camera",
     "DirectionalLight",
+    "Environment",
     "Fog",
     "Material",
     "Mesh",
@@ -63,6 +66,9 @@ _Specular: TypeAlias = Literal["blinn", "phong", "blinn-normalized"]
 _Gouraud: TypeAlias = Literal["normals", "face-intensities"]
 _Interpolation: TypeAlias = Literal["perspective", "screen"]
 _Edges: TypeAlias = Literal["all", "visible", "features"]
+_Technique: TypeAlias = Literal["environment", "ray"]
+#: An index of refraction: a number > 0 or a preset name.
+_Ior: TypeAlias = float | Literal["air", "water", "glass", "diamond"]
 #: What Scene.add takes as a mesh: a Mesh, trimesh.Trimesh / Scene, (V, F), PyVista PolyData.
 _MeshLike: TypeAlias = Mesh | tuple[ArrayLike, ArrayLike] | Any
 #: A Material or a preset name.
@@ -77,6 +83,11 @@ MAX_THREADS: Final[int]
 MAX_AREA_SAMPLES: Final[int]
 #: Largest texture image width or height in texels (16384).
 MAX_TEXTURE_SIZE: Final[int]
+
+#: Largest :class:`Environment` width in texels (16384).
+MAX_ENVIRONMENT_SIZE: Final[int]
+#: Largest ``max_depth`` of :class:`RenderOptions` (32).
+MAX_TRACE_DEPTH: Final[int]
 
 #: Largest :class:`ShadowSettings` ``resolution`` (8192 texels a side).
 MAX_SHADOW_RESOLUTION: Final[int]
@@ -210,7 +221,17 @@ class Material:
     ``emission_map``) multiply their coefficient per point; the specular term is added after
     the texture. ``shininess_map``: the mean of a texel's r, g, b multiplies the shininess per
     pixel (Phong shading only). Materials compare equal when all their values are equal and
-    they hold the same Texture objects (and are not hashable)."""
+    they hold the same Texture objects (and are not hashable).
+
+    Optics (see the user guide, "Reflection, refraction and transparency"):
+    ``reflectivity`` (0 to 1, a number or an RGB colour for metals) mirrors that share of
+    light; ``transparency`` (0 to 1; reflectivity + transparency <= 1 per channel)
+    transmits that share; the colour is ``(1 - R - T)*local + R*reflected +
+    T*transmitted``. ``ior`` (> 0, or "air" 1.0, "water" 1.33, "glass" 1.5, "diamond" 2.4)
+    bends transmitted light by Snell's law when a render refracts; ``fresnel`` (default
+    True) moves the Schlick share F of the transmitted light to the reflected one
+    (False: the constant coefficients); ``absorption`` (RGB per unit distance, >= 0)
+    darkens light travelling inside (Beer-Lambert, ray-traced refraction only)."""
 
     def __copy__(self) -> Material: ...
     def __deepcopy__(self, _memo: Any) -> Material:
@@ -228,7 +249,36 @@ class Material:
         specular_map: Texture | None = None,
         emission_map: Texture | None = None,
         shininess_map: Texture | None = None,
+        reflectivity: float | _Vec3Like | None = None,
+        transparency: float = 0.0,
+        ior: _Ior | None = None,
+        fresnel: bool = True,
+        absorption: float | _Vec3Like | None = None,
     ) -> Material: ...
+    def with_optics(
+        self,
+        reflectivity: float | _Vec3Like | None = None,
+        transparency: float = 0.0,
+        ior: _Ior | None = None,
+        fresnel: bool = True,
+        absorption: float | _Vec3Like | None = None,
+    ) -> Material:
+        """The same material (maps kept) with these optical parameters."""
+    @property
+    def reflectivity(self) -> _Vec3:
+        """Share of light mirrored (r, g, b)."""
+    @property
+    def transparency(self) -> float:
+        """Share of light transmitted."""
+    @property
+    def ior(self) -> float:
+        """Index of refraction."""
+    @property
+    def fresnel(self) -> bool:
+        """Whether Schlick's Fresnel term weighs reflection against transmission."""
+    @property
+    def absorption(self) -> _Vec3:
+        """Beer-Lambert absorption per unit distance inside the material (r, g, b)."""
     def with_maps(
         self,
         diffuse_map: Texture | None = None,
@@ -662,6 +712,53 @@ class Fog:
         """The fog factor f in [0, 1] at eye distance ``d`` (1: no fog)."""
 
 @final
+class Environment:
+    """An equirectangular (latitude-longitude) environment: the light arriving from every
+    direction, read by reflections and refractions and shown by
+    ``background="environment"``.
+
+    ``array``: (H, 2H, 3) float32/float64 (linear, HDR values allowed, each finite and
+    >= 0) or uint8 (divided by 255; ``srgb=True`` decodes sRGB instead). A unit direction d
+    maps to ``u = 0.5 + atan2(d.x, -d.z)/(2 pi)``, ``v = acos(d.y)/pi``: column ``u*W`` and
+    row ``v*H`` (texel centres at half-integers), so row 0 looks straight up (+y) and the
+    centre column along -z; sampled bilinearly, wrapping in u and clamped in v.
+    ``rotation`` turns it about +y (degrees; positive turns what was seen along -z toward
+    -x); ``intensity`` (>= 0) scales every value."""
+
+    def __new__(
+        cls,
+        array: ArrayLike,
+        rotation: float = 0.0,
+        intensity: float = 1.0,
+        srgb: bool = False,
+        *,
+        path: _Path | None = None,
+    ) -> Environment: ...
+    @property
+    def path(self) -> pathlib.Path | None:
+        """The file it was read from (:func:`shadelab_rs.load_environment`), or None."""
+    def __copy__(self) -> Environment: ...
+    def __deepcopy__(self, _memo: Any) -> Environment: ...
+    @property
+    def array(self) -> NDArray[np.float32]:
+        """The texels, (H, 2H, 3) float32 linear (before the intensity)."""
+    @property
+    def rotation(self) -> float:
+        """Rotation about +y in degrees."""
+    @property
+    def intensity(self) -> float:
+        """The factor every value is multiplied by."""
+    @property
+    def shape(self) -> tuple[int, int]:
+        """(height, width) in texels."""
+    def sample(self, directions: ArrayLike) -> NDArray[np.float32]:
+        """The colour seen along each direction of an (..., 3) array, as reflections read
+        it (intensity included)."""
+    def __eq__(self, value: object, /) -> bool: ...
+    def __ne__(self, value: object, /) -> bool: ...
+    __hash__: None  # type: ignore[assignment]
+
+@final
 class SceneObject:
     """One object of a scene as read back by :attr:`Scene.objects`: a snapshot, so changing
     it does not change the scene. There is no constructor."""
@@ -700,7 +797,14 @@ class Scene:
         two_sided: bool = False,
         local_viewer: bool = True,
         default_lights: bool = True,
+        environment: Environment | None = None,
     ) -> Scene: ...
+    @property
+    def environment(self) -> Environment | None:
+        """The environment read by reflections and refractions (and shown by
+        ``background="environment"``), or None; assignable."""
+    @environment.setter
+    def environment(self, environment: Environment | None) -> None: ...
     @property
     def default_lights(self) -> bool:
         """True (default): while the scene has no lights, ``render`` lights it with a rig
@@ -968,7 +1072,14 @@ class RenderOptions:
     lines over the image; ``edge_color`` (linear RGB, each >= 0), ``edge_width`` (pixels,
     > 0, at most 256; anti-aliased with ``samples`` > 1), ``edge_angle`` (degrees, 0 to
     180: the crease angle of "features", default 30), ``edges_only`` (draw the lines
-    alone: surfaces still hide what is behind them but show the background)."""
+    alone: surfaces still hide what is behind them but show the background).
+    ``background="environment"`` shows the
+    scene's environment along each pixel's view ray. ``reflections``: "environment" (one
+    lookup along the mirror direction, the default) or "ray" (secondary rays through the
+    scene); ``refractions``: None (transparent surfaces blend straight through, sorted per
+    pixel), "environment" or "ray" (Snell's law, total internal reflection);
+    ``max_depth``: 0 to :data:`MAX_TRACE_DEPTH` secondary ray segments (default 5; at the
+    limit the environment is looked up)."""
 
     def __new__(
         cls,
@@ -976,7 +1087,7 @@ class RenderOptions:
         height: int = 600,
         shading: _Shading = "phong",
         specular: _Specular = "blinn",
-        background: _Vec3Like | None = None,
+        background: _Vec3Like | Literal["environment"] | None = None,
         cull_backfaces: bool = False,
         threads: int | None = None,
         gouraud: _Gouraud = "normals",
@@ -988,6 +1099,9 @@ class RenderOptions:
         edge_width: float | None = 1.0,
         edge_angle: float | None = 30.0,
         edges_only: bool = False,
+        reflections: _Technique = "environment",
+        refractions: _Technique | None = None,
+        max_depth: int | None = 5,
     ) -> RenderOptions: ...
     def __copy__(self) -> RenderOptions: ...
     def __deepcopy__(self, _memo: Any) -> RenderOptions:
@@ -1019,8 +1133,17 @@ class RenderOptions:
     def specular(self) -> str:
         """ "blinn", "phong" or "blinn-normalized"."""
     @property
-    def background(self) -> _Vec3:
-        """Linear RGB of empty pixels."""
+    def background(self) -> _Vec3 | Literal["environment"]:
+        """Linear RGB of empty pixels, or "environment"."""
+    @property
+    def reflections(self) -> str:
+        """ "environment" or "ray"."""
+    @property
+    def refractions(self) -> str | None:
+        """None, "environment" or "ray"."""
+    @property
+    def max_depth(self) -> int:
+        """Secondary ray segments followed at most."""
     @property
     def cull_backfaces(self) -> bool:
         """Whether clockwise (back) faces are skipped."""
@@ -1063,7 +1186,7 @@ class _RenderOptionsArgs(TypedDict, total=False):
     height: int
     shading: _Shading
     specular: _Specular
-    background: _Vec3Like | None
+    background: _Vec3Like | Literal["environment"] | None
     cull_backfaces: bool
     threads: int | None
     gouraud: _Gouraud
@@ -1075,6 +1198,9 @@ class _RenderOptionsArgs(TypedDict, total=False):
     edge_width: float | None
     edge_angle: float | None
     edges_only: bool
+    reflections: _Technique
+    refractions: _Technique | None
+    max_depth: int | None
 
 # One overload per output type; the render options are RenderOptions' arguments.
 @overload

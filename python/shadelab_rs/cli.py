@@ -16,7 +16,7 @@ import numpy as np
 
 from . import _core as core
 from .demo import VIEWS, demo_scene, view_direction
-from .io import PNG_COMPRESSIONS, file_up_axis, load_mesh, save_depth, save_image
+from .io import PNG_COMPRESSIONS, file_up_axis, load_environment, load_mesh, save_depth, save_image
 from .rendering import EmptyRenderWarning, _finish, render, render_frame
 from .scene_file import frame_scene, light_with_shadows, load_scene
 from .swatch import material_sheet
@@ -40,6 +40,11 @@ def _triple(text: str) -> tuple[float, float, float]:
     return vals  # type: ignore[return-value]
 
 
+def _background(text: str) -> str | tuple[float, float, float]:
+    """r,g,b or "environment"."""
+    return "environment" if text == "environment" else _triple(text)
+
+
 def _view(text: str) -> str | tuple[float, float, float]:
     """A view name or an x,y,z direction."""
     if text.lower() in VIEWS:
@@ -60,7 +65,11 @@ def _check_values(args: argparse.Namespace) -> None:
     """Value checks the parser's types do not make (exit status 1 with one line, like the
     renderer's own errors): nothing is clamped or ignored silently."""
     bg = args.background
-    if bg is not None and not all(math.isfinite(c) and 0.0 <= c <= 1.0 for c in bg):
+    if (
+        bg is not None
+        and bg != "environment"
+        and not all(math.isfinite(c) and 0.0 <= c <= 1.0 for c in bg)
+    ):
         hint = " (for 8-bit values divide by 255)" if max(bg) > 1.0 else ""
         raise ValueError(
             f"--background components must be in [0, 1] (linear r,g,b), got {_fmt3(bg)}{hint}"
@@ -85,7 +94,27 @@ def _render_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--size", type=_size, default=None, help="WIDTHxHEIGHT (800x600)")
     p.add_argument("--shading", choices=core.RenderOptions.shading_names, default=None)
     p.add_argument("--specular", choices=core.RenderOptions.specular_names, default=None)
-    p.add_argument("--background", type=_triple, default=None, help="r,g,b in [0,1] (0,0,0)")
+    p.add_argument(
+        "--background",
+        type=_background,
+        default=None,
+        help="r,g,b in [0,1] (0,0,0), or 'environment' (the scene's environment)",
+    )
+    p.add_argument(
+        "--environment",
+        default=None,
+        metavar="FILE",
+        help="equirectangular environment image (.npy float, PNG, JPEG) lighting "
+        "reflections and refractions",
+    )
+    p.add_argument("--reflections", choices=["environment", "ray"], default=None)
+    p.add_argument(
+        "--refractions",
+        choices=["none", "environment", "ray"],
+        default=None,
+        help="none: transparent surfaces blend straight through (sorted per pixel)",
+    )
+    p.add_argument("--max-depth", type=int, default=None, help="secondary ray segments at most (5)")
     p.add_argument("--threads", type=int, default=None, help="worker threads (default: all)")
     p.add_argument("--cull-backfaces", action="store_true", default=None)
     p.add_argument(
@@ -179,6 +208,8 @@ def _render(
         scene.clear_lights()
         for light in lights:
             scene.add_light(light)
+    if args.environment is not None:
+        scene.environment = load_environment(args.environment)
     names = (
         "shading",
         "specular",
@@ -191,12 +222,16 @@ def _render(
         "edge_width",
         "edge_angle",
         "edges_only",
+        "reflections",
+        "max_depth",
     )
     flags = {k: getattr(args, k) for k in names}
     flags["cull_backfaces"] = args.cull_backfaces
     if args.size is not None:
         flags["width"], flags["height"] = args.size
     given = {k: v for k, v in flags.items() if v is not None}
+    if args.refractions is not None:
+        given["refractions"] = None if args.refractions == "none" else args.refractions
     opts = core.RenderOptions(**{**(file_options or {}), **given})
     if args.views is not None and args.cameras is not None:
         raise ValueError("--views and --cameras cannot be used together")

@@ -11,7 +11,7 @@ from typing import Any, Literal, get_args
 import numpy as np
 
 from . import _core
-from ._core import Material, Mesh, Texture, load_obj
+from ._core import Environment, Material, Mesh, Texture, load_obj
 
 #: Default crease angle of the mesh loaders, degrees: an edge between faces whose normals
 #: differ by more stays sharp (a box's 90-degree edges), smaller ones are smoothed (the
@@ -437,3 +437,24 @@ def save_depth(
             )
         q[drawn] = np.maximum(np.round(d[drawn] * scale), 1).astype(np.uint16)
     _write(path, _png_bytes(q, {"depth_scale": repr(float(scale))}))
+
+
+def load_environment(
+    path: str | os.PathLike[str], rotation: float = 0.0, intensity: float = 1.0
+) -> Environment:
+    """An :class:`Environment` read from an equirectangular image file: ``.npy`` (an
+    (H, 2H, 3) array, float values linear and HDR allowed) or an 8-bit image Pillow reads
+    (PNG, JPEG: sRGB-decoded). The path is recorded for scene files."""
+    p = Path(path)
+    if not p.is_file():
+        raise FileNotFoundError(f"environment image not found: {p}")
+    if p.suffix.lower() == ".npy":
+        array = np.load(p, allow_pickle=False)
+        srgb = array.dtype == np.uint8
+    else:
+        from PIL import Image
+
+        with Image.open(p) as im:
+            array = np.asarray(im.convert("RGB"))
+        srgb = True
+    return Environment(array, rotation, intensity, srgb, path=p)

@@ -312,6 +312,13 @@ def render(
       covered, so lines are anti-aliased with ``samples`` > 1); ``edges_only``: the lines
       alone over the ``background`` (surfaces still hide what is behind them; with
       ``alpha``, over transparency).
+      ``background="environment"`` shows the scene's
+      environment along each pixel's view ray. ``reflections``: "environment" (default,
+      one lookup along the mirror direction) or "ray" (secondary rays through the scene);
+      ``refractions``: None (default: transparent surfaces blend straight through, sorted
+      per pixel), "environment" or "ray" (Snell's law, total internal reflection);
+      ``max_depth``: secondary ray segments at most (5; then the environment). See the
+      lighting guide, "Reflection, refraction and transparency".
     - ``dtype``: "uint8" (default, ``round(clamp(c, 0, 1) * 255)``) or "float32" (linear,
       unclamped unless ``encoding="srgb"``).
     - ``return_depth``: also return the float32 eye-space depth (distance along the viewing

@@ -29,6 +29,7 @@ from ._core import (
     AreaLight,
     Camera,
     DirectionalLight,
+    Environment,
     Fog,
     Material,
     Mesh,
@@ -212,7 +213,17 @@ _MAP_KEYS = (
     "emission_map",
     "shininess_map",
 )
-_MATERIAL_KEYS = ("preset", "ambient", "diffuse", "specular", "shininess", "emission", *_MAP_KEYS)
+_OPTICS_KEYS = ("reflectivity", "transparency", "ior", "fresnel", "absorption")
+_MATERIAL_KEYS = (
+    "preset",
+    "ambient",
+    "diffuse",
+    "specular",
+    "shininess",
+    "emission",
+    *_MAP_KEYS,
+    *_OPTICS_KEYS,
+)
 _IMAGE_KEYS = ("filter", "wrap", "srgb", "anisotropy", "uv_scale", "uv_offset")
 _PROCEDURAL_KEYS = ("scale", "color_a", "color_b", "width", "octaves", "seed")
 
@@ -340,6 +351,23 @@ def _material_table(v: Any, where: str) -> Material:
     for k in _MAP_KEYS:
         if k in t:
             values[k] = _texture(t[k], _at(where, k))
+    # Optics: a number or an RGB list (reflectivity, absorption), a number or a preset name
+    # (ior), a boolean (fresnel); their ranges are the core's to check.
+    for k in ("reflectivity", "absorption"):
+        if k in t:
+            values[k] = (
+                _number(t[k], _at(where, k)) if _is_number(t[k]) else _numbers(t[k], _at(where, k))
+            )
+    if "transparency" in t:
+        values["transparency"] = _number(t["transparency"], _at(where, "transparency"))
+    if "ior" in t:
+        values["ior"] = (
+            _string(t["ior"], _at(where, "ior"))
+            if isinstance(t["ior"], str)
+            else _number(t["ior"], _at(where, "ior"))
+        )
+    if "fresnel" in t:
+        values["fresnel"] = _boolean(t["fresnel"], _at(where, "fresnel"))
     return _call(where, lambda: Material(**values))
 
 
@@ -403,6 +431,13 @@ def material_to_dict(m: Material) -> dict[str, Any]:
         tex = getattr(m, k)
         if tex is not None:
             d[k] = texture_to_dict(tex)
+    # Optics only when they differ from an opaque material's, so older files stay as they were.
+    if any(m.reflectivity) or m.transparency or m.ior != 1.0 or not m.fresnel or any(m.absorption):
+        d["reflectivity"] = list(m.reflectivity)
+        d["transparency"] = float(m.transparency)
+        d["ior"] = float(m.ior)
+        d["fresnel"] = bool(m.fresnel)
+        d["absorption"] = list(m.absorption)
     return d
 
 
@@ -558,6 +593,32 @@ def fog_to_dict(fog: Fog) -> dict[str, Any]:
     return d
 
 
+def _environment(v: Any, where: str) -> Environment:
+    """``{file = "sky.png", rotation = 0.0, intensity = 1.0}`` (see :func:`load_environment`;
+    a relative path is read against the file's directory)."""
+    from .io import load_environment
+
+    t = _table(v, where, ("file",), ("rotation", "intensity"))
+    path = _BASE_DIR.get() / _string(t["file"], _at(where, "file"))
+    rotation = _number(t.get("rotation", 0.0), _at(where, "rotation"))
+    intensity = _number(t.get("intensity", 1.0), _at(where, "intensity"))
+    try:
+        return _call(where, lambda: load_environment(path, rotation, intensity))
+    except FileNotFoundError as e:
+        raise SceneFileError(str(e), _at(where, "file")) from e
+
+
+def environment_to_dict(env: Environment) -> dict[str, Any]:
+    """An environment as a scene-file table. One made from an array has no file to name:
+    ``ValueError`` (save it as .npy and use :func:`load_environment`)."""
+    if env.path is None:
+        raise ValueError(
+            "an Environment made from an array cannot be written to a scene file; save the "
+            "array (.npy) and use sl.load_environment"
+        )
+    return {"file": str(env.path), "rotation": env.rotation, "intensity": env.intensity}
+
+
 def _camera(v: Any, where: str) -> Camera:
     if not isinstance(v, Mapping):
         raise _fail(where, "a table", v)
@@ -626,16 +687,18 @@ def _render_options(v: Any, where: str) -> dict[str, Any]:
         "specular": _string,
         "gouraud": _string,
         "interpolation": _string,
-        "background": _numbers,
+        "background": lambda v, w: v if v == "environment" else _numbers(v, w),
         "cull_backfaces": _boolean,
         "edges": _string,
         "edge_color": _numbers,
         "edge_width": _number,
         "edge_angle": _number,
         "edges_only": _boolean,
+        "reflections": _string,
+        "refractions": _string,
     }
     for k, value in t.items():
-        if value is not None or k not in ("threads", "edges"):
+        if value is not None or k not in ("threads", "edges", "refractions"):
             types.get(k, _integer)(value, _at(where, k))
     _call(where, lambda: RenderOptions(**t))
     return t
@@ -761,6 +824,7 @@ def _add_object(
 
 _TOP_KEYS = (
     "ambient",
+    "environment",
     "two_sided",
     "local_viewer",
     "fog",
@@ -836,12 +900,23 @@ def load_scene_dict(d: Any, base_dir: _PathLike | None = None) -> SceneFile:
 
     ambient = checked(lambda: _numbers(t["ambient"], "ambient")) if "ambient" in t else None
     fog = checked(lambda: _fog(t["fog"], "fog")) if "fog" in t else None
+    environment = (
+        checked(lambda: _environment(t["environment"], "environment"))
+        if "environment" in t
+        else None
+    )
     two_sided = checked(lambda: _boolean(t.get("two_sided", False), "two_sided"), False)
     local_viewer = checked(lambda: _boolean(t.get("local_viewer", True), "local_viewer"), True)
     scene = checked(
         lambda: _call(
             "",
-            lambda: Scene(ambient=ambient, fog=fog, two_sided=two_sided, local_viewer=local_viewer),
+            lambda: Scene(
+                ambient=ambient,
+                fog=fog,
+                two_sided=two_sided,
+                local_viewer=local_viewer,
+                environment=environment,
+            ),
         )
     )
     if scene is None:
@@ -984,6 +1059,8 @@ def scene_to_dict(
     }
     if scene.fog is not None:
         d["fog"] = fog_to_dict(scene.fog)
+    if scene.environment is not None:
+        d["environment"] = environment_to_dict(scene.environment)
     if camera is not None:
         d["camera"] = camera_to_dict(camera)
     if render:

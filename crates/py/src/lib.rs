@@ -6,6 +6,7 @@ mod batch;
 mod camera;
 mod convert;
 mod defaults;
+mod environment;
 mod errors;
 mod fog;
 mod light;
@@ -46,6 +47,12 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scene::PyScene>()?;
     m.add_class::<scene::PySceneObject>()?;
     m.add_class::<fog::PyFog>()?;
+    m.add_class::<environment::PyEnvironment>()?;
+    m.add(
+        "MAX_ENVIRONMENT_SIZE",
+        shadelab_raster::MAX_ENVIRONMENT_SIZE,
+    )?;
+    m.add("MAX_TRACE_DEPTH", shadelab_raster::MAX_TRACE_DEPTH)?;
     m.add_class::<camera::PyCamera>()?;
     m.add_function(wrap_pyfunction!(mesh::load_obj, m)?)?;
     m.add_function(wrap_pyfunction!(mesh::load_obj_parts, m)?)?;

@@ -48,6 +48,62 @@ fn shininess_f32(s: Option<f64>, default: f32) -> PyResult<f32> {
     }
 }
 
+/// A number or an RGB colour (reflectivity).
+fn scalar_or_rgb(v: &Bound<'_, PyAny>, name: &str) -> PyResult<glam::Vec3> {
+    if let Ok(x) = v.extract::<f64>() {
+        return Ok(glam::Vec3::splat(x as f32));
+    }
+    convert::vec3(v, name)
+}
+
+/// An index of refraction: a number > 0 or a preset name ("air", "water", "glass",
+/// "diamond").
+fn ior_arg(v: Option<&Bound<'_, PyAny>>) -> PyResult<f32> {
+    let Some(v) = v.filter(|v| !v.is_none()) else {
+        return Ok(1.0);
+    };
+    if let Ok(name) = v.extract::<String>() {
+        return core::ior_preset(&name).map_err(to_py);
+    }
+    match v.extract::<f64>() {
+        Ok(x) => Ok(x as f32),
+        Err(_) => Err(crate::errors::type_error(
+            "ior",
+            format!(
+                "ior must be a number or a preset name, got {}",
+                v.get_type().name()?
+            ),
+        )),
+    }
+}
+
+/// `m` with its optical parameters (the constructor's keywords), checked by the core.
+pub(crate) fn with_optics(
+    m: core::Material,
+    reflectivity: Option<&Bound<'_, PyAny>>,
+    transparency: f64,
+    ior: Option<&Bound<'_, PyAny>>,
+    fresnel: bool,
+    absorption: Option<&Bound<'_, PyAny>>,
+) -> PyResult<core::Material> {
+    let reflectivity = match reflectivity.filter(|v| !v.is_none()) {
+        Some(v) => scalar_or_rgb(v, "reflectivity")?,
+        None => glam::Vec3::ZERO,
+    };
+    let absorption = match absorption.filter(|v| !v.is_none()) {
+        Some(v) => scalar_or_rgb(v, "absorption")?,
+        None => glam::Vec3::ZERO,
+    };
+    m.with_optics(
+        reflectivity,
+        transparency as f32,
+        ior_arg(ior)?,
+        fresnel,
+        absorption,
+    )
+    .map_err(to_py)
+}
+
 #[pymethods]
 impl PyMaterial {
     /// Pickle support: `_core._restore("Material", state)` rebuilds this value exactly.
@@ -72,7 +128,8 @@ impl PyMaterial {
     #[new]
     #[pyo3(signature = (ambient=None, diffuse=None, specular=None, shininess=None, emission=None,
                          diffuse_map=None, ambient_map=None, specular_map=None, emission_map=None,
-                         shininess_map=None))]
+                         shininess_map=None, reflectivity=None, transparency=0.0, ior=None,
+                         fresnel=true, absorption=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         ambient: Option<&Bound<'_, PyAny>>,
@@ -85,6 +142,11 @@ impl PyMaterial {
         specular_map: Option<PyRef<'_, PyTexture>>,
         emission_map: Option<PyRef<'_, PyTexture>>,
         shininess_map: Option<PyRef<'_, PyTexture>>,
+        reflectivity: Option<&Bound<'_, PyAny>>,
+        transparency: f64,
+        ior: Option<&Bound<'_, PyAny>>,
+        fresnel: bool,
+        absorption: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let d = core::Material::default();
         let pick = |v: Option<&Bound<'_, PyAny>>, name: &str, dflt| -> PyResult<glam::Vec3> {
@@ -99,6 +161,7 @@ impl PyMaterial {
         )
         .and_then(|m| m.with_emission(emission))
         .map_err(to_py)?;
+        let inner = with_optics(inner, reflectivity, transparency, ior, fresnel, absorption)?;
         let maps = core::Maps {
             diffuse: map_arg(diffuse_map),
             ambient: map_arg(ambient_map),
@@ -211,6 +274,60 @@ impl PyMaterial {
         self.inner.emission.into()
     }
 
+    /// Share of light mirrored (r, g, b), each in [0, 1].
+    #[getter]
+    fn reflectivity(&self) -> (f32, f32, f32) {
+        self.inner.reflectivity.into()
+    }
+
+    /// Share of light transmitted, in [0, 1].
+    #[getter]
+    fn transparency(&self) -> f32 {
+        self.inner.transparency
+    }
+
+    /// Index of refraction.
+    #[getter]
+    fn ior(&self) -> f32 {
+        self.inner.ior
+    }
+
+    /// Whether reflection and transmission are weighed by Schlick's Fresnel term.
+    #[getter]
+    fn fresnel(&self) -> bool {
+        self.inner.fresnel
+    }
+
+    /// Beer–Lambert absorption per unit distance inside the material (r, g, b).
+    #[getter]
+    fn absorption(&self) -> (f32, f32, f32) {
+        self.inner.absorption.into()
+    }
+
+    /// The same material with other optical parameters (the constructor's keywords; maps
+    /// kept).
+    #[pyo3(signature = (reflectivity=None, transparency=0.0, ior=None, fresnel=true, absorption=None))]
+    fn with_optics(
+        &self,
+        reflectivity: Option<&Bound<'_, PyAny>>,
+        transparency: f64,
+        ior: Option<&Bound<'_, PyAny>>,
+        fresnel: bool,
+        absorption: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        Ok(PyMaterial {
+            inner: with_optics(
+                self.inner,
+                reflectivity,
+                transparency,
+                ior,
+                fresnel,
+                absorption,
+            )?,
+            maps: self.maps.clone(),
+        })
+    }
+
     fn __repr__(&self) -> String {
         let m = &self.inner;
         let maps = self.maps.as_ref().map_or(String::new(), |mp| {
@@ -226,8 +343,20 @@ impl PyMaterial {
             .map(|(n, _)| format!(", {n}=Texture(...)"))
             .collect()
         });
+        let optics = if m.is_reflective() || m.is_transparent() || m.ior != 1.0 {
+            format!(
+                ", reflectivity={:?}, transparency={}, ior={}, fresnel={}, absorption={:?}",
+                m.reflectivity.to_array(),
+                m.transparency,
+                m.ior,
+                if m.fresnel { "True" } else { "False" },
+                m.absorption.to_array()
+            )
+        } else {
+            String::new()
+        };
         format!(
-            "Material(ambient={:?}, diffuse={:?}, specular={:?}, shininess={}, emission={:?}{maps})",
+            "Material(ambient={:?}, diffuse={:?}, specular={:?}, shininess={}, emission={:?}{optics}{maps})",
             m.ambient.to_array(),
             m.diffuse.to_array(),
             m.specular.to_array(),

@@ -187,7 +187,9 @@ fn restore_mesh(state: &Bound<'_, PyAny>) -> PyResult<PyMesh> {
 
 // ---- Material, Fog, Camera ----
 
-type MaterialState = (V3, V3, V3, f32, V3);
+/// ambient, diffuse, specular, shininess, emission, then the optics: reflectivity,
+/// transparency, ior, fresnel, absorption.
+type MaterialState = (V3, V3, V3, f32, V3, V3, f32, f32, bool, V3);
 
 pub fn material_state(m: &core::Material) -> MaterialState {
     (
@@ -196,12 +198,29 @@ pub fn material_state(m: &core::Material) -> MaterialState {
         m.specular.into(),
         m.shininess,
         m.emission.into(),
+        m.reflectivity.into(),
+        m.transparency,
+        m.ior,
+        m.fresnel,
+        m.absorption.into(),
     )
+}
+
+/// A material from its pickled state: the ten values of [`MaterialState`], or the first
+/// five alone (states written before the optics existed: an opaque material).
+fn material_any(state: &Bound<'_, PyAny>) -> PyResult<core::Material> {
+    if state.len()? == 5 {
+        let s: (V3, V3, V3, f32, V3) = state.extract()?;
+        let zero = (0.0, 0.0, 0.0);
+        return material((s.0, s.1, s.2, s.3, s.4, zero, 0.0, 1.0, true, zero));
+    }
+    material(state.extract()?)
 }
 
 fn material(s: MaterialState) -> PyResult<core::Material> {
     core::Material::new(v3(s.0), v3(s.1), v3(s.2), s.3)
         .and_then(|m| m.with_emission(v3(s.4)))
+        .and_then(|m| m.with_optics(v3(s.5), s.6, s.7, s.8, v3(s.9)))
         .map_err(to_py)
 }
 
@@ -543,9 +562,18 @@ pub fn scene_state<'py>(py: Python<'py>, scene: &PyScene) -> PyResult<Bound<'py,
             .to_owned()
             .into_any(),
     ];
-    // Per-object texture maps, only when there are any: untextured scenes pickle as before.
-    if maps.iter().any(Option::is_some) {
+    // Per-object texture maps, only when there are any (or an environment follows):
+    // untextured scenes pickle as before.
+    let env = s.environment();
+    if maps.iter().any(Option::is_some) || env.is_some() {
         items.push(maps.into_pyobject(py)?.into_any());
+    }
+    if let Some(e) = env {
+        let e = crate::environment::PyEnvironment {
+            inner: e.clone(),
+            path: scene.environment_path.clone(),
+        };
+        items.push(Bound::new(py, e)?.into_any());
     }
     PyTuple::new(py, items)
 }
@@ -560,8 +588,14 @@ fn transform(cols: &[f32]) -> PyResult<Mat4> {
 #[allow(clippy::type_complexity)]
 fn restore_scene(state: &Bound<'_, PyAny>) -> PyResult<PyScene> {
     // A ninth item holds the objects' texture maps (scenes with textures only).
+    let environment: Option<crate::environment::PyEnvironment> = match state.len()? {
+        10 => Some(state.get_item(9)?.extract()?),
+        _ => None,
+    };
+    let environment_path = environment.as_ref().and_then(|e| e.path.clone());
+    let environment = environment.map(|e| e.inner);
     let maps: Vec<Option<Arc<core::Maps>>> = match state.len()? {
-        9 => state
+        9 | 10 => state
             .get_item(8)?
             .try_iter()?
             .map(|m| {
@@ -588,6 +622,7 @@ fn restore_scene(state: &Bound<'_, PyAny>) -> PyResult<PyScene> {
     ) = state.extract()?;
     let mut scene = core::Scene::new(v3(ambient)).map_err(to_py)?;
     scene.set_fog(fog_s.map(fog).transpose()?);
+    scene.set_environment(environment);
     scene.set_two_sided(two_sided);
     scene.set_local_viewer(local_viewer);
     for (k, (i, m, back, t)) in objects.into_iter().enumerate() {
@@ -613,6 +648,7 @@ fn restore_scene(state: &Bound<'_, PyAny>) -> PyResult<PyScene> {
         inner: scene,
         given_directions,
         default_lights,
+        environment_path,
     })
 }
 
@@ -672,16 +708,9 @@ pub fn _restore<'py>(
     };
     let obj = match kind {
         "Mesh" => Bound::new(py, restore_mesh(state).map_err(bad)?)?.into_any(),
-        "Material" => Bound::new(
-            py,
-            PyMaterial::plain(
-                state
-                    .extract()
-                    .map_err(bad)
-                    .and_then(|s| material(s).map_err(bad))?,
-            ),
-        )?
-        .into_any(),
+        "Material" => {
+            Bound::new(py, PyMaterial::plain(material_any(state).map_err(bad)?))?.into_any()
+        }
         "ShadowSettings" => Bound::new(
             py,
             PyShadowSettings {

@@ -156,6 +156,13 @@ fn specular_name(model: core::SpecularModel) -> &'static str {
     }
 }
 
+fn technique_name(t: core::Technique) -> &'static str {
+    match t {
+        core::Technique::Environment => "environment",
+        core::Technique::Ray => "ray",
+    }
+}
+
 /// How to render: the one spelling of the options shared by `render`, `render_frame`,
 /// scene files' `[render]` table and the command line. Checked when built; immutable.
 #[pyclass(name = "RenderOptions", module = "shadelab_rs._core", frozen, eq)]
@@ -185,8 +192,9 @@ impl PyRenderOptions {
                         background=None, cull_backfaces=false, threads=None,
                         gouraud="normals", interpolation="perspective", samples=None,
                         supersample=None, edges=None, edge_color=None, edge_width=None,
-                        edge_angle=None, edges_only=false),
-           text_signature = "(width=800, height=600, shading='phong', specular='blinn', background=None, cull_backfaces=False, threads=None, gouraud='normals', interpolation='perspective', samples=1, supersample=1, edges=None, edge_color=(0.0, 0.0, 0.0), edge_width=1.0, edge_angle=30.0, edges_only=False)")]
+                        edge_angle=None, edges_only=false, reflections="environment",
+                        refractions=None, max_depth=None),
+           text_signature = "(width=800, height=600, shading='phong', specular='blinn', background=None, cull_backfaces=False, threads=None, gouraud='normals', interpolation='perspective', samples=1, supersample=1, edges=None, edge_color=(0.0, 0.0, 0.0), edge_width=1.0, edge_angle=30.0, edges_only=False, reflections='environment', refractions=None, max_depth=5)")]
     #[allow(clippy::too_many_arguments)]
     fn new(
         width: Option<&Bound<'_, PyAny>>,
@@ -205,6 +213,9 @@ impl PyRenderOptions {
         edge_width: Option<&Bound<'_, PyAny>>,
         edge_angle: Option<&Bound<'_, PyAny>>,
         edges_only: bool,
+        reflections: &str,
+        refractions: Option<&str>,
+        max_depth: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let mut inner =
             core::RenderOptions::new(size(width, 800, "width")?, size(height, 600, "height")?);
@@ -220,8 +231,36 @@ impl PyRenderOptions {
         inner.interpolation = interpolation
             .parse()
             .map_err(|e| with_field(to_py(e), "interpolation"))?;
-        if let Some(bg) = background.filter(|b| !b.is_none()) {
-            inner.background = convert::vec3(bg, "background")?;
+        match background.filter(|b| !b.is_none()) {
+            Some(bg) if bg.extract::<String>().is_ok() => {
+                let name: String = bg.extract()?;
+                if name != "environment" {
+                    return Err(value_error(
+                        "background",
+                        format!("background must be an RGB colour or 'environment', got {name:?}"),
+                    ));
+                }
+                inner.environment_background = true;
+            }
+            Some(bg) => inner.background = convert::vec3(bg, "background")?,
+            None => {}
+        }
+        inner.reflections = reflections
+            .parse()
+            .map_err(|e| with_field(to_py(e), "reflections"))?;
+        inner.refractions = match refractions {
+            None => None,
+            Some(r) => Some(r.parse().map_err(|e| with_field(to_py(e), "refractions"))?),
+        };
+        if let Some(d) = max_depth.filter(|d| !d.is_none()) {
+            let max = core::MAX_TRACE_DEPTH;
+            let v = int_arg(d, "max_depth")?.unwrap_or(-1);
+            inner.max_depth = u32::try_from(v).ok().filter(|v| *v <= max).ok_or_else(|| {
+                value_error(
+                    "max_depth",
+                    format!("max_depth must be an int between 0 and {max}, got {v}"),
+                )
+            })?;
         }
         inner.cull_backfaces = cull_backfaces;
         inner.threads = threads_arg(threads)?;
@@ -297,7 +336,7 @@ impl PyRenderOptions {
         d.set_item("height", self.inner.height)?;
         d.set_item("shading", shading_name(self.inner.shading))?;
         d.set_item("specular", specular_name(self.inner.specular))?;
-        d.set_item("background", self.background())?;
+        d.set_item("background", self.background(py)?)?;
         d.set_item("cull_backfaces", self.inner.cull_backfaces)?;
         d.set_item("threads", self.inner.threads)?;
         d.set_item("gouraud", gouraud_name(self.inner.gouraud))?;
@@ -312,7 +351,29 @@ impl PyRenderOptions {
         d.set_item("edge_width", self.inner.edge_width)?;
         d.set_item("edge_angle", self.inner.edge_angle)?;
         d.set_item("edges_only", self.inner.edges_only)?;
+        d.set_item("reflections", technique_name(self.inner.reflections))?;
+        d.set_item("refractions", self.inner.refractions.map(technique_name))?;
+        d.set_item("max_depth", self.inner.max_depth)?;
         Ok(d)
+    }
+
+    /// How reflections find the mirrored light: "environment" or "ray".
+    #[getter]
+    fn reflections(&self) -> &'static str {
+        technique_name(self.inner.reflections)
+    }
+
+    /// How refractions find the transmitted light: None (straight see-through blending),
+    /// "environment" or "ray".
+    #[getter]
+    fn refractions(&self) -> Option<&'static str> {
+        self.inner.refractions.map(technique_name)
+    }
+
+    /// Secondary rays followed at most from the first surface.
+    #[getter]
+    fn max_depth(&self) -> u32 {
+        self.inner.max_depth
     }
 
     /// Visibility samples per pixel: 1, or 2, 4, 8, 16 for multi-sample anti-aliasing.
@@ -401,10 +462,15 @@ impl PyRenderOptions {
         interpolation_name(self.inner.interpolation)
     }
 
-    /// Linear RGB of empty pixels.
+    /// Linear RGB of empty pixels, or "environment" (the scene's environment along each
+    /// pixel's view ray).
     #[getter]
-    fn background(&self) -> (f32, f32, f32) {
-        self.inner.background.into()
+    fn background(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        if self.inner.environment_background {
+            return Ok("environment".into_pyobject(py)?.into_any().unbind());
+        }
+        let c: (f32, f32, f32) = self.inner.background.into();
+        Ok(c.into_pyobject(py)?.into_any().unbind())
     }
 
     /// Whether clockwise (back) faces are skipped.

@@ -13,6 +13,7 @@ use shadelab_raster as core;
 
 use crate::area_light::PyAreaLight;
 use crate::convert;
+use crate::environment::PyEnvironment;
 use crate::errors::to_py;
 use crate::fog::PyFog;
 use crate::light::{PyDirectionalLight, PyPointLight, PySpotLight};
@@ -168,6 +169,8 @@ pub struct PyScene {
     pub(crate) given_directions: Vec<Option<[f64; 3]>>,
     /// Whether `render` lights a scene without lights with the camera's light rig.
     pub default_lights: bool,
+    /// The file the environment was read from, if any (scene files name it).
+    pub(crate) environment_path: Option<std::path::PathBuf>,
 }
 
 /// A material argument: a Material, a preset name, or None for the default.
@@ -273,6 +276,7 @@ impl PyScene {
             inner: self.inner.clone(),
             given_directions: self.given_directions.clone(),
             default_lights: self.default_lights,
+            environment_path: self.environment_path.clone(),
         }
     }
 }
@@ -295,24 +299,28 @@ impl PyScene {
     }
 
     #[new]
-    #[pyo3(signature = (ambient=None, fog=None, two_sided=false, local_viewer=true, default_lights=true))]
+    #[pyo3(signature = (ambient=None, fog=None, two_sided=false, local_viewer=true, default_lights=true, environment=None))]
     fn new(
         ambient: Option<&Bound<'_, PyAny>>,
         fog: Option<PyFog>,
         two_sided: bool,
         local_viewer: bool,
         default_lights: bool,
+        environment: Option<PyEnvironment>,
     ) -> PyResult<Self> {
         let ambient =
             ambient.map_or(Ok(glam::Vec3::splat(0.2)), |a| convert::vec3(a, "ambient"))?;
         let mut inner = core::Scene::new(ambient).map_err(to_py)?;
         inner.set_fog(fog.map(|f| f.inner));
+        let environment_path = environment.as_ref().and_then(|e| e.path.clone());
+        inner.set_environment(environment.map(|e| e.inner));
         inner.set_two_sided(two_sided);
         inner.set_local_viewer(local_viewer);
         Ok(PyScene {
             inner,
             given_directions: Vec::new(),
             default_lights,
+            environment_path,
         })
     }
 
@@ -348,6 +356,22 @@ impl PyScene {
     #[setter]
     fn set_local_viewer(&mut self, local: bool) {
         self.inner.set_local_viewer(local);
+    }
+
+    /// The environment (an Environment) or None; assignable. Reflections and refractions
+    /// read it; `background="environment"` shows it.
+    #[getter]
+    fn get_environment(&self) -> Option<PyEnvironment> {
+        self.inner.environment().map(|e| PyEnvironment {
+            inner: e.clone(),
+            path: self.environment_path.clone(),
+        })
+    }
+
+    #[setter]
+    fn set_environment(&mut self, environment: Option<PyEnvironment>) {
+        self.environment_path = environment.as_ref().and_then(|e| e.path.clone());
+        self.inner.set_environment(environment.map(|e| e.inner));
     }
 
     /// The fog (a Fog) or None; assignable.

@@ -12,6 +12,7 @@ use glam::{DVec3, Mat4, Vec3, Vec4};
 
 use crate::camera::{Camera, Projection};
 use crate::effects::{Fog, FogMode};
+use crate::environment::Environment;
 use crate::error::RasterError;
 use crate::frame::{ColorBuffer, ColorFormat};
 use crate::lights::{AreaLight, AreaShape};
@@ -20,7 +21,9 @@ use crate::lights::{ShadowFilter, ShadowSettings, Shadows};
 use crate::material::Material;
 use crate::mesh::Mesh;
 use crate::obj::{merge_parts, parse_obj_parts};
-use crate::options::{GouraudMethod, Interpolation, RenderOptions, ShadingMode, SpecularModel};
+use crate::options::{
+    GouraudMethod, Interpolation, RenderOptions, ShadingMode, SpecularModel, Technique,
+};
 use crate::render::{coverage_counts, render};
 use crate::scene::{Object, Scene};
 
@@ -372,6 +375,43 @@ fn decode(b: &mut Bytes) -> Option<Case> {
         };
         scene.add_light(light);
     }
+    // Third extension block (zeros: no optics): the techniques, an environment and each
+    // object's reflectivity, transparency, ior, Fresnel and absorption.
+    let optics = b.u8();
+    if optics != 0 {
+        options.reflections = if optics & 1 != 0 {
+            Technique::Ray
+        } else {
+            Technique::Environment
+        };
+        options.refractions = match (optics >> 1) % 3 {
+            0 => None,
+            1 => Some(Technique::Environment),
+            _ => Some(Technique::Ray),
+        };
+        options.max_depth = (b.u8() % 4) as u32;
+        if optics & 0x20 != 0 {
+            let texels: Vec<f32> = (0..4).flat_map(|_| b.color().to_array()).collect();
+            scene.set_environment(ok_or_message(Environment::new(
+                &texels,
+                1,
+                2,
+                b.f32(),
+                b.level(),
+            )));
+            options.environment_background = optics & 0x40 != 0 && scene.environment().is_some();
+        }
+        for o in scene.objects_mut() {
+            if b.flag() {
+                let m =
+                    o.material()
+                        .with_optics(b.color(), b.level(), b.f32(), b.flag(), b.color());
+                if let Some(m) = ok_or_message(m) {
+                    o.set_material(m);
+                }
+            }
+        }
+    }
     Some(Case {
         scene,
         camera,
@@ -440,6 +480,13 @@ pub fn check_render(scene: &Scene, camera: &Camera, options: &RenderOptions) -> 
     let counts = coverage_counts(scene, camera, options).expect("coverage of a valid scene");
     let bg = options.background;
     let perspective = !matches!(camera.projection(), Projection::Orthographic { .. });
+    // Transparent surfaces blended straight through are not in the depth output (only the
+    // opaque layer is), and the environment background is not the background colour.
+    let blended = options.refractions.is_none()
+        && scene.objects().iter().any(|o| {
+            o.material().is_transparent()
+                || o.material_for(true, scene.two_sided()).is_transparent()
+        });
     for (i, (&d, &n)) in depth.iter().zip(&counts).enumerate() {
         let c = Vec3::from_slice(&color[3 * i..3 * i + 3]);
         assert!(!d.is_nan(), "NaN depth at pixel {i}");
@@ -447,6 +494,13 @@ pub fn check_render(scene: &Scene, camera: &Camera, options: &RenderOptions) -> 
             c.is_finite(),
             "non-finite colour {c} at pixel {i} (depth {d})"
         );
+        if blended || options.environment_background {
+            assert!(
+                d == f32::INFINITY || n > 0,
+                "pixel {i}: depth {d}, no triangle"
+            );
+            continue;
+        }
         assert_eq!(
             d == f32::INFINITY,
             n == 0,

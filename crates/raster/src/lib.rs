@@ -24,6 +24,7 @@
 
 mod camera;
 mod effects;
+mod environment;
 mod error;
 mod frame;
 #[cfg(feature = "fuzzing")]
@@ -41,6 +42,7 @@ mod png_out;
 mod pool;
 pub mod primitives;
 mod rays;
+pub mod reflect;
 mod render;
 mod scene;
 mod shadows;
@@ -48,6 +50,7 @@ pub mod texture;
 
 pub use camera::{Camera, Intrinsics, Projection};
 pub use effects::{Fog, FogMode};
+pub use environment::{Environment, MAX_ENVIRONMENT_SIZE};
 pub use error::{RasterError, Result};
 pub use frame::{ColorBuffer, ColorFormat, Frame, Outputs, RenderStats, StageTimings};
 pub use lights::{
@@ -55,12 +58,13 @@ pub use lights::{
     MAX_AREA_SAMPLES, MIN_ATTENUATION_DENOMINATOR,
 };
 pub use lights::{ShadowFilter, ShadowSettings, Shadows, MAX_PCF_KERNEL, MAX_SHADOW_RESOLUTION};
-pub use material::{preset_names, Material, Preset, PRESETS};
+pub use material::{ior_preset, preset_names, Material, Preset, IOR_PRESETS, PRESETS};
 pub use mesh::{face_normal, generate_vertex_normals, Mesh};
 pub use obj::{load_obj, load_obj_parts, parse_obj_parts, ObjPart};
 pub use options::{
-    EdgeMode, GouraudMethod, Interpolation, RenderOptions, ShadingMode, SpecularModel,
-    DEFAULT_EDGE_ANGLE, MAX_EDGE_WIDTH, MAX_IMAGE_SIZE, MAX_SUPERSAMPLE, SAMPLE_COUNTS,
+    EdgeMode, GouraudMethod, Interpolation, RenderOptions, ShadingMode, SpecularModel, Technique,
+    DEFAULT_EDGE_ANGLE, DEFAULT_TRACE_DEPTH, MAX_EDGE_WIDTH, MAX_IMAGE_SIZE, MAX_SUPERSAMPLE,
+    MAX_TRACE_DEPTH, SAMPLE_COUNTS,
 };
 pub use pipeline::shade::Pixel;
 pub use pipeline::MAX_RADIANCE;

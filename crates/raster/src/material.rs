@@ -18,6 +18,22 @@ pub struct Material {
     pub shininess: f32,
     /// Emitted colour `ke` (RGB), added unlit (OpenGL's `GL_EMISSION`); black by default.
     pub emission: Vec3,
+    /// The share of light mirrored (RGB, each in [0, 1]; a colour for metals): the weight
+    /// of the reflected colour in `c = (1 − R − T)·local + R·reflected + T·transmitted`
+    /// (see [`crate::reflect`]). 0 (the default) reflects nothing.
+    pub reflectivity: Vec3,
+    /// The share of light transmitted, `T` in [0, 1]; `reflectivity + transparency ≤ 1`
+    /// per channel. 0 (the default) is opaque.
+    pub transparency: f32,
+    /// Index of refraction of the material (> 0; 1 = air, no bending and no Fresnel
+    /// reflection). Read only where light crosses the surface or Fresnel is on.
+    pub ior: f32,
+    /// Weigh reflection and transmission by Schlick's Fresnel approximation (the default);
+    /// `false` keeps the constant coefficients of the lectures.
+    pub fresnel: bool,
+    /// Beer–Lambert absorption per unit distance (RGB, ≥ 0) of light travelling inside the
+    /// material (ray-traced refraction only): transmitted light is scaled by `exp(−a·d)`.
+    pub absorption: Vec3,
 }
 
 impl Default for Material {
@@ -29,8 +45,50 @@ impl Default for Material {
             specular: Vec3::splat(0.5),
             shininess: 32.0,
             emission: Vec3::ZERO,
+            ..OPAQUE
         }
     }
+}
+
+/// The optical parameters of an opaque, non-reflective material (every preset's).
+const OPAQUE: Material = Material {
+    ambient: Vec3::ZERO,
+    diffuse: Vec3::ZERO,
+    specular: Vec3::ZERO,
+    shininess: 0.0,
+    emission: Vec3::ZERO,
+    reflectivity: Vec3::ZERO,
+    transparency: 0.0,
+    ior: 1.0,
+    fresnel: true,
+    absorption: Vec3::ZERO,
+};
+
+/// Named indices of refraction (the lectures' table): air 1, water 1.33, glass 1.5,
+/// diamond 2.4.
+pub const IOR_PRESETS: [(&str, f32); 4] = [
+    ("air", 1.0),
+    ("water", 1.33),
+    ("glass", 1.5),
+    ("diamond", 2.4),
+];
+
+/// The index of refraction called `name` ([`IOR_PRESETS`], case-insensitive).
+pub fn ior_preset(name: &str) -> Result<f32> {
+    let key = name.trim().to_ascii_lowercase();
+    IOR_PRESETS
+        .iter()
+        .find(|(n, _)| *n == key)
+        .map(|(_, v)| *v)
+        .ok_or_else(|| {
+            RasterError::invalid_field(
+                "ior",
+                format!(
+                    "unknown ior preset '{name}'; expected a number > 0 or one of air, water, \
+                     glass, diamond"
+                ),
+            )
+        })
 }
 
 impl Material {
@@ -68,7 +126,81 @@ impl Material {
             specular,
             shininess,
             emission: Vec3::ZERO,
+            ..OPAQUE
         })
+    }
+
+    /// The same material with its optical parameters: `reflectivity` (RGB, each in [0, 1]),
+    /// `transparency` in [0, 1] (their sum at most 1 per channel), `ior` (finite, > 0),
+    /// `fresnel` (Schlick weighting) and `absorption` (RGB per unit distance, finite, ≥ 0).
+    /// Errors name the field.
+    pub fn with_optics(
+        mut self,
+        reflectivity: Vec3,
+        transparency: f32,
+        ior: f32,
+        fresnel: bool,
+        absorption: Vec3,
+    ) -> Result<Self> {
+        if !reflectivity.is_finite()
+            || reflectivity.min_element() < 0.0
+            || reflectivity.max_element() > 1.0
+        {
+            return Err(RasterError::invalid_field(
+                "reflectivity",
+                format!(
+                    "material reflectivity must be in [0, 1] (a number or an RGB colour), got {:?}",
+                    reflectivity.to_array()
+                ),
+            ));
+        }
+        if !(0.0..=1.0).contains(&transparency) {
+            return Err(RasterError::invalid_field(
+                "transparency",
+                format!("material transparency must be in [0, 1], got {transparency}"),
+            ));
+        }
+        if reflectivity.max_element() + transparency > 1.0 {
+            return Err(RasterError::invalid_field(
+                "transparency",
+                format!(
+                    "material reflectivity + transparency must be at most 1 per channel (the \
+                     rest is the local colour's share), got {:?} + {transparency}",
+                    reflectivity.to_array()
+                ),
+            ));
+        }
+        if !ior.is_finite() || ior <= 0.0 {
+            return Err(RasterError::invalid_field(
+                "ior",
+                format!("material ior (index of refraction) must be finite and > 0, got {ior}"),
+            ));
+        }
+        if !absorption.is_finite() || absorption.min_element() < 0.0 {
+            return Err(RasterError::invalid_field(
+                "absorption",
+                format!(
+                    "material absorption must be finite and >= 0 (per unit distance), got {:?}",
+                    absorption.to_array()
+                ),
+            ));
+        }
+        self.reflectivity = reflectivity;
+        self.transparency = transparency;
+        self.ior = ior;
+        self.fresnel = fresnel;
+        self.absorption = absorption;
+        Ok(self)
+    }
+
+    /// Whether the material mirrors any light (`reflectivity` not all zero).
+    pub fn is_reflective(&self) -> bool {
+        self.reflectivity != Vec3::ZERO
+    }
+
+    /// Whether the material transmits any light (`transparency > 0`).
+    pub fn is_transparent(&self) -> bool {
+        self.transparency > 0.0
     }
 
     /// The same material emitting `emission` (finite, ≥ 0).
@@ -131,6 +263,7 @@ impl Preset {
             specular: Vec3::from_array(self.specular),
             shininess: self.shininess,
             emission: Vec3::ZERO,
+            ..OPAQUE
         }
     }
 }
@@ -403,5 +536,48 @@ mod tests {
         assert!(Material::new(z, -Vec3::X, z, 1.0).is_err());
         assert!(Material::new(z, z, z, -1.0).is_err());
         assert!(Material::new(z, z, z, 0.0).is_ok());
+    }
+
+    #[test]
+    fn optics_are_validated_by_field() {
+        let m = Material::default();
+        let field = |r: Result<Material>| match r {
+            Err(RasterError::InvalidField { field, .. }) => field,
+            other => panic!("{other:?}"),
+        };
+        let z = Vec3::ZERO;
+        assert_eq!(
+            field(m.with_optics(Vec3::splat(1.5), 0.0, 1.0, true, z)),
+            "reflectivity"
+        );
+        assert_eq!(
+            field(m.with_optics(Vec3::NAN, 0.0, 1.0, true, z)),
+            "reflectivity"
+        );
+        assert_eq!(field(m.with_optics(z, -0.1, 1.0, true, z)), "transparency");
+        assert_eq!(
+            field(m.with_optics(z, f32::NAN, 1.0, true, z)),
+            "transparency"
+        );
+        assert_eq!(
+            field(m.with_optics(Vec3::splat(0.6), 0.6, 1.0, true, z)),
+            "transparency"
+        );
+        assert_eq!(field(m.with_optics(z, 0.5, 0.0, true, z)), "ior");
+        assert_eq!(field(m.with_optics(z, 0.5, f32::INFINITY, true, z)), "ior");
+        assert_eq!(
+            field(m.with_optics(z, 0.5, 1.5, true, -Vec3::X)),
+            "absorption"
+        );
+        let g = m
+            .with_optics(Vec3::splat(0.1), 0.9, 1.5, false, Vec3::X)
+            .unwrap();
+        assert!(g.is_transparent() && g.is_reflective() && !g.fresnel);
+        assert_eq!(ior_preset("Diamond").unwrap(), 2.4);
+        assert!(matches!(
+            ior_preset("lava"),
+            Err(RasterError::InvalidField { field: "ior", .. })
+        ));
+        assert!(!Material::default().is_reflective() && !Material::default().is_transparent());
     }
 }

@@ -286,9 +286,29 @@ fn material_from_mtl(path: &Path, m: &tobj::Material) -> Result<Material> {
         Some(1) => (ka, kd, Vec3::ZERO, ke),
         _ => (ka, kd, ks, ke),
     };
-    // `d` (dissolve) is read but not modelled: every material is drawn opaque.
+    // Optics: `d` (dissolve; `Tr` = 1 − d) is the opacity, `Ni` the index of refraction,
+    // `illum` 3, 5 and 8 add a mirror of reflectance Ks (capped so that R + T ≤ 1).
+    let tr = m
+        .unknown_param
+        .get("Tr")
+        .and_then(|v| v.trim().parse::<f32>().ok());
+    let opacity = m.dissolve.or(tr.map(|t| 1.0 - t)).unwrap_or(1.0);
+    let transparency = if opacity.is_finite() {
+        (1.0 - opacity).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let ior = m
+        .optical_density
+        .filter(|n| n.is_finite() && *n > 0.0)
+        .unwrap_or(1.0);
+    let reflectivity = match m.illumination_model {
+        Some(3 | 5 | 8) => ks.clamp(Vec3::ZERO, Vec3::splat(1.0 - transparency)),
+        _ => Vec3::ZERO,
+    };
     Material::new(ka, kd, ks, m.shininess.unwrap_or(d.shininess))
         .and_then(|mat| mat.with_emission(ke))
+        .and_then(|mat| mat.with_optics(reflectivity, transparency, ior, true, Vec3::ZERO))
         .map_err(|e| RasterError::Parse {
             path: path.to_path_buf(),
             line: None,

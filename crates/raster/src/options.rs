@@ -60,6 +60,19 @@ pub struct RenderOptions {
     /// Draw the lines alone: surfaces still hide what is behind them but are painted as the
     /// background (with `alpha`, transparent). Needs `edges`.
     pub edges_only: bool,
+    /// How mirrored light is found on reflective materials ([`Technique::Environment`] by
+    /// default). Read only when a material has `reflectivity > 0`.
+    pub reflections: Technique,
+    /// How transmitted light is found on transparent materials: `None` (the default) sees
+    /// what lies behind along the straight view ray (order-independent blending, no
+    /// bending); `Some` bends it by Snell's law and looks it up or traces it.
+    pub refractions: Option<Technique>,
+    /// Secondary rays followed at most from the first surface ([`Technique::Ray`]); at the
+    /// limit the environment is looked up instead. 0 ..= [`MAX_TRACE_DEPTH`].
+    pub max_depth: u32,
+    /// Show the scene's environment as the background (each pixel's view ray looked up)
+    /// instead of [`RenderOptions::background`]; needs a scene environment.
+    pub environment_background: bool,
 }
 
 /// Which triangle edges a render draws as lines.
@@ -83,6 +96,36 @@ pub const MAX_EDGE_WIDTH: f32 = 256.0;
 
 /// Default [`RenderOptions::edge_angle`] in degrees.
 pub const DEFAULT_EDGE_ANGLE: f32 = 30.0;
+
+/// How a reflection or refraction finds the light arriving along its direction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Technique {
+    /// One lookup of the scene's environment (or the background colour) along the
+    /// direction at the first surface: other objects are not seen.
+    Environment,
+    /// A secondary ray through the scene's BVH (Whitted): the nearest surface it hits is
+    /// lit and may reflect and refract again, up to [`RenderOptions::max_depth`].
+    Ray,
+}
+
+impl FromStr for Technique {
+    type Err = RasterError;
+    fn from_str(s: &str) -> Result<Self> {
+        match s.to_ascii_lowercase().as_str() {
+            "environment" => Ok(Technique::Environment),
+            "ray" => Ok(Technique::Ray),
+            _ => Err(RasterError::invalid(format!(
+                "unknown technique '{s}'; expected 'environment' or 'ray'"
+            ))),
+        }
+    }
+}
+
+/// Largest [`RenderOptions::max_depth`].
+pub const MAX_TRACE_DEPTH: u32 = 32;
+
+/// Default [`RenderOptions::max_depth`].
+pub const DEFAULT_TRACE_DEPTH: u32 = 5;
 
 /// The sample counts [`RenderOptions::samples`] accepts.
 pub const SAMPLE_COUNTS: [u32; 5] = [1, 2, 4, 8, 16];
@@ -111,6 +154,10 @@ impl RenderOptions {
             edge_width: 1.0,
             edge_angle: DEFAULT_EDGE_ANGLE,
             edges_only: false,
+            reflections: Technique::Environment,
+            refractions: None,
+            max_depth: DEFAULT_TRACE_DEPTH,
+            environment_background: false,
         }
     }
 
@@ -153,6 +200,15 @@ impl RenderOptions {
             ));
         }
         self.validate_edges()?;
+        if self.max_depth > MAX_TRACE_DEPTH {
+            return Err(RasterError::invalid_field(
+                "max_depth",
+                format!(
+                    "max_depth must be between 0 and {MAX_TRACE_DEPTH}, got {}",
+                    self.max_depth
+                ),
+            ));
+        }
         pool::check_threads(self.threads)
     }
 

@@ -5,6 +5,7 @@ use std::sync::Arc;
 use glam::{DMat3, Mat3, Mat4, Vec3};
 
 use crate::effects::Fog;
+use crate::environment::Environment;
 use crate::error::{RasterError, Result};
 use crate::lights::Light;
 use crate::material::Material;
@@ -123,6 +124,11 @@ impl Object {
         }
     }
 
+    /// Replaces the (front) material.
+    pub fn set_material(&mut self, material: Material) {
+        self.material = material;
+    }
+
     /// The model matrix.
     pub fn transform(&self) -> Mat4 {
         self.transform
@@ -142,6 +148,7 @@ pub struct Scene {
     objects: Vec<Object>,
     lights: Vec<Light>,
     fog: Option<Fog>,
+    environment: Option<Environment>,
     two_sided: bool,
     infinite_viewer: bool,
 }
@@ -163,6 +170,7 @@ impl Scene {
             objects: Vec::new(),
             lights: Vec::new(),
             fog: None,
+            environment: None,
             two_sided: false,
             infinite_viewer: false,
         })
@@ -243,6 +251,27 @@ impl Scene {
     /// The fog, if any.
     pub fn fog(&self) -> Option<&Fog> {
         self.fog.as_ref()
+    }
+
+    /// Sets or removes the environment: the light arriving from every direction, read by
+    /// reflections and refractions and shown as the background when a render asks for it.
+    pub fn set_environment(&mut self, environment: Option<Environment>) {
+        self.environment = environment;
+    }
+
+    /// The environment, if any.
+    pub fn environment(&self) -> Option<&Environment> {
+        self.environment.as_ref()
+    }
+
+    /// Whether any object's material (either side) reflects or transmits light: the
+    /// scenes that need the secondary stage ([`crate::reflect`]).
+    pub fn has_optics(&self) -> bool {
+        self.objects.iter().any(|o| {
+            [o.material(), o.material_for(true, self.two_sided)]
+                .iter()
+                .any(|m| m.is_reflective() || m.is_transparent())
+        })
     }
 
     /// The global ambient.

@@ -50,6 +50,8 @@ pub(crate) struct TileJob<'a, 'b, P> {
 pub(crate) struct Workspace {
     pub buf: TileBuffers,
     pub target: SampleTarget,
+    /// The secondary stage's buffers (empty until a secondary tile needs them).
+    pub secondary: shade::SecondaryWork,
 }
 
 impl Workspace {
@@ -58,6 +60,7 @@ impl Workspace {
         Workspace {
             buf: TileBuffers::new(),
             target: SampleTarget::new(samples),
+            secondary: shade::SecondaryWork::default(),
         }
     }
 
@@ -98,6 +101,12 @@ pub(crate) fn run_tile<P: Pixel>(
 ) {
     if samples > 1 {
         multi_sample_tile(isa, ctx, mode, screen, &mut work.target, job);
+        return;
+    }
+    if ctx.secondary.is_some() {
+        // Reflections, refraction, transparency, environment background: a tile body of
+        // its own, so the bodies below compile as without them.
+        tile_secondary(ctx, mode, screen, work, job);
         return;
     }
     let buf = &mut work.buf;
@@ -205,6 +214,25 @@ fn samples_body<P: Pixel, const AFFINE: bool>(
     job: TileJob<'_, '_, P>,
 ) {
     samples::sample_tile::<P, AFFINE>(ctx, mode, job.index, job.rect, target, job.color, job.depth);
+}
+
+/// The tile body of scenes with the secondary stage (baseline instructions: its rays and
+/// lookups are scalar).
+#[inline(never)]
+fn tile_secondary<P: Pixel>(
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    screen: bool,
+    work: &mut Workspace,
+    job: TileJob<'_, '_, P>,
+) {
+    let (buf, sec) = (&mut work.buf, &mut work.secondary);
+    let (i, rect) = (job.index, job.rect);
+    if screen && mode != ShadingMode::Flat {
+        shade::shade_secondary_tile::<P, true>(ctx, mode, i, rect, buf, sec, job.color, job.depth);
+    } else {
+        shade::shade_secondary_tile::<P, false>(ctx, mode, i, rect, buf, sec, job.color, job.depth);
+    }
 }
 
 /// The tile body of textured scenes (baseline instructions: its sampling is scalar).

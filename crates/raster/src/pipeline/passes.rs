@@ -11,9 +11,10 @@ use super::shade::{put, Out, Pixel, Program, ShadeContext, TexturedObject, Textu
 use super::{isa, prepare, tiles, Needs};
 use crate::camera::Camera;
 use crate::effects::FogEffect;
-use crate::error::Result;
+use crate::error::{RasterError, Result};
 use crate::frame::RenderStats;
 use crate::options::{EdgeMode, Interpolation, RenderOptions, ShadingMode};
+use crate::reflect::SecondaryEffect;
 use crate::scene::Scene;
 
 /// The row-major output buffers of a colour pass: `height·width·3` colour samples and,
@@ -50,6 +51,10 @@ pub(crate) fn color_pass<P: Pixel>(
     options: &RenderOptions,
     out: Buffers<'_, P>,
 ) -> Result<RenderStats> {
+    let secondary_wanted = SecondaryEffect::wanted(scene, options);
+    if secondary_wanted {
+        check_secondary(scene, options)?;
+    }
     let mut prep = prepare(scene, camera, options, Needs::Color)?;
     // Phong reads them per pixel, and the texture stage where it lights (every mode); the
     // untextured flat and Gouraud have used them already (prelight).
@@ -65,6 +70,19 @@ pub(crate) fn color_pass<P: Pixel>(
     let mut coverage_rows = tile_rows(out.coverage, w, h, rects.len());
     let isa = isa::Isa::detect(options.baseline_isa);
     let screen = options.interpolation == Interpolation::Screen;
+    let fog = scene
+        .fog()
+        .map(|f| FogEffect::new(*f, camera.eye_distance(options.width, options.height)));
+    // With the secondary stage the fog comes after the mix, in that stage.
+    let (fog, secondary) = if secondary_wanted {
+        let world = &prep.verts.world[..prep.verts.world.len().min(scene_vertices(scene))];
+        (
+            None,
+            Some(SecondaryEffect::new(scene, camera, options, world, fog)),
+        )
+    } else {
+        (fog, None)
+    };
     let shade_ctx = ShadeContext {
         tris: &prep.tris,
         verts: &prep.verts,
@@ -74,10 +92,8 @@ pub(crate) fn color_pass<P: Pixel>(
         background: options.background,
         two_sided: scene.two_sided(),
         size: (options.width as f64, options.height as f64),
-        fog: scene
-            .fog()
-            .map(|f| FogEffect::new(*f, camera.eye_distance(options.width, options.height))),
-        program: Program::for_scene(scene.fog().is_some()),
+        fog,
+        program: Program::for_scene(fog.is_some()),
         shadows,
         textured: (!prep.units.is_empty()).then(|| TexturedScene {
             units: &prep.units,
@@ -91,6 +107,7 @@ pub(crate) fn color_pass<P: Pixel>(
                 })
                 .collect(),
         }),
+        secondary,
     };
     if options.edges != EdgeMode::None {
         // Lines: a tile closure of its own, chosen once per render, so a render without
@@ -146,6 +163,46 @@ pub(crate) fn color_pass<P: Pixel>(
     let mut stats = prep.stats;
     stats.timings.raster_shade = prep.t_start.elapsed();
     Ok(stats)
+}
+
+/// Every object's vertex count, summed (the vertex stage's positions before clip-made ones).
+fn scene_vertices(scene: &Scene) -> usize {
+    scene
+        .objects()
+        .iter()
+        .map(|o| o.mesh().positions().len())
+        .sum()
+}
+
+/// Combinations the secondary stage does not support yet, refused with the field to change.
+fn check_secondary(scene: &Scene, options: &RenderOptions) -> Result<()> {
+    if options.samples > 1 {
+        return Err(RasterError::invalid_field(
+            "samples",
+            "reflections, transparency and the environment background do not support \
+             samples > 1 yet; use supersample for anti-aliasing",
+        ));
+    }
+    if options.environment_background && scene.environment().is_none() {
+        return Err(RasterError::invalid_field(
+            "background",
+            "background='environment' needs a scene environment (Scene(environment=...))",
+        ));
+    }
+    if let Some(env) = scene.environment() {
+        let m = env.max_value();
+        if m > crate::pipeline::MAX_RADIANCE {
+            return Err(RasterError::invalid_field(
+                "intensity",
+                format!(
+                    "the environment reaches {m:.3e} (intensity x largest texel), beyond the \
+                     {:e} that float32 colours can safely hold",
+                    crate::pipeline::MAX_RADIANCE
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Depth-only pass: the visibility of every pixel, written as its window depth (reversed-Z:

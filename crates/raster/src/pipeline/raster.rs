@@ -25,7 +25,7 @@ impl TileBuffers {
         }
     }
 
-    fn clear(&mut self) {
+    pub(crate) fn clear(&mut self) {
         // Below every valid reversed-Z depth, so even a surface exactly on the far plane
         // (z = 0) is drawn.
         self.depth.fill(-1.0);

@@ -1,5 +1,6 @@
 //! A bounding volume hierarchy over world-space triangles, built with the surface area
-//! heuristic over binned centroids, answering "is this segment blocked?" (any hit).
+//! heuristic over binned centroids, answering "is this segment blocked?" (any hit) and
+//! "what does this ray hit first?" (closest hit).
 
 use glam::Vec3;
 
@@ -50,16 +51,31 @@ struct Node {
 pub(crate) struct Bvh {
     nodes: Vec<Node>,
     tris: Vec<[Vec3; 3]>,
+    /// Each held triangle's index in the list it was built from.
+    ids: Vec<u32>,
+}
+
+/// The first triangle a ray meets.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Hit {
+    /// Ray parameter of the hit (`origin + t·dir`).
+    pub t: f32,
+    /// Index of the triangle in the list the hierarchy was built from.
+    pub index: u32,
+    /// Barycentric weights of the triangle's second and third corners at the hit.
+    pub uv: (f32, f32),
 }
 
 impl Bvh {
     /// Builds the hierarchy over `tris`; triangles with a non-finite corner are left out
     /// (they cannot block a finite segment in any meaningful way).
     pub fn new(tris: Vec<[Vec3; 3]>) -> Self {
-        let tris: Vec<[Vec3; 3]> = tris
+        let (tris, kept): (Vec<[Vec3; 3]>, Vec<u32>) = tris
             .into_iter()
-            .filter(|t| t.iter().all(|p| p.is_finite()))
-            .collect();
+            .enumerate()
+            .filter(|(_, t)| t.iter().all(|p| p.is_finite()))
+            .map(|(i, t)| (t, i as u32))
+            .unzip();
         let mut items: Vec<(Aabb, Vec3, u32)> = tris
             .iter()
             .enumerate()
@@ -78,8 +94,80 @@ impl Bvh {
         if !items.is_empty() {
             build(&mut nodes, 0, &mut items, 0);
         }
+        let ids = items.iter().map(|it| kept[it.2 as usize]).collect();
         let tris = items.iter().map(|it| tris[it.2 as usize]).collect();
-        Bvh { nodes, tris }
+        Bvh { nodes, tris, ids }
+    }
+
+    /// The nearest triangle the ray `origin + t·dir` crosses at `0 < t < t_max` (edges
+    /// included; among hits at exactly the same `t` the first found, the same for every call
+    /// on the same hierarchy). Nodes beyond the best hit so far are skipped.
+    pub fn closest(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Option<Hit> {
+        if self.tris.is_empty() {
+            return None;
+        }
+        let inv = dir.recip();
+        let mut best: Option<Hit> = None;
+        let mut limit = t_max;
+        let mut stack = [0u32; 64];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let node = &self.nodes[stack[top] as usize];
+            if !slab(&node.bounds, origin, inv, limit) {
+                continue;
+            }
+            if node.count > 0 {
+                let (a, b) = (node.first as usize, (node.first + node.count) as usize);
+                for (k, t) in self.tris[a..b].iter().enumerate() {
+                    if let Some((s, u, v)) = intersect(t, origin, dir, limit) {
+                        limit = s;
+                        best = Some(Hit {
+                            t: s,
+                            index: self.ids[a + k],
+                            uv: (u, v),
+                        });
+                    }
+                }
+            } else if top + 2 <= stack.len() {
+                stack[top] = node.first;
+                stack[top + 1] = node.first + 1;
+                top += 2;
+            } else {
+                // Deeper than the stack (see `occluded`): search the subtrees directly.
+                for child in [node.first, node.first + 1] {
+                    if let Some(h) = self.subtree_closest(child, origin, dir, limit) {
+                        limit = h.t;
+                        best = Some(h);
+                    }
+                }
+            }
+        }
+        best
+    }
+
+    fn subtree_closest(&self, i: u32, origin: Vec3, dir: Vec3, t_max: f32) -> Option<Hit> {
+        let node = &self.nodes[i as usize];
+        if node.count > 0 {
+            let (a, b) = (node.first as usize, (node.first + node.count) as usize);
+            let mut best = None;
+            let mut limit = t_max;
+            for (k, t) in self.tris[a..b].iter().enumerate() {
+                if let Some((s, u, v)) = intersect(t, origin, dir, limit) {
+                    limit = s;
+                    best = Some(Hit {
+                        t: s,
+                        index: self.ids[a + k],
+                        uv: (u, v),
+                    });
+                }
+            }
+            return best;
+        }
+        let l = self.subtree_closest(node.first, origin, dir, t_max);
+        let limit = l.map_or(t_max, |h| h.t);
+        self.subtree_closest(node.first + 1, origin, dir, limit)
+            .or(l)
     }
 
     /// Number of triangles held.
@@ -237,26 +325,33 @@ fn slab(b: &Aabb, o: Vec3, inv: Vec3, t_max: f32) -> bool {
 /// Möller–Trumbore: whether the ray hits the triangle at `0 < t < t_max` (edges included).
 #[inline(always)]
 fn hits(t: &[Vec3; 3], o: Vec3, d: Vec3, t_max: f32) -> bool {
+    intersect(t, o, d, t_max).is_some()
+}
+
+/// Möller–Trumbore: the ray's hit of the triangle at `0 < t < t_max` (edges included) as
+/// `(t, u, v)`, the barycentric weights of corners 1 and 2.
+#[inline(always)]
+fn intersect(t: &[Vec3; 3], o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, f32, f32)> {
     let e1 = t[1] - t[0];
     let e2 = t[2] - t[0];
     let pv = d.cross(e2);
     let det = e1.dot(pv);
     if det == 0.0 || !det.is_finite() {
-        return false;
+        return None;
     }
     let inv = 1.0 / det;
     let tv = o - t[0];
     let u = tv.dot(pv) * inv;
     if !(0.0..=1.0).contains(&u) {
-        return false;
+        return None;
     }
     let qv = tv.cross(e1);
     let v = d.dot(qv) * inv;
     if v < 0.0 || u + v > 1.0 {
-        return false;
+        return None;
     }
     let s = e2.dot(qv) * inv;
-    s > 0.0 && s < t_max
+    (s > 0.0 && s < t_max).then_some((s, u, v))
 }
 
 #[cfg(test)]
@@ -319,6 +414,54 @@ mod tests {
             blocked += want as usize;
         }
         assert!(blocked > 100 && blocked < 1900, "{blocked}");
+    }
+
+    #[test]
+    fn closest_hit_agrees_with_brute_force() {
+        let mut tris = grid(8);
+        for k in 0..40 {
+            let f = k as f32 * 0.53;
+            let c = Vec3::new(
+                4.0 + 3.0 * f.sin(),
+                0.5 + (f * 1.7).cos().abs(),
+                4.0 + 3.0 * f.cos(),
+            );
+            tris.push([
+                c,
+                c + Vec3::new(0.9, 0.1, 0.0),
+                c + Vec3::new(0.0, 0.2, 0.8),
+            ]);
+        }
+        let bvh = Bvh::new(tris.clone());
+        let mut seed = 777u32;
+        let mut rnd = || {
+            seed = seed.wrapping_mul(1664525).wrapping_add(1013904223);
+            (seed >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let mut hit = 0;
+        for _ in 0..2000 {
+            let o = Vec3::new(rnd() * 8.0, rnd() * 3.0 + 0.01, rnd() * 8.0);
+            let d = Vec3::new(rnd() - 0.5, rnd() - 0.9, rnd() - 0.5);
+            let want = tris
+                .iter()
+                .enumerate()
+                .filter_map(|(i, t)| intersect(t, o, d, f32::INFINITY).map(|h| (h.0, i)))
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            let got = bvh.closest(o, d, f32::INFINITY);
+            match (want, got) {
+                (None, None) => {}
+                (Some((t, _)), Some(h)) => {
+                    assert_eq!(h.t, t, "{o} {d}");
+                    let (u, v) = h.uv;
+                    let tri = tris[h.index as usize];
+                    let p = tri[0] * (1.0 - u - v) + tri[1] * u + tri[2] * v;
+                    assert!((p - (o + d * t)).length() < 1e-4);
+                    hit += 1;
+                }
+                other => panic!("{other:?} {o} {d}"),
+            }
+        }
+        assert!(hit > 1000, "{hit}");
     }
 
     #[test]

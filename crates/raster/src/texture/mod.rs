@@ -21,7 +21,7 @@ use std::sync::Arc;
 
 use glam::{DVec2, Vec3};
 
-pub use self::image::{Image, MAX_TEXEL_VALUE, MAX_TEXTURE_SIZE};
+pub use self::image::{srgb_to_linear, Image, MAX_TEXEL_VALUE, MAX_TEXTURE_SIZE};
 pub use procedural::Procedural;
 pub use sample::{Filter, Footprint, MAX_ANISOTROPY};
 pub use wrap::Wrap;

@@ -12,10 +12,12 @@ mod program;
 
 pub(crate) mod prelight;
 mod runs;
+mod secondary;
 mod store;
 mod textured;
 
 pub(crate) use program::Program;
+pub(crate) use secondary::{shade_secondary_tile, SecondaryWork};
 pub use store::Pixel;
 pub(crate) use store::{fill_out, put, Out, RowColors, ROW_LANES};
 pub(crate) use textured::{TexturedObject, TexturedScene};
@@ -30,6 +32,7 @@ use super::Sides;
 use crate::camera::Camera;
 use crate::effects::FogEffect;
 use crate::options::ShadingMode;
+use crate::reflect::SecondaryEffect;
 use crate::shadows::ShadowEffect;
 
 /// Everything the shade pass reads, shared by all tiles.
@@ -54,6 +57,10 @@ pub(crate) struct ShadeContext<'a> {
     /// then shades through [`shade_textured_tile`], reached from `isa::run_tile` outside the
     /// untextured tile bodies); `None` runs the untextured loops unchanged.
     pub textured: Option<TexturedScene<'a>>,
+    /// Scenes with reflective or transparent materials or an environment background: the
+    /// secondary stage's constants (every tile then runs `isa::tile_secondary`, outside
+    /// the other tile bodies; the fog moves into it); `None` runs the loops unchanged.
+    pub secondary: Option<SecondaryEffect>,
 }
 
 impl ShadeContext<'_> {

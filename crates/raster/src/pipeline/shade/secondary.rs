@@ -1,0 +1,295 @@
+//! The secondary stage's tile: reflections, refractions, order-independent transparency and
+//! the environment background, for the scenes that have them (`ShadeContext::secondary`).
+//!
+//! 1. Visibility of the opaque layer: every triangle except those of
+//!    [`Kind::Blended`] objects (transparent, no refraction technique).
+//! 2. The local colour of that layer, shaded by the mode's own loops (`shade_tile`, or
+//!    the textured ones) into a tile-local f32 buffer, without fog.
+//! 3. Per pixel: the environment along the view ray where no triangle is (when asked);
+//!    at an [`Kind::Optical`] surface, the point's position and normal (interpolated per
+//!    pixel with the perspective weights; flat uses the face normal), and the mix
+//!    `L·local + R·reflected + T·transmitted` of the reflect room; then the fog.
+//! 4. Transparent fragments in front of the opaque layer, collected per tile, sorted per
+//!    pixel by depth (nearest first; ties by triangle id, i.e. submission order, so the
+//!    result never depends on threads), blended front to back over the pixel:
+//!    `c = Σ_i (Π_{j<i} T_j)·a_i + (Π_i T_i)·opaque`, where `a_i` is the fragment's own
+//!    mix (local and reflected light) and `T_i` what it lets through.
+//! 5. The colour stored once into the user's rows.
+
+use glam::Vec3;
+
+use super::phong::face_normal;
+use super::planes::weight_planes;
+use super::store::{store_out, Out, Pixel};
+use super::{shade_textured_tile, shade_tile, ShadeContext};
+use crate::options::ShadingMode;
+use crate::pipeline::raster::{self, Span, SpanSink, TileBuffers, NO_TRIANGLE};
+use crate::pipeline::setup::SetupTri;
+use crate::pipeline::tiles::{TileRect, TILE};
+use crate::reflect::{Kind, Point, SecondaryEffect, World};
+
+/// A transparent fragment in front of the opaque layer.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Fragment {
+    slot: u32,
+    z: f32,
+    id: u32,
+}
+
+/// A worker's buffers for secondary tiles (allocated on first use).
+#[derive(Default)]
+pub(crate) struct SecondaryWork {
+    local: Vec<Out<f32>>,
+    frags: Vec<Fragment>,
+}
+
+/// Collects the fragments of blended triangles nearer than the opaque layer.
+struct Collect<'a> {
+    opaque: &'a [f32],
+    frags: &'a mut Vec<Fragment>,
+}
+
+impl SpanSink for Collect<'_> {
+    fn span(&mut self, s: Span) {
+        for k in 0..s.len {
+            self.pixel(s.start + k, s.z_at(k), s.id);
+        }
+    }
+
+    fn pixel(&mut self, slot: usize, z: f32, id: u32) {
+        if z > self.opaque[slot] {
+            self.frags.push(Fragment {
+                slot: slot as u32,
+                z,
+                id,
+            });
+        }
+    }
+}
+
+/// One tile of a scene with the secondary stage. `AFFINE` as for [`shade_tile`].
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool>(
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    index: usize,
+    rect: TileRect,
+    buf: &mut TileBuffers,
+    work: &mut SecondaryWork,
+    color: &mut [&mut [Out<P>]],
+    depth: Option<&mut [&mut [Out<f32>]]>,
+) {
+    let sec = ctx
+        .secondary
+        .as_ref()
+        .expect("a scene with the secondary stage");
+    let kind = |t: &SetupTri| sec.kinds[t.object as usize];
+    // 1. The opaque layer.
+    if sec.any_blended {
+        buf.clear();
+        let opaque = ctx
+            .tris
+            .tile(index)
+            .filter(|(_, t)| kind(t) != Kind::Blended);
+        raster::for_each_span(opaque, rect, buf);
+    } else {
+        raster::rasterize_tile(ctx.tris, index, rect, buf);
+    }
+    // 2. Its local colour.
+    work.local.resize(TILE * TILE * 3, Out::new(0.0));
+    let mut rows: Vec<&mut [Out<f32>]> = work
+        .local
+        .chunks_mut(TILE * 3)
+        .take(rect.h)
+        .map(|r| &mut r[..rect.w * 3])
+        .collect();
+    if ctx.textured.is_some() {
+        shade_textured_tile::<f32, AFFINE>(ctx, mode, rect, buf, &mut rows, depth);
+    } else {
+        shade_tile::<f32, AFFINE>(ctx, mode, rect, buf, &mut rows, depth);
+    }
+    // 4 (first half). The transparent fragments, sorted per pixel.
+    work.frags.clear();
+    if sec.any_blended {
+        let blended = ctx
+            .tris
+            .tile(index)
+            .filter(|(_, t)| kind(t) == Kind::Blended);
+        let mut sink = Collect {
+            opaque: &buf.depth[..],
+            frags: &mut work.frags,
+        };
+        raster::for_each_span(blended, rect, &mut sink);
+        work.frags.sort_unstable_by(|a, b| {
+            a.slot
+                .cmp(&b.slot)
+                .then(b.z.total_cmp(&a.z))
+                .then(a.id.cmp(&b.id))
+        });
+    }
+    let world = World {
+        world: &ctx.verts.world,
+        normal: if mode == ShadingMode::Flat {
+            &[]
+        } else {
+            &ctx.verts.normal
+        },
+        surfaces: ctx.materials,
+        two_sided: ctx.two_sided,
+    };
+    let mut next = 0;
+    for (j, out) in color.iter_mut().enumerate().take(rect.h) {
+        for i in 0..rect.w {
+            let slot = j * TILE + i;
+            let (x, y) = (rect.x0 + i, rect.y0 + j);
+            // SAFETY: the shading loops wrote every sample of the rows they were given.
+            let local = unsafe {
+                Vec3::new(
+                    rows[j][i * 3].assume_init(),
+                    rows[j][i * 3 + 1].assume_init(),
+                    rows[j][i * 3 + 2].assume_init(),
+                )
+            };
+            // 3. The opaque layer's colour.
+            let id = buf.id[slot];
+            let mut c = if id == NO_TRIANGLE {
+                if sec.env_background {
+                    sec.sky(sec.view_ray(x, y))
+                } else {
+                    local
+                }
+            } else {
+                let t = ctx.tris.get(id);
+                let c = match kind(t) {
+                    Kind::Optical => {
+                        let pt = point_at::<AFFINE>(ctx, sec, mode, t, x, y);
+                        sec.mix(&world, &pt.0, local, 0, Vec3::ZERO, false).color
+                    }
+                    _ => local,
+                };
+                match &sec.fog {
+                    Some(fog) => fog.apply(c, x, y, ctx.camera.eye_depth_from_z(buf.depth[slot])),
+                    None => c,
+                }
+            };
+            // 4. The transparent fragments over it, front to back.
+            let first = next;
+            while next < work.frags.len() && work.frags[next].slot as usize == slot {
+                next += 1;
+            }
+            if next > first {
+                let mut acc = Vec3::ZERO;
+                let mut through = 1.0f32;
+                for f in &work.frags[first..next] {
+                    let t = ctx.tris.get(f.id);
+                    let (pt, b) = point_at::<AFFINE>(ctx, sec, mode, t, x, y);
+                    let own = fragment_color(ctx, mode, t, &pt, b);
+                    let m = sec.mix(&world, &pt, own, 0, Vec3::ZERO, true);
+                    let a = match &sec.fog {
+                        // A layer letting `behind` through fogs as the opaque share of it.
+                        Some(fog) => {
+                            let d = ctx.camera.eye_depth_from_z(f.z);
+                            fog.apply(m.color, x, y, d) - m.behind * fog.apply(Vec3::ZERO, x, y, d)
+                        }
+                        None => m.color,
+                    };
+                    acc += through * a;
+                    through *= m.behind;
+                    if through == 0.0 {
+                        break;
+                    }
+                }
+                c = acc + through * c;
+            }
+            store_out(&mut out[i * 3..i * 3 + 3], c);
+        }
+    }
+}
+
+/// The surface point of triangle `t` at the centre of pixel (x, y) and its barycentrics:
+/// position and normal interpolated with the perspective weights (flat, or a mesh without
+/// usable normals: the face normal), both turned toward the viewer.
+fn point_at<const AFFINE: bool>(
+    ctx: &ShadeContext<'_>,
+    sec: &SecondaryEffect,
+    mode: ShadingMode,
+    t: &SetupTri,
+    x: usize,
+    y: usize,
+) -> (Point, [f32; 3]) {
+    let pl = weight_planes::<AFFINE>(ctx, t);
+    let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
+    let q = pl.map(|p| p[0] * px + p[1] * py + p[2]);
+    let sum = q[0] + q[1] + q[2];
+    let b = q.map(|v| (v / sum) as f32);
+    let v = t.v.map(|k| k as usize);
+    let w = &ctx.verts.world;
+    let p = w[v[0]] * b[0] + w[v[1]] * b[1] + w[v[2]] * b[2];
+    let face = face_normal(t, w);
+    let n_out = if mode == ShadingMode::Flat || ctx.verts.normal.is_empty() {
+        face
+    } else {
+        let nn = &ctx.verts.normal;
+        let n = (nn[v[0]] * b[0] + nn[v[1]] * b[1] + nn[v[2]] * b[2]).normalize_or_zero();
+        if n == Vec3::ZERO {
+            face
+        } else {
+            n
+        }
+    };
+    let view = -sec.view_ray(x, y);
+    let (n, g) = if t.front {
+        (n_out, face)
+    } else {
+        (-n_out, -face)
+    };
+    // Where the interpolated normal turns away from the viewer (silhouettes), the face
+    // normal stands in.
+    let n = if n.dot(view) > 0.0 { n } else { g };
+    let back = ctx.two_sided && !t.front;
+    (
+        Point {
+            p,
+            n,
+            g,
+            v: view,
+            entering: t.front,
+            object: t.object,
+            side: back as usize,
+        },
+        b,
+    )
+}
+
+/// A transparent fragment's own (local) colour as its mode lights it: flat, the face's
+/// colour; Gouraud (untextured), the interpolated vertex colours; otherwise the lighting
+/// equation at the point with the interpolated normal (textures are not read here).
+fn fragment_color(
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    t: &SetupTri,
+    pt: &Point,
+    b: [f32; 3],
+) -> Vec3 {
+    let v = t.v.map(|k| k as usize);
+    match mode {
+        ShadingMode::Flat => t.flat,
+        ShadingMode::Gouraud if ctx.textured.is_none() => {
+            let colors = if ctx.two_sided && !t.front {
+                &ctx.verts.color_back
+            } else {
+                &ctx.verts.color
+            };
+            colors[v[0]] * b[0] + colors[v[1]] * b[1] + colors[v[2]] * b[2]
+        }
+        _ => {
+            // The loops light the outward normal, flipped on a two-sided back face.
+            let n = if t.front || ctx.two_sided {
+                pt.n
+            } else {
+                -pt.n
+            };
+            ctx.materials[t.object as usize][pt.side].shade(n, pt.p, ctx.eye)
+        }
+    }
+}

@@ -1,0 +1,268 @@
+//! The reflection and refraction room: what arrives at a surface point along its mirror and
+//! refracted directions, and how a material mixes it with the point's local colour.
+//!
+//! - [`optics`]: the mirror direction, Snell's law with total internal reflection, Schlick's
+//!   Fresnel and a material's split `c = L·local + R·reflected + T·transmitted`;
+//! - [`trace`]: the scene as seen by secondary rays (the rays room's BVH plus what each
+//!   triangle is) and the Whitted recursion;
+//! - [`SecondaryEffect`] (here): what is constant per render.
+//!
+//! It is built only for scenes with a reflective or transparent material or an environment
+//! background; the pipeline then shades through a tile body of its own
+//! (`shade/secondary.rs`).
+
+pub mod optics;
+mod trace;
+
+pub(crate) use trace::{RayScene, World};
+
+use glam::{DMat4, DVec3, DVec4, Vec3};
+
+use crate::camera::Camera;
+use crate::effects::FogEffect;
+use crate::environment::Environment;
+use crate::material::Material;
+use crate::options::{RenderOptions, Technique};
+use crate::scene::Scene;
+
+/// What the secondary stage does with an object.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Kind {
+    /// Neither reflective nor transparent: its local colour as the loops shade it.
+    Opaque,
+    /// Reflective, or transparent with a refraction technique: its first surface mixes the
+    /// local colour with the reflected and refracted light.
+    Optical,
+    /// Transparent without a refraction technique: drawn behind nothing in the visibility
+    /// pass, its fragments in front of the opaque surface are sorted and blended per pixel.
+    Blended,
+}
+
+/// A surface point as the mix sees it.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Point {
+    /// Position (world).
+    pub p: Vec3,
+    /// Unit shading normal on the side of `v`.
+    pub n: Vec3,
+    /// Unit geometric normal on the side of `v` (ray offsets).
+    pub g: Vec3,
+    /// Unit direction toward the viewer (or the ray's origin).
+    pub v: Vec3,
+    /// Whether the light crosses into the object here (a front face): indices (1, ior).
+    pub entering: bool,
+    /// The object and the side (0 front, 1 back as lit) whose material applies.
+    pub object: u32,
+    pub side: usize,
+}
+
+/// The colour a point sends toward its viewer, split into what it adds itself (local,
+/// reflected and, unless the caller composites it, transmitted light) and how much of what
+/// lies straight behind it still shows through.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Mixed {
+    pub color: Vec3,
+    /// The share of the light from behind (straight-through transmission) still to add.
+    pub behind: f32,
+}
+
+/// Everything the secondary stage reads that is constant per render.
+pub(crate) struct SecondaryEffect {
+    environment: Option<Environment>,
+    background: Vec3,
+    /// Show the environment where no triangle is.
+    pub env_background: bool,
+    reflections: Technique,
+    refractions: Option<Technique>,
+    max_depth: u32,
+    /// Per object: the materials of its two sides (front, back as lit).
+    optics: Vec<[Material; 2]>,
+    /// Per object.
+    pub kinds: Vec<Kind>,
+    /// Whether any object is [`Kind::Blended`].
+    pub any_blended: bool,
+    rays: Option<RayScene>,
+    /// The fog, applied by the secondary stage after the mix (the loops then run without).
+    pub fog: Option<FogEffect>,
+    /// Clip → world, for each pixel's view ray.
+    inv_view_proj: DMat4,
+    /// Image size in pixels.
+    size: (f64, f64),
+    /// Unit direction the camera looks along.
+    forward: DVec3,
+}
+
+impl SecondaryEffect {
+    /// Whether a render of `scene` with `options` needs the stage.
+    pub fn wanted(scene: &Scene, options: &RenderOptions) -> bool {
+        options.environment_background || scene.has_optics()
+    }
+
+    /// The stage's render constants. `world` and the triangles' vertex indices are the
+    /// vertex stage's (every object's vertices in scene order).
+    pub fn new(
+        scene: &Scene,
+        camera: &Camera,
+        options: &RenderOptions,
+        world: &[Vec3],
+        fog: Option<FogEffect>,
+    ) -> Self {
+        let two_sided = scene.two_sided();
+        let optics: Vec<[Material; 2]> = scene
+            .objects()
+            .iter()
+            .map(|o| [*o.material(), *o.material_for(true, two_sided)])
+            .collect();
+        let kinds: Vec<Kind> = optics
+            .iter()
+            .map(|ms| {
+                let transparent = ms.iter().any(|m| m.is_transparent());
+                let reflective = ms.iter().any(|m| m.is_reflective());
+                match (transparent, options.refractions) {
+                    (true, None) => Kind::Blended,
+                    (true, Some(_)) => Kind::Optical,
+                    (false, _) if reflective => Kind::Optical,
+                    _ => Kind::Opaque,
+                }
+            })
+            .collect();
+        let any_blended = kinds.contains(&Kind::Blended);
+        let uses_rays = scene.has_optics()
+            && options.max_depth > 0
+            && (options.reflections == Technique::Ray
+                || options.refractions == Some(Technique::Ray));
+        let rays = uses_rays.then(|| RayScene::new(scene, world));
+        let (w, h) = (options.width as f64, options.height as f64);
+        let view_proj = camera.projection_matrix(w / h) * camera.view_matrix();
+        SecondaryEffect {
+            environment: scene.environment().cloned(),
+            background: options.background,
+            env_background: options.environment_background,
+            reflections: options.reflections,
+            refractions: options.refractions,
+            max_depth: options.max_depth,
+            optics,
+            kinds,
+            any_blended,
+            rays,
+            fog,
+            inv_view_proj: view_proj.inverse(),
+            size: (w, h),
+            forward: (camera.target() - camera.eye()).normalize(),
+        }
+    }
+
+    /// The light arriving along `d` from outside the scene: the environment, or the
+    /// background colour without one.
+    #[inline]
+    pub fn sky(&self, d: Vec3) -> Vec3 {
+        match &self.environment {
+            Some(e) => e.sample(d),
+            None => self.background,
+        }
+    }
+
+    /// Unit direction of the view ray through the centre of pixel (x, y) (away from the
+    /// camera; parallel rays for an orthographic camera).
+    pub fn view_ray(&self, x: usize, y: usize) -> Vec3 {
+        let (w, h) = self.size;
+        let nx = (x as f64 + 0.5) / w * 2.0 - 1.0;
+        let ny = 1.0 - (y as f64 + 0.5) / h * 2.0;
+        let at = |z: f64| {
+            let p = self.inv_view_proj * DVec4::new(nx, ny, z, 1.0);
+            p.truncate() / p.w
+        };
+        let d = (at(0.25) - at(0.75)).normalize();
+        let d = if d.dot(self.forward) < 0.0 { -d } else { d };
+        d.as_vec3()
+    }
+
+    /// The material of a point's side.
+    #[inline]
+    pub fn material(&self, object: u32, side: usize) -> &Material {
+        &self.optics[object as usize][side]
+    }
+
+    /// The colour point `pt` (local colour `local`, reached `depth` segments from the eye
+    /// through a medium absorbing `medium`) sends toward its viewer:
+    /// `L·local + R·reflected + T·transmitted` ([`optics::split`]). With `composite` the
+    /// straight-through transmission of a [`Kind::Blended`] surface is left to the caller
+    /// ([`Mixed::behind`]); otherwise it is followed like any other direction.
+    pub fn mix(
+        &self,
+        w: &World<'_>,
+        pt: &Point,
+        local: Vec3,
+        depth: u32,
+        medium: Vec3,
+        composite: bool,
+    ) -> Mixed {
+        let m = self.material(pt.object, pt.side);
+        // Without a refraction technique transparency is a see-through blend: no
+        // interface is modelled (no bending, no Fresnel, no total internal reflection).
+        let (n1, n2) = match (self.refractions, pt.entering) {
+            (None, _) => (1.0, 1.0),
+            (Some(_), true) => (1.0, m.ior),
+            (Some(_), false) => (m.ior, 1.0),
+        };
+        let s = optics::split(m, pt.n, pt.v, n1, n2);
+        let mut c = local * s.local;
+        if s.reflect != Vec3::ZERO {
+            let r = self.follow(self.reflections, w, pt, s.reflected, depth, medium);
+            c += s.reflect * r;
+        }
+        let mut behind = 0.0;
+        if s.transmit > 0.0 {
+            let inside = if pt.entering {
+                m.absorption
+            } else {
+                Vec3::ZERO
+            };
+            match (self.refractions, s.refracted) {
+                (None, _) if composite => behind = s.transmit,
+                // Straight through, seen by a secondary ray.
+                (None, _) => {
+                    c += s.transmit * self.follow(Technique::Ray, w, pt, -pt.v, depth, inside)
+                }
+                (Some(tech), Some(t)) => {
+                    c += s.transmit * self.follow(tech, w, pt, t, depth, inside);
+                }
+                (Some(_), None) => {}
+            }
+        }
+        Mixed { color: c, behind }
+    }
+
+    /// The light arriving at `pt` along `dir` by technique `tech`: the environment, or a
+    /// secondary ray while the depth allows (then the environment at the limit).
+    fn follow(
+        &self,
+        tech: Technique,
+        w: &World<'_>,
+        pt: &Point,
+        dir: Vec3,
+        depth: u32,
+        medium: Vec3,
+    ) -> Vec3 {
+        let rays = match (&self.rays, tech) {
+            (Some(r), Technique::Ray) if depth < self.max_depth => r,
+            _ => return self.sky(dir),
+        };
+        match rays.hit(w, pt.p, pt.g, dir) {
+            None => self.sky(dir) * absorb(medium, f32::INFINITY),
+            Some((q, dist)) => {
+                let local = w.light(&q);
+                let c = self.mix(w, &q, local, depth + 1, medium, false).color;
+                c * absorb(medium, dist)
+            }
+        }
+    }
+}
+
+/// Beer–Lambert: the share of light left after `d` through a medium absorbing `sigma` per
+/// unit distance, `exp(−σ·d)` per channel (1 where σ = 0, even over an infinite distance).
+#[inline]
+fn absorb(sigma: Vec3, d: f32) -> Vec3 {
+    let f = |s: f32| if s == 0.0 { 1.0 } else { (-s * d).exp() };
+    Vec3::new(f(sigma.x), f(sigma.y), f(sigma.z))
+}
