@@ -268,3 +268,32 @@ pub fn colors(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Vec3>> {
         .map(|c| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32) * scale)
         .collect())
 }
+
+/// `numpy.asarray(obj)` (a Pillow image too) with its dtype name and shape, for image
+/// arrays (textures, environments); `needs` completes the error when NumPy cannot make an
+/// array of it (e.g. "a texture needs an (H, W, 3|4) array").
+pub fn image_array<'py>(
+    obj: &Bound<'py, PyAny>,
+    needs: &str,
+) -> PyResult<(Bound<'py, PyAny>, String, Vec<usize>)> {
+    let arr = obj
+        .py()
+        .import("numpy")?
+        .call_method1("asarray", (obj,))
+        .map_err(|e| crate::errors::type_error("array", format!("{needs}: {e}")))?;
+    let dtype: String = arr.getattr("dtype")?.getattr("name")?.extract()?;
+    let shape: Vec<usize> = arr.getattr("shape")?.extract()?;
+    Ok((arr, dtype, shape))
+}
+
+/// An array from [`image_array`] as C-contiguous float64 values (a view when it already
+/// is one).
+pub fn f64_values<'py>(arr: &Bound<'py, PyAny>) -> PyResult<PyReadonlyArrayDyn<'py, f64>> {
+    let kwargs = PyDict::new(arr.py());
+    kwargs.set_item("dtype", "float64")?;
+    let c = arr
+        .py()
+        .import("numpy")?
+        .call_method("ascontiguousarray", (arr,), Some(&kwargs))?;
+    Ok(c.extract()?)
+}

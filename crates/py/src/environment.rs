@@ -23,15 +23,8 @@ pub struct PyEnvironment {
 }
 
 fn texels(obj: &Bound<'_, PyAny>, srgb: bool) -> PyResult<(usize, usize, Vec<f32>)> {
-    let py = obj.py();
-    let np = py.import("numpy")?;
-    let arr = np.call_method1("asarray", (obj,)).map_err(|e| {
-        type_error(
-            "array",
-            format!("an environment needs an (H, 2H, 3) array: {e}"),
-        )
-    })?;
-    let dtype: String = arr.getattr("dtype")?.getattr("name")?.extract()?;
+    let (arr, dtype, shape) =
+        crate::convert::image_array(obj, "an environment needs an (H, 2H, 3) array")?;
     let scale = match dtype.as_str() {
         "uint8" => 1.0 / 255.0,
         "float32" | "float64" => 1.0,
@@ -48,17 +41,13 @@ fn texels(obj: &Bound<'_, PyAny>, srgb: bool) -> PyResult<(usize, usize, Vec<f32
             "srgb=True decodes uint8 images; float arrays are linear already",
         ));
     }
-    let shape: Vec<usize> = arr.getattr("shape")?.extract()?;
     if shape.len() != 3 || shape[2] != 3 {
         return Err(value_error(
             "array",
             format!("an environment array must have shape (H, 2H, 3), got {shape:?}"),
         ));
     }
-    let kwargs = PyDict::new(py);
-    kwargs.set_item("dtype", "float64")?;
-    let c = np.call_method("ascontiguousarray", (arr,), Some(&kwargs))?;
-    let ro: PyReadonlyArrayDyn<f64> = c.extract()?;
+    let ro = crate::convert::f64_values(&arr)?;
     let data = ro
         .as_slice()
         .map_err(|e| PyValueError::new_err(e.to_string()))?;

@@ -2,10 +2,10 @@
 
 use std::sync::Arc;
 
-use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::PyUntypedArrayMethods;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyTuple};
+use pyo3::types::PyTuple;
 use shadelab_raster as core;
 use shadelab_raster::texture::Image;
 
@@ -62,15 +62,10 @@ fn with_anisotropy(t: core::Texture, a: i64) -> PyResult<core::Texture> {
 /// An (H, W, 3|4) array (or anything `numpy.asarray` makes one of, such as a Pillow image)
 /// as f32 values in their own scale: uint8 / 255, uint16 / 65535, floats as they are.
 fn texels(obj: &Bound<'_, PyAny>) -> PyResult<(usize, usize, usize, Vec<f32>)> {
-    let py = obj.py();
-    let np = py.import("numpy")?;
-    let arr = np.call_method1("asarray", (obj,)).map_err(|e| {
-        type_error(
-            "array",
-            format!("a texture needs an (H, W, 3|4) array or a Pillow image: {e}"),
-        )
-    })?;
-    let dtype: String = arr.getattr("dtype")?.getattr("name")?.extract()?;
+    let (arr, dtype, shape) = convert::image_array(
+        obj,
+        "a texture needs an (H, W, 3|4) array or a Pillow image",
+    )?;
     let scale = match dtype.as_str() {
         "uint8" => 1.0 / 255.0,
         "uint16" => 1.0 / 65535.0,
@@ -84,7 +79,6 @@ fn texels(obj: &Bound<'_, PyAny>) -> PyResult<(usize, usize, usize, Vec<f32>)> {
             ))
         }
     };
-    let shape: Vec<usize> = arr.getattr("shape")?.extract()?;
     if shape.len() != 3 || !(shape[2] == 3 || shape[2] == 4) {
         return Err(value_error(
             "array",
@@ -94,10 +88,7 @@ fn texels(obj: &Bound<'_, PyAny>) -> PyResult<(usize, usize, usize, Vec<f32>)> {
             ),
         ));
     }
-    let kwargs = PyDict::new(py);
-    kwargs.set_item("dtype", "float64")?;
-    let c = np.call_method("ascontiguousarray", (arr,), Some(&kwargs))?;
-    let ro: PyReadonlyArrayDyn<f64> = c.extract()?;
+    let ro = convert::f64_values(&arr)?;
     let data = ro
         .as_slice()
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
