@@ -35,6 +35,7 @@ import numpy as np
 import shadelab_rs as sl
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+from harness import write_section
 from shell import run
 
 _POOL = "render_many, ProcessPoolExecutor(2), threads=1"
@@ -219,9 +220,7 @@ def main(argv: list[str] | None = None) -> int:
             " memory) instead of being copied into the pickle.",
             "",
         ]
-        path = Path(args.write)
-        old = path.read_text().split(MARKER)[0].rstrip() + "\n\n" if path.exists() else ""
-        path.write_text(old + "\n".join(text))
+        write_section(Path(args.write), "\n".join(text), MARKER)
     return 0
 
 
