@@ -252,6 +252,151 @@ def variants() -> list[Variant]:
         Variant("msaa_2", "samples=2 (multi-sample anti-aliasing)", _with_kw(base, samples=2)),
         Variant("msaa_4", "samples=4 (multi-sample anti-aliasing)", _with_kw(base, samples=4)),
         Variant("msaa_16", "samples=16 (multi-sample anti-aliasing)", _with_kw(base, samples=16)),
+        *realism_variants(),
+    ]
+
+
+# --------------------------------------------------------------------------- realism rooms
+
+
+def _uv_sphere_mesh() -> Any:
+    """The sphere with longitude/latitude UVs (for the texture variants)."""
+    if "uv" not in _MESH:
+        sl = _sl()
+        m = sphere_mesh()
+        v = m.vertices.astype(np.float64)
+        u = 0.5 + np.arctan2(v[:, 0], -v[:, 2]) / (2 * np.pi)
+        w = 1.0 - np.arccos(np.clip(v[:, 1], -1.0, 1.0)) / np.pi
+        _MESH["uv"] = sl.Mesh(m.vertices, m.faces, normals=m.normals, uvs=np.stack([u, w], 1))
+    return _MESH["uv"]
+
+
+def _realism(
+    key_shadows: Any = False,
+    extra: Callable[[Any], list[Any]] | None = None,
+    material: Callable[[Any], dict[str, Any]] | None = None,
+    mesh: Callable[[], Any] = sphere_mesh,
+    environment: bool = False,
+    **render_kw: Any,
+) -> Callable[[], tuple[Any, dict[str, Any]]]:
+    """The baseline scene with a realism feature: the key light's shadows, extra lights, a
+    material change (built from the module), a scene environment, render options."""
+
+    def build() -> tuple[Any, dict[str, Any]]:
+        sl = _sl()
+        scene = sl.Scene(ambient=(0.2, 0.2, 0.2))
+        if environment:
+            sky = np.linspace(0.2, 1.0, 64, dtype=np.float32)[:, None, None]
+            scene.environment = sl.Environment(np.broadcast_to(sky, (64, 128, 3)).copy())
+        gold = sl.Material.preset("gold")
+        kw = {
+            "ambient": gold.ambient,
+            "diffuse": gold.diffuse,
+            "specular": gold.specular,
+            "shininess": gold.shininess,
+        }
+        kw.update(material(sl) if material else {})
+        scene.add(mesh(), material=sl.Material(**kw))
+        scene.add_light(sl.DirectionalLight(direction=KEY_DIRECTION, shadows=key_shadows))
+        for light in extra(sl) if extra else []:
+            scene.add_light(light)
+        return scene, dict(render_kw)
+
+    return build
+
+
+def realism_variants() -> list[Variant]:
+    """Textures, shadows, reflection and refraction on the baseline sphere (this build only:
+    an older build may not have them)."""
+
+    def point(shadows: Any) -> Callable[[Any], list[Any]]:
+        return lambda sl: [sl.PointLight(position=POSITION, color=(0.4, 0.4, 0.5), shadows=shadows)]
+
+    def spot(shadows: Any) -> Callable[[Any], list[Any]]:
+        return lambda sl: [
+            sl.SpotLight(
+                position=(0.0, 0.0, 3.0),
+                direction=(0.0, 0.0, -1.0),
+                cutoff=20.0,
+                shadows=shadows,
+            )
+        ]
+
+    image = np.random.default_rng(1).random((1024, 1024, 3), dtype=np.float32)
+    return [
+        Variant(
+            "tex_checker",
+            "diffuse_map: procedural checker (uv sphere)",
+            _realism(
+                material=lambda sl: {"diffuse_map": sl.Texture.procedural("checker")},
+                mesh=_uv_sphere_mesh,
+            ),
+        ),
+        Variant(
+            "tex_image",
+            "diffuse_map: 1024² image, trilinear",
+            _realism(
+                material=lambda sl: {"diffuse_map": sl.Texture(image)},
+                mesh=_uv_sphere_mesh,
+            ),
+        ),
+        Variant(
+            "tex_image_aniso8",
+            "diffuse_map: 1024² image, anisotropy 8",
+            _realism(
+                material=lambda sl: {"diffuse_map": sl.Texture(image, anisotropy=8)},
+                mesh=_uv_sphere_mesh,
+            ),
+        ),
+        Variant("shadow_dir_map", "key light shadows=True (2048² map)", _realism(True)),
+        Variant(
+            "shadow_dir_cascades",
+            "key light shadows, 3 cascades of 2048²",
+            _realism(lambda sl: sl.ShadowSettings(cascades=3)),
+        ),
+        Variant("shadow_dir_exact", 'key light shadows="exact" (BVH rays)', _realism("exact")),
+        Variant(
+            "shadow_point_map",
+            "+ point light, shadows=True (cube map)",
+            _realism(extra=point(True)),
+        ),
+        Variant(
+            "shadow_point_exact", '+ point light, shadows="exact"', _realism(extra=point("exact"))
+        ),
+        Variant(
+            "shadow_spot_map", "+ spot light, shadows=True (one map)", _realism(extra=spot(True))
+        ),
+        Variant(
+            "reflect_env",
+            "reflectivity 0.5, environment lookup",
+            _realism(material=lambda sl: {"reflectivity": 0.5}, environment=True),
+        ),
+        Variant(
+            "reflect_ray",
+            'reflectivity 0.5, reflections="ray"',
+            _realism(
+                material=lambda sl: {"reflectivity": 0.5}, environment=True, reflections="ray"
+            ),
+        ),
+        Variant(
+            "glass_env",
+            'glass (transparency 0.9, ior "glass"), refractions="environment"',
+            _realism(
+                material=lambda sl: {"transparency": 0.9, "ior": "glass"},
+                environment=True,
+                refractions="environment",
+            ),
+        ),
+        Variant(
+            "glass_ray",
+            'glass, refractions="ray", max_depth 4',
+            _realism(
+                material=lambda sl: {"transparency": 0.9, "ior": "glass"},
+                environment=True,
+                refractions="ray",
+                max_depth=4,
+            ),
+        ),
     ]
 
 

@@ -30,6 +30,7 @@ TECHNIQUES = {
     "2048, PCF 5": sl.ShadowSettings(2048, "pcf", 5),
     "512, PCF 3": sl.ShadowSettings(512, "pcf", 3),
     "4096, PCF 3": sl.ShadowSettings(4096, "pcf", 3),
+    "2048, PCF 3, 3 cascades": sl.ShadowSettings(2048, "pcf", 3, cascades=3),
 }
 
 
@@ -46,7 +47,7 @@ def ms(case, shadows) -> float:
 def main() -> int:
     print("| scene | shadows= | mismatch | max dist (px) | acne | leak | ms at 800x600 |")
     print("|---|---|---|---|---|---|---|")
-    for case in t.HARD:
+    for case in [*t.HARD, t.WIDE]:
         base = ms(case, False)
         for label, shadows in TECHNIQUES.items():
             f = t.shadow_figures(case, shadows)

@@ -13,7 +13,7 @@ import shadelab_rs as sl
 KW = dict(width=96, height=72)
 
 #: A light's pickled shadows when off.
-_OFF = ("off", (2048, 3, 1.0))
+_OFF = ("off", (2048, 3, 1.0, 1))
 
 
 def _rich_scene() -> tuple[sl.Scene, sl.Camera]:
@@ -282,8 +282,9 @@ def test_copies_are_independent():
             ((0, 0, 1), (1, 1, 1), 1.0, (0, 0, 0), (None, None), (0, 0, 1), ("soft", _OFF[1])),
             "shadows",
         ),
-        ("ShadowSettings", (8, 3, 1.0), "resolution"),
-        ("ShadowSettings", (1024, 4, 1.0), "kernel"),
+        ("ShadowSettings", (8, 3, 1.0, 1), "resolution"),
+        ("ShadowSettings", (1024, 4, 1.0, 1), "kernel"),
+        ("ShadowSettings", (1024, 3, 1.0, 9), "cascades"),
         ("RenderOptions", {"width": 0}, "width"),
         (
             "Camera",

@@ -119,7 +119,7 @@ def sl_scene(case: Case, shadows) -> sl.Scene:
     return scene
 
 
-def render(case: Case, shadows, size=None) -> np.ndarray:
+def render(case: Case, shadows, size=None, **kw) -> np.ndarray:
     size = size or case.size
     return sl.render(
         sl_scene(case, shadows),
@@ -128,6 +128,7 @@ def render(case: Case, shadows, size=None) -> np.ndarray:
         height=size[1],
         dtype="float32",
         cull_backfaces=case.cull,
+        **kw,
     )
 
 
@@ -260,6 +261,16 @@ COW = Case(
     [ref.DirectionalLight(direction=(-0.8, -1.0, -0.3))],
     size=(128, 96),  # 5856 triangles: the reference's rays take a while
 )
+# A ground 400 units wide seen from 1.5 units up, cubes from near to far: a map fitted to
+# the whole ground would spend 2048 texels on 400 units (a texel as large as the near cube's
+# edge); fitted to what the camera sees, and with cascades per slice of the view, it does not.
+WIDE = Case(
+    "cubes on a wide ground, directional",
+    [plane(200.0)]
+    + [box((x, 0.25, z), 0.25) for x, z in ((-0.6, 1.5), (0.7, -1.0), (-1.0, -4.0), (2.0, -9.0))],
+    ref.Camera(eye=(0.0, 1.5, 4.0), target=(0.0, 0.2, -3.0), up=(0, 1, 0), fov_y=50.0, far=40.0),
+    [ref.DirectionalLight(direction=(-1.0, -0.7, 0.5))],
+)
 HARD = [SPHERE_PLANE, CUBE_PLANE, RING_A, RING_B, GRAZING, SPOT, TORUS, COW]
 
 
@@ -287,11 +298,11 @@ def compared(case: Case, size=None):
     return mask.reshape(size[1], size[0]), shadow.reshape(size[1], size[0]), color
 
 
-def rust_state(case: Case, shadows, size=None) -> np.ndarray:
+def rust_state(case: Case, shadows, size=None, **kw) -> np.ndarray:
     """Shadowed pixels of a Rust render: the light's contribution visibly drops."""
     size = size or case.size
-    lit = render(case, False, size)
-    shaded = render(case, shadows, size)
+    lit = render(case, False, size, **kw)
+    shaded = render(case, shadows, size, **kw)
     return (lit - shaded).max(axis=2) > 1e-4
 
 
@@ -333,10 +344,11 @@ def parts_of(case: Case, size=None) -> np.ndarray:
     return np.where(img.tri >= 0, np.searchsorted(ends, img.tri, side="right"), -1)
 
 
-def shadow_figures(case: Case, shadows, size=None) -> dict:
+def shadow_figures(case: Case, shadows, size=None, **kw) -> dict:
+    """The figures of a render with ``shadows`` (and render options ``kw``)."""
     size = size or case.size
     mask, exact, _ = compared(case, size)
-    got = rust_state(case, shadows, size)
+    got = rust_state(case, shadows, size, **kw)
     dist = boundary_distance(mask, exact, parts_of(case, size))
     bad = mask & (got != exact)
     away = dist > AWAY_PX
@@ -394,6 +406,28 @@ def test_plain_comparison_and_pcf_kernels(case):
     ):
         fig = shadow_figures(case, settings)
         assert fig["acne"] == 0 and fig["leak"] == 0, (settings, fig)
+
+
+def test_directional_maps_fit_the_view_and_cascades_refine_it():
+    """On the wide ground, a map fitted to what the camera sees is finer than one over the
+    whole scene box (what Phong gets with Whitted rays on, and flat and Gouraud, whose
+    shaded points may lie off the view), and cascades, a map per slice of the view, finer
+    still near the camera: the mismatch with the exact shadow falls at each step, and the
+    cascaded maps show no acne and no leak."""
+    whole = shadow_figures(WIDE, True, reflections="ray")
+    fitted = shadow_figures(WIDE, True)
+    cascaded = shadow_figures(WIDE, sl.ShadowSettings(cascades=3))
+    assert whole["shadowed"] > 500, whole
+    assert cascaded["mismatch"] < fitted["mismatch"] < whole["mismatch"], (
+        whole,
+        fitted,
+        cascaded,
+    )
+    assert cascaded["acne"] == 0 and cascaded["leak"] == 0, cascaded
+    assert cascaded["mismatch"] <= 0.02, cascaded
+    # The exact rays themselves agree with the reference here too.
+    exact = shadow_figures(WIDE, "exact")
+    assert exact["mismatch"] <= 1e-3 and exact["acne"] == 0 and exact["leak"] == 0, exact
 
 
 def test_sphere_shadow_is_the_exact_ellipse():
@@ -495,8 +529,11 @@ def test_shadows_argument_spellings_and_round_trips():
 
 def test_shadow_settings_errors_name_the_field():
     s = sl.ShadowSettings()
-    assert (s.resolution, s.filter, s.kernel, s.bias) == (2048, "pcf", 3, 1.0)
+    assert (s.resolution, s.filter, s.kernel, s.bias, s.cascades) == (2048, "pcf", 3, 1.0, 1)
     assert pickle.loads(pickle.dumps(s)) == s
+    c = sl.ShadowSettings(cascades=3)
+    assert c.cascades == 3 and pickle.loads(pickle.dumps(c)) == c and c != s
+    assert repr(c).endswith("cascades=3)")
     assert sl.ShadowSettings(filter="none").kernel == 1
     for kwargs, field in (
         ({"resolution": sl.MAX_SHADOW_RESOLUTION + 1}, "resolution"),
@@ -508,6 +545,9 @@ def test_shadow_settings_errors_name_the_field():
         ({"bias": float("nan")}, "bias"),
         ({"bias": float("inf")}, "bias"),
         ({"bias": -1.0}, "bias"),
+        ({"cascades": 0}, "cascades"),
+        ({"cascades": 5}, "cascades"),
+        ({"cascades": -1}, "cascades"),
     ):
         with pytest.raises(ValueError, match=field):
             sl.ShadowSettings(**kwargs)
@@ -608,7 +648,7 @@ def test_scene_files_and_dicts_keep_shadows(tmp_path):
     scene = sl.Scene(ambient=(0.1, 0.1, 0.1))
     scene.add(sl.Mesh(*box((0, 0.5, 0), 0.5)), material="gold")
     scene.add(sl.Mesh(*plane(2.0)), material="pewter")
-    settings = sl.ShadowSettings(resolution=512, filter="none", bias=2.0)
+    settings = sl.ShadowSettings(resolution=512, filter="none", bias=2.0, cascades=2)
     scene.add_light(sl.DirectionalLight((-1, -2, -1), shadows=True))
     scene.add_light(sl.PointLight((1, 3, 1), shadows="exact"))
     scene.add_light(sl.SpotLight((0, 3, 0), (0, -1, 0), shadows=settings))
@@ -617,7 +657,7 @@ def test_scene_files_and_dicts_keep_shadows(tmp_path):
     assert [light.get("shadows") for light in d["lights"]] == [
         True,
         "exact",
-        {"resolution": 512, "filter": "none", "kernel": 1, "bias": 2.0},
+        {"resolution": 512, "filter": "none", "kernel": 1, "bias": 2.0, "cascades": 2},
         None,  # off: not written
     ]
     back = sl.load_scene_dict(d).scene

@@ -99,8 +99,9 @@ class ShadowSettings:
     ``"pcf"`` (percentage-closer filtering over ``kernel`` x ``kernel`` texels, kernel odd,
     3 to 9) or ``"none"`` (the lectures' plain comparison), and ``bias``, the scale of the
     depth tolerance (one texel's world size at the point, compared with the receiver-plane
-    depth: the exact slope-scaled bias; 0 to 100, 1 by default, 0 shows acne).
-    ``shadows=True`` is ``ShadowSettings()``."""
+    depth: the exact slope-scaled bias; 0 to 100, 1 by default, 0 shows acne), and
+    ``cascades`` (1 to 4; directional lights only): the camera's view cut along its axis,
+    one map fitted to each slice. ``shadows=True`` is ``ShadowSettings()``."""
 
     def __copy__(self) -> ShadowSettings: ...
     def __deepcopy__(self, _memo: Any) -> ShadowSettings: ...
@@ -110,6 +111,7 @@ class ShadowSettings:
         filter: Literal["pcf", "none"] = "pcf",
         kernel: int = 3,
         bias: float = 1.0,
+        cascades: int = 1,
     ) -> ShadowSettings: ...
     @property
     def resolution(self) -> int:
@@ -123,6 +125,9 @@ class ShadowSettings:
     @property
     def bias(self) -> float:
         """Scale of the default bias."""
+    @property
+    def cascades(self) -> int:
+        """Maps of a directional light, one per slice of the view (other lights: ignored)."""
 
 #: A light's ``shadows=``: False (none), True (a shadow map, default settings), "exact"
 #: (shadow rays against the scene's triangles) or a :class:`ShadowSettings`.

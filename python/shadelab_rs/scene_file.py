@@ -512,11 +512,11 @@ def _shadows(v: Any, where: str) -> bool | str | ShadowSettings:
         return v  # the light's constructor names a bad string
     if not isinstance(v, Mapping):
         raise _fail(where, 'true, false, "exact" or a table', v)
-    t = _table(v, where, optional=("resolution", "filter", "kernel", "bias"))
+    t = _table(v, where, optional=("resolution", "filter", "kernel", "bias", "cascades"))
     kw: dict[str, Any] = {}
     for k, value in t.items():
         w = _at(where, k)
-        if k in ("resolution", "kernel"):
+        if k in ("resolution", "kernel", "cascades"):
             kw[k] = _integer(value, w)
         elif k == "filter":
             kw[k] = _string(value, w)
@@ -527,7 +527,13 @@ def _shadows(v: Any, where: str) -> bool | str | ShadowSettings:
 
 def _shadows_to_dict(v: Any) -> Any:
     if isinstance(v, ShadowSettings):
-        return {"resolution": v.resolution, "filter": v.filter, "kernel": v.kernel, "bias": v.bias}
+        return {
+            "resolution": v.resolution,
+            "filter": v.filter,
+            "kernel": v.kernel,
+            "bias": v.bias,
+            "cascades": v.cascades,
+        }
     return v
 
 

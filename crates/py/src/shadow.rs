@@ -7,7 +7,8 @@ use shadelab_raster as core;
 
 use crate::errors::{to_py, type_error, value_error};
 
-/// A shadow map's resolution, filter and bias (`shadows=ShadowSettings(...)` on a light).
+/// A shadow map's resolution, filter, bias and cascades (`shadows=ShadowSettings(...)` on
+/// a light).
 #[pyclass(name = "ShadowSettings", module = "shadelab_rs._core", frozen, eq)]
 #[derive(Clone, PartialEq)]
 pub struct PyShadowSettings {
@@ -30,8 +31,8 @@ impl PyShadowSettings {
     }
 
     #[new]
-    #[pyo3(signature = (resolution=2048, filter="pcf", kernel=3, bias=1.0))]
-    fn new(resolution: i64, filter: &str, kernel: i64, bias: f64) -> PyResult<Self> {
+    #[pyo3(signature = (resolution=2048, filter="pcf", kernel=3, bias=1.0, cascades=1))]
+    fn new(resolution: i64, filter: &str, kernel: i64, bias: f64, cascades: i64) -> PyResult<Self> {
         let resolution = u32::try_from(resolution).map_err(|_| {
             value_error(
                 "resolution",
@@ -56,8 +57,19 @@ impl PyShadowSettings {
                 ))
             }
         };
+        let cascades = u32::try_from(cascades).map_err(|_| {
+            value_error(
+                "cascades",
+                format!(
+                    "shadow cascades must be 1 to {}, got {cascades}",
+                    core::MAX_CASCADES
+                ),
+            )
+        })?;
         Ok(Self {
-            inner: core::ShadowSettings::new(resolution, filter, bias as f32).map_err(to_py)?,
+            inner: core::ShadowSettings::new(resolution, filter, bias as f32)
+                .and_then(|s| s.with_cascades(cascades))
+                .map_err(to_py)?,
         })
     }
 
@@ -92,13 +104,21 @@ impl PyShadowSettings {
         self.inner.bias()
     }
 
+    /// Maps of a directional light, one per slice of the camera's view (1: one map fitted
+    /// to the whole visible part). Other lights ignore it.
+    #[getter]
+    fn cascades(&self) -> u32 {
+        self.inner.cascades()
+    }
+
     fn __repr__(&self) -> String {
         format!(
-            "ShadowSettings(resolution={}, filter='{}', kernel={}, bias={})",
+            "ShadowSettings(resolution={}, filter='{}', kernel={}, bias={}, cascades={})",
             self.resolution(),
             self.filter(),
             self.kernel(),
-            self.bias()
+            self.bias(),
+            self.cascades()
         )
     }
 }
@@ -154,15 +174,15 @@ pub fn shadows_object(py: Python<'_>, s: core::Shadows) -> PyResult<Py<PyAny>> {
     })
 }
 
-/// (resolution, kernel (1: no filter), bias) of a map.
-pub type SettingsState = (u32, u32, f32);
+/// (resolution, kernel (1: no filter), bias, cascades) of a map.
+pub type SettingsState = (u32, u32, f32, u32);
 
 pub fn settings_state(s: &core::ShadowSettings) -> SettingsState {
     let kernel = match s.filter() {
         core::ShadowFilter::None => 1,
         core::ShadowFilter::Pcf(k) => k,
     };
-    (s.resolution(), kernel, s.bias())
+    (s.resolution(), kernel, s.bias(), s.cascades())
 }
 
 pub fn settings(s: SettingsState) -> PyResult<core::ShadowSettings> {
@@ -170,7 +190,9 @@ pub fn settings(s: SettingsState) -> PyResult<core::ShadowSettings> {
         1 => core::ShadowFilter::None,
         k => core::ShadowFilter::Pcf(k),
     };
-    core::ShadowSettings::new(s.0, filter, s.2).map_err(to_py)
+    core::ShadowSettings::new(s.0, filter, s.2)
+        .and_then(|m| m.with_cascades(s.3))
+        .map_err(to_py)
 }
 
 /// A light's shadows in a pickle: ("off" | "map" | "exact", map settings).

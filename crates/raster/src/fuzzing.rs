@@ -364,7 +364,13 @@ fn decode(b: &mut Bytes) -> Option<Case> {
                     0 => ShadowFilter::None,
                     k => ShadowFilter::Pcf(2 * k as u32 - 1 + (b.u8() % 2) as u32),
                 };
-                ok_or_message(ShadowSettings::new(resolution, filter, b.f32())).map(Shadows::Map)
+                // Cascades from the resolution byte, so the corpora's bytes keep their meaning.
+                let cascades = 1 + resolution % 4;
+                ok_or_message(
+                    ShadowSettings::new(resolution, filter, b.f32())
+                        .and_then(|s| s.with_cascades(cascades)),
+                )
+                .map(Shadows::Map)
             }
         };
         let light: Light = match (light, shadows.unwrap_or_default()) {

@@ -57,7 +57,9 @@ pub use lights::{
     AreaLight, AreaShape, DirectionalLight, Light, PointLight, SplitColors, SpotLight,
     MAX_AREA_SAMPLES, MIN_ATTENUATION_DENOMINATOR,
 };
-pub use lights::{ShadowFilter, ShadowSettings, Shadows, MAX_PCF_KERNEL, MAX_SHADOW_RESOLUTION};
+pub use lights::{
+    ShadowFilter, ShadowSettings, Shadows, MAX_CASCADES, MAX_PCF_KERNEL, MAX_SHADOW_RESOLUTION,
+};
 pub use material::{ior_preset, preset_names, Material, Preset, IOR_PRESETS, PRESETS};
 pub use mesh::{face_normal, generate_vertex_normals, Mesh};
 pub use obj::{load_obj, load_obj_parts, parse_obj_parts, ObjPart};

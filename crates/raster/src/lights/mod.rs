@@ -12,7 +12,9 @@ pub use area::{AreaLight, AreaShape, MAX_AREA_SAMPLES};
 pub use colors::SplitColors;
 pub use directional::DirectionalLight;
 pub use point::{PointLight, MIN_ATTENUATION_DENOMINATOR};
-pub use shadow::{ShadowFilter, ShadowSettings, Shadows, MAX_PCF_KERNEL, MAX_SHADOW_RESOLUTION};
+pub use shadow::{
+    ShadowFilter, ShadowSettings, Shadows, MAX_CASCADES, MAX_PCF_KERNEL, MAX_SHADOW_RESOLUTION,
+};
 pub use spot::SpotLight;
 
 /// Any light a scene can hold.

@@ -8,6 +8,8 @@ use crate::error::{RasterError, Result};
 pub const MAX_SHADOW_RESOLUTION: u32 = 8192;
 /// Largest percentage-closer filter kernel (texels per side, odd).
 pub const MAX_PCF_KERNEL: u32 = 9;
+/// Largest number of cascades of a directional light's shadow map.
+pub const MAX_CASCADES: u32 = 4;
 
 /// How a shadow map's depth comparison is filtered.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -19,21 +21,23 @@ pub enum ShadowFilter {
     Pcf(u32),
 }
 
-/// A shadow map's resolution, filter and bias.
+/// A shadow map's resolution, filter, bias and (directional lights) cascades.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ShadowSettings {
     resolution: u32,
     filter: ShadowFilter,
     bias: f32,
+    cascades: u32,
 }
 
 impl Default for ShadowSettings {
-    /// 2048 texels a side, 3 × 3 PCF, bias scale 1.
+    /// 2048 texels a side, 3 × 3 PCF, bias scale 1, one cascade.
     fn default() -> Self {
         ShadowSettings {
             resolution: 2048,
             filter: ShadowFilter::Pcf(3),
             bias: 1.0,
+            cascades: 1,
         }
     }
 }
@@ -70,7 +74,22 @@ impl ShadowSettings {
             resolution,
             filter,
             bias,
+            cascades: 1,
         })
+    }
+
+    /// These settings with `cascades` maps (1 to [`MAX_CASCADES`]) for a directional light:
+    /// the camera's view is cut along its axis (practical split) and each slice gets a map
+    /// of `resolution` texels a side fitted to it. Other lights have one map (a cube for
+    /// point lights) whatever this says.
+    pub fn with_cascades(self, cascades: u32) -> Result<Self> {
+        if !(1..=MAX_CASCADES).contains(&cascades) {
+            return Err(RasterError::invalid_field(
+                "cascades",
+                format!("shadow cascades must be 1 to {MAX_CASCADES}, got {cascades}"),
+            ));
+        }
+        Ok(ShadowSettings { cascades, ..self })
     }
 
     /// Texels per side of the map (of each cube face for a point light).
@@ -86,6 +105,11 @@ impl ShadowSettings {
     /// The bias scale (1: a tolerance of one texel's world size at the point).
     pub fn bias(&self) -> f32 {
         self.bias
+    }
+
+    /// Cascades of a directional light's map (1: one map).
+    pub fn cascades(&self) -> u32 {
+        self.cascades
     }
 }
 
@@ -125,5 +149,11 @@ mod tests {
             assert!(e.to_string().contains("bias"), "{e}");
         }
         assert!(!Shadows::default().on() && Shadows::Exact.on());
+        let s = ShadowSettings::default();
+        assert_eq!(s.with_cascades(3).unwrap().cascades(), 3);
+        for bad in [0, MAX_CASCADES + 1] {
+            let e = s.with_cascades(bad).unwrap_err();
+            assert!(e.to_string().contains("cascades"), "{e}");
+        }
     }
 }

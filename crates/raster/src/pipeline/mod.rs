@@ -31,7 +31,7 @@ use crate::error::{RasterError, Result};
 use crate::frame::RenderStats;
 use crate::lighting::{check_mirror, LightSet, Surface};
 use crate::material::Material;
-use crate::options::{GouraudMethod, RenderOptions, ShadingMode};
+use crate::options::{GouraudMethod, RenderOptions, ShadingMode, Technique};
 use crate::scene::Scene;
 use crate::shadows::ShadowEffect;
 use bin::{Binned, Bins, Chunk};
@@ -315,6 +315,12 @@ pub(crate) fn prepare(
             scene,
             &light_set,
             &verts.world[..total_vertices],
+            // Only Phong shades at visible points alone: flat and Gouraud light face centres
+            // and vertices (which may lie off the view), ray hits may lie anywhere.
+            (options.shading == ShadingMode::Phong
+                && options.reflections != Technique::Ray
+                && options.refractions != Some(Technique::Ray))
+            .then_some(camera),
             options,
             &|cam, opts, out| depth_pass(scene, cam, opts, out).map(|_| ()),
         )?,

@@ -2,7 +2,9 @@
 //! the same vertex, clip, setup and raster stages as the colour pass) rendered from the
 //! light, then each shaded point transformed into the light's view and compared with it.
 //!
-//! - directional: one orthographic map fitted to the scene's bounds seen along the light;
+//! - directional: an orthographic map fitted, seen along the light, to the part of the
+//!   scene the camera can see ([`super::fit`]; to the whole scene box where points off
+//!   the view are shaded too), or with cascades one map per slice of the view;
 //! - spot (cutoff ≤ 60°): one perspective map covering the cone;
 //! - point, wide spot, area light's sample points: a cube map (six 90° faces).
 //!
@@ -19,6 +21,7 @@ use std::mem::MaybeUninit;
 
 use glam::{DMat4, DVec3, DVec4, Vec3};
 
+use super::fit;
 use crate::camera::{Camera, Projection};
 use crate::error::{RasterError, Result};
 use crate::lighting::{Geometry, Source};
@@ -45,12 +48,15 @@ struct Face {
     perspective: bool,
 }
 
-/// A light's shadow map: one face, or six for a cube.
+/// A light's shadow map: one face, six for a cube, or one per cascade.
 #[derive(Debug)]
 pub(crate) struct ShadowMap {
     faces: Vec<Face>,
     /// For a cube: the light's position (the face is chosen by the dominant axis).
     cube_at: Option<Vec3>,
+    /// For cascades: the camera's eye and view axis, and the far depth of every cascade but
+    /// the last (a point's view depth picks the first cascade reaching it).
+    cascades: Option<(DVec3, DVec3, Vec<f64>)>,
     res: usize,
     filter: ShadowFilter,
     bias: f32,
@@ -70,13 +76,19 @@ const CUBE: [(DVec3, DVec3); 6] = [
     (DVec3::NEG_Z, DVec3::NEG_Y),
 ];
 
+/// The camera whose visible points are shaded, for fitting directional maps to its view:
+/// `None` when points off the view are shaded too (vertices and face centres of flat and
+/// Gouraud, hits of secondary rays), which the map must then cover.
+pub(crate) type ViewFit<'a> = Option<&'a Camera>;
+
 impl ShadowMap {
     /// Renders the map of source `s` (through `depth`) over a scene whose world bounds are
-    /// `bounds`.
+    /// `bounds`; a directional map is fitted to `view`'s visible part of them.
     pub fn new(
         s: &Source,
         settings: ShadowSettings,
         bounds: (Vec3, Vec3),
+        view: ViewFit<'_>,
         options: &RenderOptions,
         depth: DepthPass<'_>,
     ) -> Result<Self> {
@@ -89,6 +101,7 @@ impl ShadowMap {
         opts.baseline_isa = options.baseline_isa;
         let mut faces = Vec::new();
         let mut cube_at = None;
+        let mut cascades = None;
         let bad = |e: RasterError| {
             RasterError::invalid_field(
                 "shadows",
@@ -97,26 +110,49 @@ impl ShadowMap {
         };
         match s.geometry {
             Geometry::Directional(toward) => {
-                let d = toward.as_dvec3();
-                let eye = center + d * (2.0 * radius);
-                let up = if d.y.abs() < 0.9 { DVec3::Y } else { DVec3::X };
-                let cam = Camera::orthographic(
-                    eye,
-                    center,
-                    up,
-                    2.0 * radius,
-                    radius * 1e-3,
-                    4.0 * radius,
-                )
-                .map_err(bad)?;
-                faces.push(render_face(
-                    depth,
-                    cam,
-                    &opts,
-                    res,
-                    false,
-                    2.0 * radius / res as f64,
-                )?);
+                let d = toward.as_dvec3().normalize();
+                let aspect = options.width as f64 / options.height as f64;
+                let range = view.and_then(|c| fit::depth_range(c, lo, hi).map(|r| (c, r)));
+                let parts: Vec<Vec<DVec3>> = match range {
+                    Some((cam, (near, far))) => {
+                        let z = fit::splits(near, far, settings.cascades());
+                        let parts = z
+                            .windows(2)
+                            .map(|w| fit::visible_part(cam, aspect, w[0], w[1], lo, hi))
+                            .collect();
+                        if settings.cascades() > 1 {
+                            let (eye, axis) = fit::axis(cam);
+                            let ends = z[1..z.len() - 1].to_vec();
+                            cascades = Some((eye, axis, ends));
+                        }
+                        parts
+                    }
+                    None => vec![Vec::new()],
+                };
+                let kernel = match settings.filter() {
+                    ShadowFilter::None => 1,
+                    ShadowFilter::Pcf(k) => k as usize,
+                };
+                for part in parts {
+                    // A slice that sees none of the box (or no view to fit) covers the box.
+                    let box_corners;
+                    let pts: &[DVec3] = if part.is_empty() {
+                        box_corners = box_corners_of(lo, hi);
+                        &box_corners
+                    } else {
+                        &part
+                    };
+                    let (cam, height) =
+                        directional_camera(d, pts, lo, hi, res, kernel).map_err(bad)?;
+                    faces.push(render_face(
+                        depth,
+                        cam,
+                        &opts,
+                        res,
+                        false,
+                        height / res as f64,
+                    )?);
+                }
             }
             Geometry::Spot { position, cone } if cone.cutoff_degrees() <= MAX_SPOT_MAP_DEGREES => {
                 let q = position.as_dvec3();
@@ -145,6 +181,7 @@ impl ShadowMap {
         Ok(ShadowMap {
             faces,
             cube_at,
+            cascades,
             res,
             filter: settings.filter(),
             bias: settings.bias(),
@@ -154,9 +191,13 @@ impl ShadowMap {
     /// The share of the filter's texels (one for `filter="none"`) that see the point `p`
     /// (shading normal `n`, geometric normal `g`) lit.
     pub fn visibility(&self, n: Vec3, p: Vec3, g: Vec3) -> f32 {
-        let face = match self.cube_at {
-            Some(q) => &self.faces[cube_face(p - q)],
-            None => &self.faces[0],
+        let face = match (self.cube_at, &self.cascades) {
+            (Some(q), _) => &self.faces[cube_face(p - q)],
+            (None, Some((eye, axis, ends))) => {
+                let z = (p.as_dvec3() - *eye).dot(*axis);
+                &self.faces[ends.iter().take_while(|&&e| z > e).count()]
+            }
+            (None, None) => &self.faces[0],
         };
         let toward = if face.perspective {
             (face.camera.eye() - p.as_dvec3()).normalize_or_zero()
@@ -259,12 +300,70 @@ pub(super) fn per_point(settings: ShadowSettings, side: u32) -> ShadowSettings {
 /// Texels of the map of source `s` with `settings` (six faces for a cube).
 pub(super) fn texels(s: &Source, settings: &ShadowSettings) -> u64 {
     let faces = match s.geometry {
-        Geometry::Directional(_) => 1,
+        Geometry::Directional(_) => settings.cascades() as u64,
         Geometry::Spot { cone, .. } if cone.cutoff_degrees() <= MAX_SPOT_MAP_DEGREES => 1,
         _ => 6,
     };
     let r = settings.resolution() as u64;
     faces * r * r
+}
+
+/// The corners of the box `[lo, hi]`.
+fn box_corners_of(lo: DVec3, hi: DVec3) -> Vec<DVec3> {
+    (0..8)
+        .map(|i| {
+            DVec3::new(
+                if i & 1 == 0 { lo.x } else { hi.x },
+                if i & 2 == 0 { lo.y } else { hi.y },
+                if i & 4 == 0 { lo.z } else { hi.z },
+            )
+        })
+        .collect()
+}
+
+/// The orthographic camera of a directional light travelling `−d` whose square view covers
+/// the points `pts` seen along the light (plus a border of the filter kernel's half width
+/// and a texel, so the kernel reads drawn texels at the edge), with depth planes spanning
+/// the whole box `[lo, hi]` along the light, so every caster in front of a covered point is
+/// drawn. The view's centre snaps to the texel grid, so a camera that moves does not make
+/// the shadow edges crawl. Returns the camera and its view height.
+fn directional_camera(
+    d: DVec3,
+    pts: &[DVec3],
+    lo: DVec3,
+    hi: DVec3,
+    res: usize,
+    kernel: usize,
+) -> Result<(Camera, f64)> {
+    let up = if d.y.abs() < 0.9 { DVec3::Y } else { DVec3::X };
+    // The light's frame at the origin: x, y across the light, z = p·d along it.
+    let frame = DMat4::look_at_rh(DVec3::ZERO, -d, up);
+    let (mut mn, mut mx) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for p in pts {
+        let q = frame.transform_point3(*p);
+        mn = mn.min(q);
+        mx = mx.max(q);
+    }
+    let (mut zmin, mut zmax) = (f64::INFINITY, f64::NEG_INFINITY);
+    for c in box_corners_of(lo, hi) {
+        let z = frame.transform_point3(c).z;
+        zmin = zmin.min(z);
+        zmax = zmax.max(z);
+    }
+    let scale = (hi - lo).length().max(lo.abs().max(hi.abs()).max_element());
+    let tiny = 1e-6 * scale.max(1e-30);
+    let size = (mx.x - mn.x).max(mx.y - mn.y).max(tiny);
+    let border = (kernel / 2 + 1) as f64;
+    let height = size * res as f64 / (res as f64 - 2.0 * border).max(res as f64 / 2.0);
+    let texel = height / res as f64;
+    let cx = ((mn.x + mx.x) / 2.0 / texel).round() * texel;
+    let cy = ((mn.y + mx.y) / 2.0 / texel).round() * texel;
+    // Snapping moves the centre by up to half a texel: the border above absorbs it.
+    let pad = ((zmax - zmin) * 1e-3).max(tiny);
+    let inverse = frame.inverse();
+    let eye = inverse.transform_point3(DVec3::new(cx, cy, zmax + 2.0 * pad));
+    let cam = Camera::orthographic(eye, eye - d, up, height, pad, zmax - zmin + 3.0 * pad)?;
+    Ok((cam, height))
 }
 
 /// Near and far planes of a light at `q` over a scene in the sphere (`center`, `radius`).

@@ -10,6 +10,7 @@
 //! shadow starts at the contact.
 
 mod exact;
+mod fit;
 mod map;
 
 use glam::Vec3;
@@ -22,6 +23,7 @@ use crate::rays::Bvh;
 use crate::scene::Scene;
 pub(crate) use map::DepthPass;
 use map::ShadowMap;
+pub(crate) use map::ViewFit;
 
 /// Largest number of shadow-map texels a render may hold (2^28: 1 GiB of f32 depths).
 pub const MAX_SHADOW_TEXELS: u64 = 1 << 28;
@@ -64,11 +66,13 @@ impl ShadowEffect {
     /// The shadows of `scene` under `set` (its prepared light set), or `None` when no light
     /// casts one. `world` holds every object's world-space vertices in scene order (the
     /// vertex stage's). The BVH is built only when a light asks for exact shadows; shadow
-    /// maps are rendered here from each light, through `depth` (the pipeline's depth pass).
+    /// maps are rendered here from each light, through `depth` (the pipeline's depth pass),
+    /// directional ones fitted to what `view` sees (see [`ViewFit`]).
     pub fn new(
         scene: &Scene,
         set: &LightSet,
         world: &[Vec3],
+        view: ViewFit<'_>,
         options: &RenderOptions,
         depth: DepthPass<'_>,
     ) -> Result<Option<Self>> {
@@ -127,7 +131,7 @@ impl ShadowEffect {
             casters.push(match (s.shadows, plan) {
                 (Shadows::Exact, _) => Some(Caster::Exact(Toward::of(&s.geometry))),
                 (Shadows::Map(_), Some(settings)) => Some(Caster::Map(Box::new(ShadowMap::new(
-                    s, settings, bounds, options, depth,
+                    s, settings, bounds, view, options, depth,
                 )?))),
                 _ => None,
             });
