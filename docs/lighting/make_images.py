@@ -458,6 +458,36 @@ def _shadow_filters() -> list[Panel]:
     return out
 
 
+@figure(
+    "shadow_cascades",
+    "A 400-unit ground seen to 60 units, 1024-texel maps: over the whole ground, fitted to "
+    "the view, 3 cascades, exact",
+)
+def _shadow_cascades() -> list[Panel]:
+    out = []
+    for label, shadows, kw in (
+        ("whole ground (flat, Gouraud, rays)", sl.ShadowSettings(1024), {"reflections": "ray"}),
+        ("fitted to the view", sl.ShadowSettings(1024), {}),
+        ("3 cascades", sl.ShadowSettings(1024, cascades=3), {}),
+        ('"exact"', "exact", {}),
+    ):
+        scene = sl.Scene(ambient=(0.25, 0.25, 0.25))
+        scene.add(sl.Mesh.plane(), material=FLOOR, transform=translate_scale((0, 0, 0), 200.0))
+        for i, z in enumerate((1.0, -2.0, -6.0, -12.0, -20.0)):
+            x = (-1.0) ** i * (0.6 + 0.1 * i)
+            scene.add(
+                sl.Mesh.cube(),
+                material=sl.Material.preset("gold"),
+                transform=translate_scale((x, 0.3, z), 0.3),
+            )
+        scene.add_light(sl.DirectionalLight(direction=(-1.0, -0.8, 0.4), shadows=shadows))
+        cam = sl.Camera.look_at(
+            eye=(0.0, 1.4, 4.0), target=(0.0, 0.3, -4.0), fov_y=50.0, near=0.1, far=60.0
+        )
+        out.append(Panel(label, scene, cam, kw))
+    return out
+
+
 # --------------------------------------------------------------------------- output
 
 
