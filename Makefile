@@ -10,7 +10,7 @@ DEPS := $(VENV)/.deps-stamp
 BENCH_ENV := OPENBLAS_NUM_THREADS=1 PYTHONPATH=$(CURDIR)
 ENVS := VIRTUAL_ENV=$(abspath $(VENV)) PATH="$(abspath $(VENV))/bin:$$PATH"
 
-.PHONY: help demo test lint build bench bench-aa bench-batch bench-threads bench-cold bench-peers docs-images wheel wheel-check clean fuzz
+.PHONY: help demo test lint build bench bench-aa bench-batch bench-threads bench-shadows bench-cold bench-peers docs-images wheel wheel-check clean fuzz
 
 help:  ## list targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
@@ -83,6 +83,7 @@ bench: build $(BENCH_DEPS)  ## benchmarks, speed against error, llvmpipe, featur
 	$(BENCH_ENV) $(PY) bench/bench_features.py --write docs/FEATURE_COSTS.md $(if $(AGAINST),--against-commit $(AGAINST))
 	$(BENCH_ENV) $(PY) bench/bench_batch.py --write docs/BENCHMARKS.md
 	$(BENCH_ENV) $(PY) bench/bench_threads.py --write docs/BENCHMARKS.md
+	$(BENCH_ENV) $(PY) bench/bench_shadows.py --write docs/BENCHMARKS.md
 	$(BENCH_ENV) $(PY) bench/bench_antialiasing.py --write docs/ANTIALIASING.md
 	$(BENCH_ENV) $(PY) bench/bench_cold_start.py --write docs/COLD_START.md
 
@@ -91,6 +92,9 @@ bench-aa: build  ## anti-aliasing only: edge error against exact coverage, time 
 
 bench-threads: build $(BENCH_DEPS)  ## ours against llvmpipe at 1 and at 2 threads, one process per thread count -> docs/BENCHMARKS.md (~8 min)
 	$(BENCH_ENV) $(PY) bench/bench_threads.py --write docs/BENCHMARKS.md
+
+bench-shadows: build $(BENCH_DEPS)  ## shadow maps against llvmpipe's (GLSL depth pass + sampler2DShadow PCF) and exact rays: time and error -> docs/BENCHMARKS.md (~6 min)
+	$(BENCH_ENV) $(PY) bench/bench_shadows.py --write docs/BENCHMARKS.md
 
 bench-batch: build  ## many views only: render_batch vs loop vs 2 processes, pickling -> docs/BENCHMARKS.md (~2 min)
 	$(BENCH_ENV) $(PY) bench/bench_batch.py --write docs/BENCHMARKS.md
