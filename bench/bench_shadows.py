@@ -21,7 +21,6 @@ directional light, 2048-texel maps with 3 x 3 percentage-closer filtering on bot
 from __future__ import annotations
 
 import argparse
-import datetime as _dt
 import importlib.util
 import os
 import sys
@@ -31,7 +30,7 @@ from pathlib import Path
 import numpy as np
 import shadelab_rs as sl
 import speed_error as se
-from harness import machine, write_section
+from harness import report, run_context
 
 from shadelab_ref import reference as ref
 
@@ -64,11 +63,7 @@ class Ours:
             cull_backfaces=self.cull,
             threads=self.threads,
         )
-        ms = (time.perf_counter() - t0) * 1e3
-        if np.isnan(timing.first_ms):
-            timing.first_ms = ms
-        else:
-            timing.times_ms.append(ms)
+        timing.add((time.perf_counter() - t0) * 1e3)
         return img
 
 
@@ -79,11 +74,7 @@ class Peer:
     def frame(self, mode: str, w: int, h: int, timing: se.Timing) -> np.ndarray:
         t0 = time.perf_counter()
         img = self.sm.render(w, h)
-        ms = (time.perf_counter() - t0) * 1e3
-        if np.isnan(timing.first_ms):
-            timing.first_ms = ms
-        else:
-            timing.times_ms.append(ms)
+        timing.add((time.perf_counter() - t0) * 1e3)
         return img
 
 
@@ -215,18 +206,11 @@ def main(argv: list[str] | None = None) -> int:
 
     rows, gl = run(QUICK if args.quick else FULL, args.threads, log)
     ctx = {
-        "date": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
-        "machine": machine(sl.__version__),
+        **run_context(sl.__version__, t0, load0),
         "threads": args.threads,
-        "load": (load0, os.getloadavg()[0]),
-        "wall": time.perf_counter() - t0,
         "gl": gl,
     }
-    text = markdown(ctx, rows)
-    if args.write:
-        write_section(Path(args.write), text, MARKER)
-    else:
-        print(text)
+    report(args.write, markdown(ctx, rows), MARKER)
     return 0
 
 

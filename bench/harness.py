@@ -5,9 +5,11 @@ bench_features.py imports it under its own venv)."""
 from __future__ import annotations
 
 import csv
+import datetime as _dt
 import os
 import platform
 import subprocess
+import time
 from pathlib import Path
 from typing import Any
 
@@ -139,3 +141,24 @@ def write_section(path: Path, text: str, marker: str | None = None) -> None:
     body = text.rstrip("\n") + "\n"
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(head + body + ("\n" + tail if tail else ""))
+
+
+def run_context(version: str, t0: float, load0: float) -> dict[str, Any]:
+    """What a report says about its run: the date, the machine (:func:`machine`), the load
+    average at start (``load0``) and now, and the wall time since ``t0``
+    (``time.perf_counter()`` at the start)."""
+    return {
+        "date": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        "machine": machine(version),
+        "load": (load0, os.getloadavg()[0]),
+        "wall": time.perf_counter() - t0,
+    }
+
+
+def report(path: str | None, text: str, marker: str) -> None:
+    """Writes ``text`` as the section ``marker`` of ``path`` (:func:`write_section`), or
+    prints it when no path is given."""
+    if path:
+        write_section(Path(path), text, marker)
+    else:
+        print(text)

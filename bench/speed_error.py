@@ -181,6 +181,15 @@ class Timing:
     def stage(self, name: str) -> float:
         return statistics.median(self.stages[name]) if name in self.stages else math.nan
 
+    def add(self, ms: float) -> bool:
+        """Records a frame's time: the first one apart (it pays first-use costs), the rest
+        for the median. Returns whether it was a measured (not the first) frame."""
+        if math.isnan(self.first_ms):
+            self.first_ms = ms
+            return False
+        self.times_ms.append(ms)
+        return True
+
 
 class Ours:
     """shadelab_rs on one scene."""
@@ -193,11 +202,7 @@ class Ours:
         out = sl.render_frame(
             self.scene, self.camera, width=w, height=h, shading=mode, threads=self.threads
         )
-        ms = (time.perf_counter() - t0) * 1e3
-        if math.isnan(timing.first_ms):
-            timing.first_ms = ms
-        else:
-            timing.times_ms.append(ms)
+        if timing.add((time.perf_counter() - t0) * 1e3):
             for k, v in out["stats"].items():
                 if k.endswith("_ms"):
                     timing.stages.setdefault(k, []).append(float(v))
@@ -226,11 +231,7 @@ class Peer:
     def frame(self, mode: str, w: int, h: int, timing: Timing) -> np.ndarray:
         t0 = time.perf_counter()
         img = self.gl.render(mode, w, h)
-        ms = (time.perf_counter() - t0) * 1e3
-        if math.isnan(timing.first_ms):
-            timing.first_ms = ms
-        else:
-            timing.times_ms.append(ms)
+        timing.add((time.perf_counter() - t0) * 1e3)
         return img
 
     def linear(self, mode: str, w: int, h: int) -> tuple[np.ndarray, np.ndarray]:

@@ -108,6 +108,7 @@ pub(crate) fn color_pass<P: Pixel>(
                 .collect(),
         }),
         secondary,
+        isa,
     };
     if options.edges != EdgeMode::None {
         // Lines: a tile closure of its own, chosen once per render, so a render without

@@ -45,6 +45,8 @@ struct Face {
     texel: f64,
     /// Half the view's extent: `tan(fov/2)` (perspective) or half the height (orthographic).
     half: f64,
+    /// Orthographic: the unit direction toward the light (the view's back axis).
+    toward: DVec3,
     perspective: bool,
 }
 
@@ -189,7 +191,9 @@ impl ShadowMap {
     }
 
     /// The share of the filter's texels (one for `filter="none"`) that see the point `p`
-    /// (shading normal `n`, geometric normal `g`) lit.
+    /// (shading normal `n`, geometric normal `g`) lit. Inlined into the shading loops'
+    /// instruction-set copies (see `ShadowEffect::visibility`).
+    #[inline]
     pub fn visibility(&self, n: Vec3, p: Vec3, g: Vec3) -> f32 {
         let face = match (self.cube_at, &self.cascades) {
             (Some(q), _) => &self.faces[cube_face(p - q)],
@@ -202,7 +206,7 @@ impl ShadowMap {
         let toward = if face.perspective {
             (face.camera.eye() - p.as_dvec3()).normalize_or_zero()
         } else {
-            (face.camera.eye() - face.camera.target()).normalize()
+            face.toward
         };
         if n.as_dvec3().dot(toward) <= 0.0 {
             return 1.0; // faces away: no diffuse or specular whatever the map says
@@ -230,57 +234,66 @@ impl ShadowMap {
         if !(sx.is_finite() && sy.is_finite()) {
             return 1.0;
         }
-        let (tx, ty) = (sx.floor() as i64, sy.floor() as i64);
+        // Far outside the map (clamped so the kernel offsets cannot overflow) reads its edge.
+        let (tx, ty) = (
+            floor(sx).clamp(-(1 << 40), 1 << 40),
+            floor(sy).clamp(-(1 << 40), 1 << 40),
+        );
         let r = self.res as i64;
         // Receiver-plane depth: the depth at which the light's ray through a texel's centre
         // meets the point's own plane, so a sloped receiver compares with its own depth at
         // every texel of the kernel (no acne at grazing light, no large constant bias).
-        let receiver = |x: i64, y: i64| -> f64 {
-            let ndc_x = (x as f64 + 0.5) / res * 2.0 - 1.0;
-            let ndc_y = 1.0 - (y as f64 + 0.5) / res * 2.0;
-            let (o, d) = if face.perspective {
-                (
-                    DVec3::ZERO,
-                    DVec3::new(ndc_x * face.half, ndc_y * face.half, -1.0),
-                )
-            } else {
-                (
-                    DVec3::new(ndc_x * face.half, ndc_y * face.half, 0.0),
-                    DVec3::NEG_Z,
-                )
-            };
-            let den = gv.dot(d);
-            let t = gv.dot(pv - o) / den;
-            // Along the plane (den ≈ 0) or behind: the point's own depth.
-            if den.abs() > 1e-9 && t.is_finite() && t > 0.0 {
-                t
-            } else {
-                depth
-            }
+        // The ray through texel (x, y) leaves o (orthographic: (ndc_x, ndc_y, 0)·half) along
+        // d (perspective: (ndc_x·half, ndc_y·half, −1); orthographic −z) and meets the plane
+        // at t = g·(p − o) / g·d: numerator and denominator are affine in (x, y), since
+        // ndc_x = a·x + a/2 − 1 and ndc_y = 1 − a/2 − a·y with a = 2/res.
+        let a = 2.0 / res;
+        let (gx, gy) = (gv.x * face.half, gv.y * face.half);
+        let (cx, cy) = (a / 2.0 - 1.0, 1.0 - a / 2.0);
+        let gp = gv.dot(pv);
+        let (num, den) = if face.perspective {
+            ((gp, 0.0, 0.0), (gx * cx + gy * cy - gv.z, gx * a, -gy * a))
+        } else {
+            ((gp - gx * cx - gy * cy, -gx * a, gy * a), (-gv.z, 0.0, 0.0))
         };
-        let lit_at = |x: i64, y: i64| -> f32 {
-            let stored = face.depth[(y.clamp(0, r - 1) * r + x.clamp(0, r - 1)) as usize];
-            (receiver(x, y) - tolerance <= stored as f64) as u8 as f32
-        };
-        match self.filter {
-            ShadowFilter::None => {
-                if tx < 0 || ty < 0 || tx >= r || ty >= r {
-                    return 1.0; // outside the map: nothing there casts a shadow
-                }
-                lit_at(tx, ty)
+        let (h, k) = match self.filter {
+            ShadowFilter::None if tx < 0 || ty < 0 || tx >= r || ty >= r => {
+                return 1.0; // outside the map: nothing there casts a shadow
             }
-            ShadowFilter::Pcf(k) => {
-                let h = (k / 2) as i64;
-                let mut sum = 0.0;
-                for dy in -h..=h {
-                    for dx in -h..=h {
-                        sum += lit_at(tx + dx, ty + dy);
-                    }
-                }
-                sum / (k * k) as f32
+            ShadowFilter::None => (0, 1),
+            ShadowFilter::Pcf(k) => ((k / 2) as i64, k),
+        };
+        // The share of the k × k texels around (tx, ty) (clamped to the map's edge) whose
+        // stored depth is not nearer than the receiver's, less the tolerance.
+        let ortho = den.1 == 0.0 && den.2 == 0.0;
+        let mut lit = 0u32;
+        for y in ty - h..=ty + h {
+            let row = &face.depth[(y.clamp(0, r - 1) * r) as usize..][..r as usize];
+            let yf = y as f64;
+            let (n_row, d_row) = (num.0 + num.2 * yf, den.0 + den.2 * yf);
+            for x in tx - h..=tx + h {
+                let stored = row[x.clamp(0, r - 1) as usize] as f64;
+                let xf = x as f64;
+                let d = if ortho { d_row } else { d_row + den.1 * xf };
+                let t = (n_row + num.1 * xf) / d;
+                // Along the plane (d ≈ 0) or behind: the point's own depth.
+                let t = if d.abs() > 1e-9 && t.is_finite() && t > 0.0 {
+                    t
+                } else {
+                    depth
+                };
+                lit += (t - tolerance <= stored) as u32;
             }
         }
+        lit as f32 / (k * k) as f32
     }
+}
+
+/// `⌊v⌋` of a finite `v` in the `i64` range, without the libm call `f64::floor` is on the
+/// baseline instruction set.
+fn floor(v: f64) -> i64 {
+    let i = v as i64;
+    i - ((i as f64) > v) as i64
 }
 
 /// The settings of one sample point of an area light with `side` samples per side: its
@@ -424,6 +437,7 @@ fn render_face(
         })
         .collect();
     Ok(Face {
+        toward: (camera.eye() - camera.target()).normalize(),
         view_proj: camera.projection_matrix(1.0) * camera.view_matrix(),
         view: camera.view_matrix(),
         camera,

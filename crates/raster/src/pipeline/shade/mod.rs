@@ -25,6 +25,7 @@ pub(crate) use textured::{TexturedObject, TexturedScene};
 use glam::Vec3;
 
 use super::bin::Binned;
+use super::isa::Isa;
 use super::raster::TileBuffers;
 use super::tiles::{TileRect, TILE};
 use super::vertex::Vertices;
@@ -57,6 +58,8 @@ pub(crate) struct ShadeContext<'a> {
     /// then shades through [`shade_textured_tile`], reached from `isa::run_tile` outside the
     /// untextured tile bodies); `None` runs the untextured loops unchanged.
     pub textured: Option<TexturedScene<'a>>,
+    /// The instruction set the render's tiles run on (out-of-line loops pick their copy).
+    pub isa: Isa,
     /// Scenes with reflective or transparent materials or an environment background: the
     /// secondary stage's constants (every tile then runs `isa::tile_secondary`, outside
     /// the other tile bodies; the fog moves into it); `None` runs the loops unchanged.
@@ -178,8 +181,31 @@ pub(crate) fn shade_tile<P: Pixel, const AFFINE: bool>(
 /// Phong with shadows, kept out of the tile bodies (`isa.rs` inlines the rest): its cost
 /// is the shadow rays and map look-ups, and the shadowless bodies keep their code and
 /// inlining. Compiled for the baseline instruction set.
+/// On a CPU with AVX2 and FMA (the render's [`Isa`]) it runs a copy compiled for them: its
+/// lanes loop and the map look-ups it inlines are most of a shadowed frame.
 #[inline(never)]
 fn phong_shadowed<P: Pixel, const STAGES_READ_DEPTH: bool, const AFFINE: bool>(
+    ctx: &ShadeContext<'_>,
+    rect: TileRect,
+    buf: &TileBuffers,
+    color: &mut [&mut [Out<P>]],
+    depth: Option<&mut [&mut [Out<f32>]]>,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if ctx.isa == Isa::Avx2 {
+        // SAFETY: `Isa::Avx2` is only made by `Isa::detect` after the CPU reported AVX2 and
+        // FMA, the features this copy is compiled for.
+        unsafe {
+            phong_shadowed_avx2::<P, STAGES_READ_DEPTH, AFFINE>(ctx, rect, buf, color, depth)
+        };
+        return;
+    }
+    phong::shade_phong::<P, STAGES_READ_DEPTH, AFFINE, true>(ctx, rect, buf, color, depth)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn phong_shadowed_avx2<P: Pixel, const STAGES_READ_DEPTH: bool, const AFFINE: bool>(
     ctx: &ShadeContext<'_>,
     rect: TileRect,
     buf: &TileBuffers,
