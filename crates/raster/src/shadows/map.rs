@@ -191,9 +191,7 @@ impl ShadowMap {
     }
 
     /// The share of the filter's texels (one for `filter="none"`) that see the point `p`
-    /// (shading normal `n`, geometric normal `g`) lit. Inlined into the shading loops'
-    /// instruction-set copies (see `ShadowEffect::visibility`).
-    #[inline]
+    /// (shading normal `n`, geometric normal `g`) lit.
     pub fn visibility(&self, n: Vec3, p: Vec3, g: Vec3) -> f32 {
         let face = match (self.cube_at, &self.cascades) {
             (Some(q), _) => &self.faces[cube_face(p - q)],

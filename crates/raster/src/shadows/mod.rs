@@ -150,9 +150,7 @@ impl ShadowEffect {
 
     /// The visibility of each source from the first `live` lanes of points `p` with unit
     /// shading normals `n` and geometric normals `g` (any length, any side): `None` for a
-    /// source that casts no shadow, else 0 (hidden) to 1 (lit) per lane. Inlined, so each
-    /// shading loop's instruction-set copy has its own.
-    #[inline]
+    /// source that casts no shadow, else 0 (hidden) to 1 (lit) per lane.
     pub fn visibility(
         &self,
         n: &[Lanes; 3],
