@@ -297,7 +297,8 @@ def _realism(
         }
         kw.update(material(sl) if material else {})
         scene.add(mesh(), material=sl.Material(**kw))
-        scene.add_light(sl.DirectionalLight(direction=KEY_DIRECTION, shadows=key_shadows))
+        shadows = key_shadows(sl) if callable(key_shadows) else key_shadows
+        scene.add_light(sl.DirectionalLight(direction=KEY_DIRECTION, shadows=shadows))
         for light in extra(sl) if extra else []:
             scene.add_light(light)
         return scene, dict(render_kw)
