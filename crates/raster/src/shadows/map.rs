@@ -263,24 +263,36 @@ impl ShadowMap {
         };
         // The share of the k × k texels around (tx, ty) (clamped to the map's edge) whose
         // stored depth is not nearer than the receiver's, less the tolerance.
-        let ortho = den.1 == 0.0 && den.2 == 0.0;
+        // Along the plane (denominator ≈ 0) or behind: the point's own depth.
+        let receiver = |t: f64, d: f64| {
+            if d.abs() > 1e-9 && t.is_finite() && t > 0.0 {
+                t
+            } else {
+                depth
+            }
+        };
         let mut lit = 0u32;
-        for y in ty - h..=ty + h {
-            let row = &face.depth[(y.clamp(0, r - 1) * r) as usize..][..r as usize];
-            let yf = y as f64;
-            let (n_row, d_row) = (num.0 + num.2 * yf, den.0 + den.2 * yf);
-            for x in tx - h..=tx + h {
-                let stored = row[x.clamp(0, r - 1) as usize] as f64;
-                let xf = x as f64;
-                let d = if ortho { d_row } else { d_row + den.1 * xf };
-                let t = (n_row + num.1 * xf) / d;
-                // Along the plane (d ≈ 0) or behind: the point's own depth.
-                let t = if d.abs() > 1e-9 && t.is_finite() && t > 0.0 {
-                    t
-                } else {
-                    depth
-                };
-                lit += (t - tolerance <= stored) as u32;
+        if face.perspective {
+            for y in ty - h..=ty + h {
+                let row = &face.depth[(y.clamp(0, r - 1) * r) as usize..][..r as usize];
+                let yf = y as f64;
+                let d_row = den.0 + den.2 * yf;
+                for x in tx - h..=tx + h {
+                    let d = d_row + den.1 * x as f64;
+                    let t = receiver(num.0 / d, d);
+                    lit += (t - tolerance <= row[x.clamp(0, r - 1) as usize] as f64) as u32;
+                }
+            }
+        } else {
+            // Orthographic: one denominator, so one division per point.
+            let inv = 1.0 / den.0;
+            for y in ty - h..=ty + h {
+                let row = &face.depth[(y.clamp(0, r - 1) * r) as usize..][..r as usize];
+                let n_row = num.0 + num.2 * y as f64;
+                for x in tx - h..=tx + h {
+                    let t = receiver((n_row + num.1 * x as f64) * inv, den.0);
+                    lit += (t - tolerance <= row[x.clamp(0, r - 1) as usize] as f64) as u32;
+                }
             }
         }
         lit as f32 / (k * k) as f32
