@@ -46,6 +46,7 @@ pub mod reflect;
 mod render;
 mod scene;
 mod shadows;
+mod tangents;
 pub mod texture;
 
 pub use camera::{Camera, Intrinsics, Projection};
@@ -74,4 +75,5 @@ pub use pool::{default_threads, MAX_THREADS};
 pub use pool::{max_in_flight, set_rendezvous};
 pub use render::{coverage_counts, render, render_depth_map, render_into, render_with};
 pub use scene::{Object, Scene};
+pub use tangents::generate_tangents;
 pub use texture::{Filter, Footprint, Maps, Procedural, Texture, Wrap};
