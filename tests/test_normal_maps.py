@@ -29,7 +29,6 @@ from test_textures import (
     within_one_level,
 )
 
-from shadelab_ref import normalmap as rnm
 from shadelab_ref import reference as ref
 from shadelab_ref import texture as rtex
 from shadelab_ref.to_sl import sl_light
@@ -311,7 +310,6 @@ def test_maps_need_uvs_and_finite_scales():
 
 def test_spellings_repr_pickle_and_scene_files(tmp_path):
     from PIL import Image
-
     from shadelab_rs import scene_file
 
     path = tmp_path / "n.png"

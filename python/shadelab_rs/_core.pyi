@@ -203,6 +203,12 @@ class Mesh:
     @property
     def colors(self) -> NDArray[np.float32] | None:
         """Per-vertex linear RGB colours, float32 (N, 3), or None."""
+    def with_normals(self, crease_angle: float | None = 60.0) -> Mesh:
+        """The same mesh with vertex normals recomputed with a crease angle (degrees, 0 to
+        180; None: every edge smooth): positions are welded for the computation, each
+        corner takes the normalised sum of the unit normals of the faces around it within
+        the angle of its own face, and a vertex whose corners disagree is split (its UV
+        and colour copied). Faces keep their order; vertices are never merged."""
     @property
     def n_vertices(self) -> int:
         """Number of vertices."""

@@ -588,10 +588,11 @@ def cmd_materials(args: argparse.Namespace) -> None:
             f"specular {fmt(m.specular):28s} shininess {m.shininess:g}"
         )
     if args.sheet is not None:
-        sheet = material_sheet(cell=args.cell, columns=args.columns)
+        sheet = material_sheet(cell=args.cell, columns=args.columns, textures=args.textures)
         save_image(sheet, args.sheet)
         h, w = sheet.shape[:2]
-        print(f"wrote {args.sheet} ({w}x{h}, one sphere per preset)", file=sys.stderr)
+        what = "preset, and textured swatches" if args.textures else "preset"
+        print(f"wrote {args.sheet} ({w}x{h}, one sphere per {what})", file=sys.stderr)
 
 
 def cmd_figures(args: argparse.Namespace) -> None:
@@ -693,6 +694,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     m.add_argument("--sheet", default=None, help="also write an image with a sphere per preset")
     m.add_argument("--cell", type=int, default=128, help="pixels per swatch (128)")
     m.add_argument("--columns", type=int, default=6, help="swatches per row (6)")
+    m.add_argument(
+        "--textures",
+        action="store_true",
+        help="add rows of textured swatches to the sheet (procedural checker, grid, stripes "
+        "and noise diffuse maps, a bump map, a normal map)",
+    )
     m.set_defaults(func=cmd_materials)
 
     f = sub.add_parser("figures", help="render the lecture figures (PNGs and captions.md)")

@@ -23,6 +23,7 @@
 #![warn(missing_docs)]
 
 mod camera;
+mod crease;
 mod effects;
 mod environment;
 mod error;
