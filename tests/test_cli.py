@@ -233,7 +233,7 @@ def test_render_normal_and_bump_map_flags(tmp_path):
         "--normal-map",
         nm,
     )
-    assert r.returncode == 1 and "normal_map" in r.stderr
+    assert r.returncode == 1 and "normal map" in r.stderr and "phong" in r.stderr
 
 
 def test_version():

@@ -267,7 +267,8 @@ def normal_maps() -> Image.Image:
     """Tangent-space normal maps and bump maps on a sphere (Phong): the silhouette stays
     round, the lighting follows the map."""
     mesh = sphere()
-    tiles = sl.Texture(tile_normals())
+    # One tile per texture, 12 around and 6 from pole to pole (the UVs span 2:1).
+    tiles = sl.Texture(tile_normals(tiles=1, bevel=0.1)).with_uv_transform((12, 6), (0, 0))
     noise = sl.Texture.procedural("noise", scale=24, octaves=3)
     base = sl.Material((0.8, 0.55, 0.3), (0.8, 0.55, 0.3), (0.5,) * 3, 40)
     panels = []

@@ -43,7 +43,7 @@ OPTICAL_SWATCHES: dict[str, Material] = {
 }
 
 
-def _tile_normals(n: int = 128, tiles: int = 4) -> np.ndarray:
+def _tile_normals(n: int = 64, tiles: int = 1) -> np.ndarray:
     """A tangent-space normal map of rounded square tiles (``tiles`` per side, edges
     bevelled), encoded as (n + 1)/2, float32."""
     t = ((np.arange(n) + 0.5) / n * tiles) % 1.0  # position inside a tile, 0..1
@@ -81,7 +81,9 @@ def _texture_swatches() -> dict[str, Material]:
         "bump map": plain.with_maps(
             bump_map=Texture.procedural("noise", 24, octaves=3), bump_scale=0.004
         ),
-        "normal map": plain.with_maps(normal_map=Texture(_tile_normals())),
+        "normal map": plain.with_maps(
+            normal_map=Texture(_tile_normals(64, 1)).with_uv_transform((8, 4), (0, 0))
+        ),
     }
 
 

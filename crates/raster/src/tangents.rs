@@ -135,4 +135,30 @@ mod tests {
         assert_eq!(t[2], Vec4::new(1.0, 0.0, 0.0, 1.0)); // zero normal
         assert!(t[3].truncate().dot(n[3]).abs() < 1e-6); // no face: a perpendicular
     }
+
+    use proptest::prelude::*;
+
+    proptest! {
+        /// For any finite positions, UVs and normals (degenerate ones included): every
+        /// tangent is finite, unit and perpendicular to its (non-zero) normal, w = ±1.
+        #[test]
+        fn tangents_are_unit_perpendicular_and_finite(
+            p in prop::collection::vec(prop::array::uniform3(-1e3f32..1e3), 4),
+            uv in prop::collection::vec(prop::array::uniform2(-10f32..10.0), 4),
+            n in prop::collection::vec(prop::array::uniform3(-1f32..1.0), 4),
+        ) {
+            let p: Vec<Vec3> = p.into_iter().map(Vec3::from_array).collect();
+            let uv: Vec<Vec2> = uv.into_iter().map(Vec2::from_array).collect();
+            let n: Vec<Vec3> = n.into_iter().map(|x| Vec3::from_array(x).normalize_or_zero()).collect();
+            let t = generate_tangents(&p, &uv, &n, &[[0, 1, 2], [0, 2, 3], [1, 3, 2]]);
+            for (t, n) in t.iter().zip(&n) {
+                prop_assert!(t.is_finite());
+                prop_assert!(t.w == 1.0 || t.w == -1.0);
+                prop_assert!((t.truncate().length() - 1.0).abs() < 1e-5, "{t}");
+                if *n != Vec3::ZERO {
+                    prop_assert!(t.truncate().dot(*n).abs() < 1e-5, "{t} {n}");
+                }
+            }
+        }
+    }
 }
