@@ -43,7 +43,7 @@ pub fn generate_tangents(
         let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
         let (d1, d2) = (t[1] - t[0], t[2] - t[0]);
         let r = d1.x * d2.y - d2.x * d1.y;
-        if !(r.abs() > 1e-20) {
+        if r.is_nan() || r.abs() <= 1e-20 {
             continue; // UVs without area: no direction for u or v
         }
         // P − P0 = ∂P/∂u·(u − u0) + ∂P/∂v·(v − v0), solved on the two edges.
@@ -56,8 +56,8 @@ pub fn generate_tangents(
             let a = p[(c + 1) % 3] - p[c];
             let b = p[(c + 2) % 3] - p[c];
             let angle = a.angle_between(b);
-            if !(angle > 0.0) {
-                continue; // a degenerate corner (NaN or zero)
+            if angle.is_nan() || angle <= 0.0 {
+                continue; // a degenerate corner
             }
             let n = vn[v[c]];
             tan[v[c]] += orthonormal(dpdu, n) * angle;

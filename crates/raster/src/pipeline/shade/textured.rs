@@ -229,6 +229,7 @@ impl Batch {
 
     /// Perturbs the normals `n` (unit; flipped on back faces) of the live lanes by the
     /// object's normal and bump maps in each lane's tangent frame (see the module's doc).
+    #[allow(clippy::needless_range_loop)] // lane k of several arrays
     fn perturb(&self, maps: &Maps, back: bool, n: &mut [Lanes; 3]) {
         let flip = if back { -1.0 } else { 1.0 };
         for k in 0..self.len {
