@@ -58,26 +58,17 @@ def _tile_normals(n: int = 64, tiles: int = 1) -> np.ndarray:
 
 
 def _texture_swatches() -> dict[str, Material]:
-    base = {"ambient": (1.0, 1.0, 1.0), "diffuse": (0.8, 0.8, 0.8), "specular": (0.4,) * 3}
     warm, cool = (0.9, 0.6, 0.3), (0.2, 0.3, 0.6)
     plain = Material((0.8, 0.55, 0.3), (0.8, 0.55, 0.3), (0.5, 0.5, 0.5), 40.0)
+
+    def diffuse(tex: Texture) -> Material:
+        return Material((1.0, 1.0, 1.0), (0.8, 0.8, 0.8), (0.4, 0.4, 0.4), 40.0, diffuse_map=tex)
+
     return {
-        "checker": Material(
-            **base,
-            shininess=40.0,
-            diffuse_map=Texture.procedural("checker", 8, color_a=warm, color_b=cool),
-        ),
-        "grid": Material(**base, shininess=40.0, diffuse_map=Texture.procedural("grid", 12)),
-        "stripes": Material(
-            **base,
-            shininess=40.0,
-            diffuse_map=Texture.procedural("stripes", 10, color_a=warm, color_b=(1, 1, 1)),
-        ),
-        "noise": Material(
-            **base,
-            shininess=40.0,
-            diffuse_map=Texture.procedural("noise", 6, color_a=warm, color_b=cool),
-        ),
+        "checker": diffuse(Texture.procedural("checker", 8, color_a=warm, color_b=cool)),
+        "grid": diffuse(Texture.procedural("grid", 12)),
+        "stripes": diffuse(Texture.procedural("stripes", 10, color_a=warm, color_b=(1, 1, 1))),
+        "noise": diffuse(Texture.procedural("noise", 6, color_a=warm, color_b=cool)),
         "bump map": plain.with_maps(
             bump_map=Texture.procedural("noise", 24, octaves=3), bump_scale=0.004
         ),
