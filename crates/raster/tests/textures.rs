@@ -188,7 +188,8 @@ fn maps_without_uvs_are_refused() {
 #[test]
 fn flat_normal_and_constant_bump_maps_change_nothing() {
     // (0.5, 0.5, 1) decodes to exactly (0, 0, 1); a constant height has no gradient: only
-    // the renormalisation of an already unit normal can move a bit.
+    // the renormalisation of an already unit normal moves it (by an ulp), which gold's
+    // specular power (51.2) amplifies: 1.8e-6 measured; 1e-5 allowed.
     let gold = Material::preset("gold").unwrap();
     let plain = f32_frame(&plane_scene(gold, None, None), ShadingMode::Phong);
     for maps in [
@@ -204,7 +205,7 @@ fn flat_normal_and_constant_bump_maps_change_nothing() {
     ] {
         let mapped = f32_frame(&plane_scene(gold, Some(maps), None), ShadingMode::Phong);
         let d = max_diff(&plain, &mapped);
-        assert!(d < 1e-6, "{d}");
+        assert!(d < 1e-5, "{d}");
     }
 }
 
