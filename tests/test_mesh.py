@@ -7,6 +7,8 @@ import numpy as np
 import pytest
 import shadelab_rs as sl
 import trimesh
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 # --------------------------------------------------------------------------------------------
 # Mesh
@@ -348,3 +350,30 @@ def test_with_normals_bad_angles_name_the_field():
         with pytest.raises(ValueError, match="crease_angle") as e:
             sl.Mesh.cube().with_normals(crease_angle=bad)
         assert getattr(e.value, "field", None) == "crease_angle"
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    st.integers(0, 2**32 - 1),
+    st.one_of(st.none(), st.floats(0.0, 180.0)),
+)
+def test_with_normals_invariants(seed, angle):
+    """For random meshes (shared, duplicated and degenerate vertices included): faces keep
+    their count, every output vertex is a copy of an input vertex (position and UV), no
+    input vertex disappears, and every normal is unit or zero, never NaN."""
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(3, 12))
+    v = rng.integers(-2, 3, (n, 3)).astype(np.float64)  # small integer grid: duplicates
+    f = rng.integers(0, n, (int(rng.integers(1, 16)), 3))
+    uv = rng.random((n, 2))
+    m = sl.Mesh(v, f, uvs=uv)
+    out = m.with_normals(crease_angle=angle)
+    assert out.n_faces == m.n_faces and out.n_vertices >= m.n_vertices
+    src = out.vertices[out.faces]  # each corner's position equals the input corner's
+    np.testing.assert_array_equal(src, m.vertices[m.faces])
+    np.testing.assert_array_equal(out.uvs[out.faces], m.uvs[m.faces])
+    kept = [(out.vertices == p).all(axis=1).any() for p in m.vertices]
+    assert all(kept)
+    length = np.linalg.norm(out.normals, axis=1)
+    assert np.isfinite(out.normals).all()
+    assert (np.isclose(length, 1.0, atol=1e-5) | (length == 0)).all()
