@@ -94,6 +94,53 @@ def sphere_mesh() -> Any:
     return _MESH["m"]
 
 
+def sphere_mesh_uv() -> Any:
+    """The same sphere with UVs (u = longitude / 2π, v = 1 − colatitude / π; no seam split,
+    so one column of triangles reads a squeezed copy): for the texture-map variants only,
+    since builds before textures take no ``uvs``."""
+    if "uv" not in _MESH:
+        v, f = uv_sphere(SPHERE_RINGS, 2 * SPHERE_RINGS)
+        vd = v.astype(np.float64)
+        u = (np.arctan2(vd[:, 0], vd[:, 2]) / (2 * np.pi)) % 1.0
+        t = 1.0 - np.arccos(np.clip(vd[:, 1], -1.0, 1.0)) / np.pi
+        _MESH["uv"] = _sl().Mesh(v, f, normals=v, uvs=np.stack([u, t], axis=1))
+    return _MESH["uv"]
+
+
+def _map_image(kind: str, n: int = 512) -> np.ndarray:
+    """A 512 x 512 float32 map: value noise for colour and heights, its bumps for normals."""
+    rng = np.random.default_rng(7)
+    coarse = rng.random((n // 16, n // 16))
+    h = np.kron(coarse, np.ones((16, 16)))
+    if kind == "normal":
+        gy, gx = np.gradient(h)
+        nrm = np.stack([-gx * 4, gy * 4, np.ones_like(h)], -1)
+        nrm /= np.linalg.norm(nrm, axis=-1, keepdims=True)
+        return ((nrm + 1) / 2).astype(np.float32)
+    return np.repeat(h[..., None], 3, axis=2).astype(np.float32)
+
+
+def _mapped(**maps: str) -> Callable[[], tuple[Any, dict[str, Any]]]:
+    """The baseline on the UV sphere with image maps (512², trilinear): ``key=kind``."""
+
+    def build() -> tuple[Any, dict[str, Any]]:
+        sl = _sl()
+        scene = sl.Scene(ambient=(0.2, 0.2, 0.2))
+        kw: dict[str, Any] = {}
+        for key, kind in maps.items():
+            if key.endswith("_scale"):
+                kw[key] = float(kind)
+            else:
+                kw[key] = sl.Texture(_map_image(kind))
+        gold = sl.Material.preset("gold")
+        m = sl.Material(gold.ambient, gold.diffuse, gold.specular, gold.shininess, **kw)
+        scene.add(sphere_mesh_uv(), material=m)
+        scene.add_light(sl.DirectionalLight(direction=KEY_DIRECTION))
+        return scene, {}
+
+    return build
+
+
 KEY_DIRECTION = (-1.0, -1.0, -1.0)
 # Extra directional lights, dim so the image stays readable; all light the visible side.
 EXTRA_DIRECTIONS = [
@@ -252,23 +299,23 @@ def variants() -> list[Variant]:
         Variant("msaa_2", "samples=2 (multi-sample anti-aliasing)", _with_kw(base, samples=2)),
         Variant("msaa_4", "samples=4 (multi-sample anti-aliasing)", _with_kw(base, samples=4)),
         Variant("msaa_16", "samples=16 (multi-sample anti-aliasing)", _with_kw(base, samples=16)),
+        Variant("diffuse_map", "diffuse_map (512² image, trilinear)", _mapped(diffuse_map="color")),
+        Variant("normal_map", "normal_map (512² image, trilinear)", _mapped(normal_map="normal")),
+        Variant(
+            "bump_map",
+            "bump_map (512² image, trilinear, 4 height reads)",
+            _mapped(bump_map="height", bump_scale="0.002"),
+        ),
+        Variant(
+            "diffuse_normal_map",
+            "diffuse_map + normal_map",
+            _mapped(diffuse_map="color", normal_map="normal"),
+        ),
         *realism_variants(),
     ]
 
 
 # --------------------------------------------------------------------------- realism rooms
-
-
-def _uv_sphere_mesh() -> Any:
-    """The sphere with longitude/latitude UVs (for the texture variants)."""
-    if "uv" not in _MESH:
-        sl = _sl()
-        m = sphere_mesh()
-        v = m.vertices.astype(np.float64)
-        u = 0.5 + np.arctan2(v[:, 0], -v[:, 2]) / (2 * np.pi)
-        w = 1.0 - np.arccos(np.clip(v[:, 1], -1.0, 1.0)) / np.pi
-        _MESH["uv"] = sl.Mesh(m.vertices, m.faces, normals=m.normals, uvs=np.stack([u, w], 1))
-    return _MESH["uv"]
 
 
 def _realism(
@@ -330,15 +377,7 @@ def realism_variants() -> list[Variant]:
             "diffuse_map: procedural checker (uv sphere)",
             _realism(
                 material=lambda sl: {"diffuse_map": sl.Texture.procedural("checker")},
-                mesh=_uv_sphere_mesh,
-            ),
-        ),
-        Variant(
-            "tex_image",
-            "diffuse_map: 1024² image, trilinear",
-            _realism(
-                material=lambda sl: {"diffuse_map": sl.Texture(image)},
-                mesh=_uv_sphere_mesh,
+                mesh=sphere_mesh_uv,
             ),
         ),
         Variant(
@@ -346,7 +385,7 @@ def realism_variants() -> list[Variant]:
             "diffuse_map: 1024² image, anisotropy 8",
             _realism(
                 material=lambda sl: {"diffuse_map": sl.Texture(image, anisotropy=8)},
-                mesh=_uv_sphere_mesh,
+                mesh=sphere_mesh_uv,
             ),
         ),
         Variant("shadow_dir_map", "key light shadows=True (2048² map)", _realism(True)),

@@ -174,6 +174,7 @@ def shaded_terms(
     specular: str = "blinn",
     shininess: float,
     shadowed=None,
+    lit_normals=None,
 ):
     """The unit material's ambient, diffuse and specular terms ``(A, D, S)`` at every visible
     pixel of ``img`` (each ``(P, 3)``, row-major over ``img.tri >= 0``), lit where
@@ -187,6 +188,8 @@ def shaded_terms(
     ``shadowed``: for each light (after area lights are expanded), whether it casts shadows
     (default: all). Lights' own ambient terms must be zero (they are not shadowed).
     ``shininess``: a number, or (Phong) one per visible pixel (a shininess map).
+    ``lit_normals``: (Phong) the normal each visible pixel is lit with (a normal or bump
+    map's); visibility keeps the interpolated one.
     """
     lights = ref.expand_area_lights(lights if isinstance(lights, (list, tuple)) else [lights])
     if shadowed is None:
@@ -217,6 +220,10 @@ def shaded_terms(
         visibility(pts, g, n, light, v, f, offset) if casts else np.ones(len(pts))
         for light, casts in zip(lights, shadowed)
     ]
+    if lit_normals is not None:
+        if shading != "phong":
+            raise ValueError("lit_normals need per-pixel lighting (shading='phong')")
+        n = np.asarray(lit_normals, np.float64)
     zero, one = (0.0, 0.0, 0.0), (1.0, 1.0, 1.0)
     out = []
     for unit in (

@@ -219,6 +219,10 @@ def render_textured_reference(
     material: ref.Material,
     shadows: bool = False,
     shininess_image=None,
+    normal_image=None,
+    normal_scale: float = 1.0,
+    bump_image=None,
+    bump_scale: float = 1.0,
     **kwargs,
 ):
     """A render with ``image`` as the diffuse map (weighing ambient too): the keyword
@@ -227,7 +231,9 @@ def render_textured_reference(
     diffuse and specular weighted by its visibility where the shading mode lights; the mesh
     is its own occluder, identity transform). ``shininess_image``: a shininess map, sampled
     with the same filter and wrap: the material's shininess times the mean of the sample's
-    r, g, b, per pixel (Phong only).
+    r, g, b, per pixel (Phong only). ``normal_image`` / ``bump_image`` with their scales:
+    normal and bump maps (:func:`normalmap.perturbed_normals`, same filter and wrap; Phong
+    only; the mesh's ``normals`` or its vertex normals carry the tangent frame).
     Returns ``(color, refimage)``: (H, W, 3) float64 linear colour (background where empty)
     and the reference's image of the unit ambient term (its mask, edge distances...)."""
     shin = material.shininess
@@ -253,7 +259,33 @@ def render_textured_reference(
             raise ValueError("shininess maps need per-pixel lighting (shading='phong')")
         t = sample(mip_pyramid(shininess_image), u, v, derivs, filter, wrap, anisotropy)
         shin = shin * t.mean(axis=1)
-    if shadows or shininess_image is not None:
+    lit_normals = None
+    if normal_image is not None or bump_image is not None:
+        if kwargs.get("shading", "phong") != "phong":
+            raise ValueError("normal and bump maps need per-pixel lighting (shading='phong')")
+        from . import normalmap
+
+        nv = kwargs.get("normals")
+        if nv is None:
+            nv = ref.vertex_normals(vertices, faces)
+        lit_normals = normalmap.perturbed_normals(
+            r,
+            vertices,
+            faces,
+            uvs,
+            nv,
+            u,
+            v,
+            derivs,
+            filter=filter,
+            wrap=wrap,
+            anisotropy=anisotropy,
+            normal_image=normal_image,
+            normal_scale=normal_scale,
+            bump_image=bump_image,
+            bump_scale=bump_scale,
+        )
+    if shadows or shininess_image is not None or lit_normals is not None:
         n_lights = len(ref.expand_area_lights(list(kwargs["lights"])))
         a, d, s = rsh.shaded_terms(
             r,
@@ -267,6 +299,7 @@ def render_textured_reference(
             specular=kwargs.get("specular", "blinn"),
             shininess=shin,
             shadowed=[bool(shadows)] * n_lights,
+            lit_normals=lit_normals,
         )
         terms = {"a": a, "d": d, "s": s}
     ka, kd, ks = (

@@ -176,6 +176,66 @@ def test_materials_sheet_matches_swatch_scene():
         material_sheet(cell=4)
 
 
+def test_materials_sheet_with_textures(tmp_path):
+    """--textures: the presets, padding to the end of their row, then a row of textured
+    swatches, each a lit sphere (its centre differs from the grey corner)."""
+    from shadelab_rs.swatch import (
+        TEXTURE_SWATCH_NAMES,
+        material_sheet,
+        swatch_scene,
+        texture_swatch,
+    )
+
+    out = tmp_path / "sheet.png"
+    r = run("materials", "--sheet", out, "--cell", "32", "--columns", "10", "--textures")
+    assert r.returncode == 0, r.stderr
+    img = read_png(out)
+    label = 14
+    assert img.shape == (4 * (32 + label), 10 * 32, 3)  # 29 presets + 1 blank, then 6
+    y = 3 * (32 + label)
+    for k in range(len(TEXTURE_SWATCH_NAMES)):
+        x = 32 * k
+        assert img[y + 16, x + 16].tolist() != img[y, x].tolist(), TEXTURE_SWATCH_NAMES[k]
+        assert img[y, x].tolist() == [56, 56, 61]
+    assert not img[y : y + 32, 6 * 32 :].any()
+    # By name, as the scene alone renders it (normal and bump swatches: Phong always).
+    sheet = material_sheet(["normal map"], cell=40, labels=False, shading="gouraud")
+    scene, camera = swatch_scene(texture_swatch("normal map"), uvs=True)
+    alone = sl.render(scene, camera, width=40, height=40, background=(0.22, 0.22, 0.24))
+    np.testing.assert_array_equal(sheet, alone)
+    plain = material_sheet(["checker"], cell=40, labels=False)
+    assert plain.std() > 10  # the checks show
+
+
+def test_render_normal_and_bump_map_flags(tmp_path):
+    from PIL import Image
+
+    nm = tmp_path / "n.png"
+    Image.fromarray(np.full((8, 8, 3), (200, 128, 230), np.uint8)).save(nm)
+    spot = sl.data_path("spot/spot_triangulated.obj")
+    outs = []
+    for extra in ([], ["--normal-map", nm, "--normal-scale", "2"], ["--bump-map", nm]):
+        out = tmp_path / f"o{len(outs)}.png"
+        r = run("render", spot, "--size", "64x48", "-o", out, *extra)
+        assert r.returncode == 0, r.stderr
+        outs.append(read_png(out))
+    assert np.abs(outs[0].astype(int) - outs[1]).max() > 10  # the tilted normals show
+    np.testing.assert_array_equal(outs[0], outs[2])  # a constant height: no gradient
+    r = run(
+        "render",
+        spot,
+        "--size",
+        "64x48",
+        "-o",
+        tmp_path / "x.png",
+        "--shading",
+        "flat",
+        "--normal-map",
+        nm,
+    )
+    assert r.returncode == 1 and "normal map" in r.stderr and "phong" in r.stderr
+
+
 def test_version():
     r = run("--version")
     assert r.returncode == 0

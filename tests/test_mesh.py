@@ -7,6 +7,8 @@ import numpy as np
 import pytest
 import shadelab_rs as sl
 import trimesh
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 # --------------------------------------------------------------------------------------------
 # Mesh
@@ -287,3 +289,91 @@ def test_add_obj_transform_and_back_material(tmp_path):
     np.testing.assert_allclose(depth0[12, 20], 4.0, rtol=1e-6)  # moved to z = -1
     np.testing.assert_allclose(img1[12, 20], [1, 0, 0], atol=1e-6)  # back material's ka·Ia
     assert not np.allclose(img0[12, 20], [1, 0, 0])
+
+
+# ---- Mesh.with_normals ---------------------------------------------------------------------
+
+
+def _shared_cube():
+    c = sl.Mesh.cube()
+    pos, inv = np.unique(c.vertices, axis=0, return_inverse=True)
+    return sl.Mesh(pos, inv.reshape(-1)[c.faces])
+
+
+def test_with_normals_splits_a_cube_and_keeps_a_sphere_smooth():
+    cube = _shared_cube()
+    assert cube.n_vertices == 8
+    flat = cube.with_normals(crease_angle=30)
+    assert flat.n_vertices == 24 and flat.n_faces == 12 and flat.has_normals
+    v, f, n = flat.vertices, flat.faces, flat.normals
+    fn = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
+    fn /= np.linalg.norm(fn, axis=1, keepdims=True)
+    for k in range(3):
+        np.testing.assert_allclose(n[f[:, k]], fn, atol=1e-7)  # each face flat, exactly
+    smooth = cube.with_normals(crease_angle=None)
+    assert smooth.n_vertices == 8
+    unit = smooth.vertices / np.linalg.norm(smooth.vertices, axis=1, keepdims=True)
+    np.testing.assert_allclose(smooth.normals, unit, atol=1e-6)
+    ball = sl.Mesh.ico_sphere(3)
+    again = ball.with_normals(crease_angle=30)
+    assert again.n_vertices == ball.n_vertices
+    np.testing.assert_array_equal(again.faces, ball.faces)
+    assert np.abs(again.normals - ball.vertices).max() < 0.02
+
+
+def test_with_normals_keeps_uvs_colours_and_renders_a_box_as_a_box():
+    cube = _shared_cube()
+    uv = np.random.default_rng(0).random((8, 2))
+    col = np.random.default_rng(1).random((8, 3))
+    m = sl.Mesh(cube.vertices, cube.faces, uvs=uv, colors=col).with_normals(crease_angle=45)
+    # Every split vertex carries its source's position, UV and colour.
+    src = [int(np.flatnonzero((cube.vertices == p).all(axis=1))[0]) for p in m.vertices]
+    np.testing.assert_array_equal(m.uvs, uv.astype(np.float32)[src])
+    np.testing.assert_allclose(m.colors, col.astype(np.float32)[src])
+    # Phong on the split box, diffuse only under a directional light: each visible face is
+    # one flat colour (3 faces and the background); the 8-corner box shades like a pillow.
+    cam = sl.Camera.look_at((2.0, 1.6, 2.6), (0, 0, 0), fov_y=40)
+
+    def colours(mesh):
+        scene = sl.Scene()
+        scene.add(mesh, material=sl.Material(specular=(0, 0, 0)))
+        scene.add_light(sl.DirectionalLight(direction=(-0.3, -1.0, -0.5)))
+        img = sl.render(scene, cam, width=64, height=64, shading="phong")
+        return len(np.unique(img.reshape(-1, 3), axis=0))
+
+    assert colours(cube.with_normals(crease_angle=30)) <= 4
+    assert colours(cube) > 50
+
+
+def test_with_normals_bad_angles_name_the_field():
+    for bad in (-1.0, 181.0, float("nan"), float("inf")):
+        with pytest.raises(ValueError, match="crease_angle") as e:
+            sl.Mesh.cube().with_normals(crease_angle=bad)
+        assert getattr(e.value, "field", None) == "crease_angle"
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    st.integers(0, 2**32 - 1),
+    st.one_of(st.none(), st.floats(0.0, 180.0)),
+)
+def test_with_normals_invariants(seed, angle):
+    """For random meshes (shared, duplicated and degenerate vertices included): faces keep
+    their count, every output vertex is a copy of an input vertex (position and UV), no
+    input vertex disappears, and every normal is unit or zero, never NaN."""
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(3, 12))
+    v = rng.integers(-2, 3, (n, 3)).astype(np.float64)  # small integer grid: duplicates
+    f = rng.integers(0, n, (int(rng.integers(1, 16)), 3))
+    uv = rng.random((n, 2))
+    m = sl.Mesh(v, f, uvs=uv)
+    out = m.with_normals(crease_angle=angle)
+    assert out.n_faces == m.n_faces and out.n_vertices >= m.n_vertices
+    src = out.vertices[out.faces]  # each corner's position equals the input corner's
+    np.testing.assert_array_equal(src, m.vertices[m.faces])
+    np.testing.assert_array_equal(out.uvs[out.faces], m.uvs[m.faces])
+    kept = [(out.vertices == p).all(axis=1).any() for p in m.vertices]
+    assert all(kept)
+    length = np.linalg.norm(out.normals, axis=1)
+    assert np.isfinite(out.normals).all()
+    assert (np.isclose(length, 1.0, atol=1e-5) | (length == 0)).all()

@@ -6,6 +6,7 @@ One script for every picture; each is a row of labelled panels, and each panel i
 
     python docs/textures/make_gallery.py              # all pictures into docs/textures/
     python docs/textures/make_gallery.py --out DIR    # elsewhere
+    python docs/textures/make_gallery.py --only normal_maps crease   # some of them
 """
 
 from __future__ import annotations
@@ -251,6 +252,58 @@ def shadows() -> Image.Image:
     return labelled_row(panels)
 
 
+def tile_normals(n: int = 256, tiles: int = 4, bevel: float = 0.12) -> np.ndarray:
+    """A tangent-space normal map of bevelled square tiles, encoded as (n + 1)/2."""
+    t = ((np.arange(n) + 0.5) / n * tiles) % 1.0
+    slope = np.where(t < bevel, 1.0, np.where(t > 1 - bevel, -1.0, 0.0)) * 1.5
+    gx = np.broadcast_to(slope[None, :], (n, n))  # height rises along u into a tile
+    gy = np.broadcast_to(-slope[:, None], (n, n))  # rows run down the image (v falls)
+    nrm = np.stack([-gx, -gy, np.ones((n, n))], -1)
+    nrm /= np.linalg.norm(nrm, axis=-1, keepdims=True)
+    return ((nrm + 1) / 2).astype(np.float32)
+
+
+def normal_maps() -> Image.Image:
+    """Tangent-space normal maps and bump maps on a sphere (Phong): the silhouette stays
+    round, the lighting follows the map."""
+    mesh = sphere()
+    # One tile per texture, 12 around and 6 from pole to pole (the UVs span 2:1).
+    tiles = sl.Texture(tile_normals(tiles=1, bevel=0.1)).with_uv_transform((12, 6), (0, 0))
+    noise = sl.Texture.procedural("noise", scale=24, octaves=3)
+    base = sl.Material((0.8, 0.55, 0.3), (0.8, 0.55, 0.3), (0.5,) * 3, 40)
+    panels = []
+    for label, kw in (
+        ("no map", {}),
+        ("normal_map=tiles", {"normal_map": tiles}),
+        ("normal_map=tiles, normal_scale=-1", {"normal_map": tiles, "normal_scale": -1.0}),
+        ("bump_map=noise, bump_scale=0.004", {"bump_map": noise, "bump_scale": 0.004}),
+    ):
+        scene = lit(sl.Scene())
+        scene.add(mesh, material=base.with_maps(**kw))
+        panels.append((label, render(scene, SPHERE_CAM, shading="phong")))
+    return labelled_row(panels)
+
+
+def crease() -> Image.Image:
+    """A box with 8 shared corners: smooth normals make a pillow, a crease angle keeps
+    it a box; a sphere stays smooth at the same angle."""
+    c = sl.Mesh.cube()
+    pos, inv = np.unique(c.vertices, axis=0, return_inverse=True)
+    box = sl.Mesh(pos, inv.reshape(-1)[c.faces])  # 8 corners, normals averaged
+    ball = sl.Mesh.ico_sphere(2)
+    cam = sl.Camera.look_at((2.2, 1.8, 3.0), (0, 0, 0), fov_y=35)
+    panels = []
+    for label, mesh in (
+        ("8-corner box", box),
+        ("box.with_normals(crease_angle=30)", box.with_normals(crease_angle=30)),
+        ("ico_sphere(2).with_normals(crease_angle=30)", ball.with_normals(crease_angle=30)),
+    ):
+        scene = lit(sl.Scene())
+        scene.add(mesh, material=sl.Material.preset("pewter"))
+        panels.append((label, render(scene, cam, shading="phong")))
+    return labelled_row(panels)
+
+
 FIGURES = {
     "filters": filters,
     "wrap": wraps,
@@ -259,17 +312,24 @@ FIGURES = {
     "modes": modes,
     "vertex_colors": vertex_colors,
     "shadows": shadows,
+    "normal_maps": normal_maps,
+    "crease": crease,
 }
 
 
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--out", type=Path, default=HERE)
+    p.add_argument("--only", nargs="+", choices=[*FIGURES, "spot"], help="these pictures only")
     args = p.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     for name, make in FIGURES.items():
+        if args.only and name not in args.only:
+            continue
         make().save(args.out / f"{name}.png", optimize=True)
         print(f"wrote {args.out / name}.png")
+    if args.only and "spot" not in args.only:
+        return
     # Spot, by the command line on the bundled OBJ: its MTL names its texture.
     spot = sl.data_path("spot/spot_triangulated.obj")
     cmd = [sys.executable, "-m", "shadelab_rs", "render", str(spot), "--view", "left"]

@@ -208,6 +208,12 @@ class Mesh:
     @property
     def colors(self) -> NDArray[np.float32] | None:
         """Per-vertex linear RGB colours, float32 (N, 3), or None."""
+    def with_normals(self, crease_angle: float | None = 60.0) -> Mesh:
+        """The same mesh with vertex normals recomputed with a crease angle (degrees, 0 to
+        180; None: every edge smooth): positions are welded for the computation, each
+        corner takes the normalised sum of the unit normals of the faces around it within
+        the angle of its own face, and a vertex whose corners disagree is split (its UV
+        and colour copied). Faces keep their order; vertices are never merged."""
     @property
     def n_vertices(self) -> int:
         """Number of vertices."""
@@ -225,7 +231,12 @@ class Material:
     (``diffuse_map``, ``ambient_map`` (default: the diffuse map), ``specular_map``,
     ``emission_map``) multiply their coefficient per point; the specular term is added after
     the texture. ``shininess_map``: the mean of a texel's r, g, b multiplies the shininess per
-    pixel (Phong shading only). Materials compare equal when all their values are equal and
+    pixel (Phong shading only). ``normal_map``: a tangent-space normal map (texel (r, g, b)
+    is the normal (2r-1, 2g-1, 2b-1) in the frame tangent, bitangent, normal; tangents come
+    from the mesh's UVs), its x and y scaled by ``normal_scale``; ``bump_map``: a height map
+    (mean of r, g, b), a value 1 standing ``bump_scale`` UV units above the surface, its
+    gradient by central differences of one texel (Phong shading only, both; the mesh needs
+    UVs). Materials compare equal when all their values are equal and
     they hold the same Texture objects (and are not hashable).
 
     Optics (see the user guide, "Reflection, refraction and transparency"):
@@ -259,6 +270,10 @@ class Material:
         ior: _Ior | None = None,
         fresnel: bool = True,
         absorption: float | _Vec3Like | None = None,
+        normal_map: Texture | None = None,
+        normal_scale: float = 1.0,
+        bump_map: Texture | None = None,
+        bump_scale: float = 1.0,
     ) -> Material: ...
     def with_optics(
         self,
@@ -291,6 +306,10 @@ class Material:
         specular_map: Texture | None = None,
         emission_map: Texture | None = None,
         shininess_map: Texture | None = None,
+        normal_map: Texture | None = None,
+        normal_scale: float = 1.0,
+        bump_map: Texture | None = None,
+        bump_scale: float = 1.0,
     ) -> Material:
         """The same material with these texture maps (the others dropped)."""
     @property
@@ -308,6 +327,18 @@ class Material:
     @property
     def shininess_map(self) -> Texture | None:
         """The shininess map, or None."""
+    @property
+    def normal_map(self) -> Texture | None:
+        """The tangent-space normal map, or None."""
+    @property
+    def normal_scale(self) -> float:
+        """Scale of the normal map's x and y (1.0 without maps)."""
+    @property
+    def bump_map(self) -> Texture | None:
+        """The bump (height) map, or None."""
+    @property
+    def bump_scale(self) -> float:
+        """Height of a bump-map value 1 in UV units (1.0 without maps)."""
     @staticmethod
     def preset(name: str) -> Material:
         """The named classic preset (case-insensitive; "polished_silver" = "polished silver").

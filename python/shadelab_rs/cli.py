@@ -8,7 +8,7 @@ import os
 import sys
 import time
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -481,6 +481,12 @@ def cmd_render_scene(args: argparse.Namespace) -> None:
         raise ValueError(
             "--texture cannot be used with a scene file; give its material a diffuse_map"
         )
+    for flag, key in (("normal_map", "normal_map"), ("bump_map", "bump_map")):
+        if getattr(args, flag, None) is not None:
+            raise ValueError(
+                f"--{flag.replace('_', '-')} cannot be used with a scene file; give its "
+                f"material a {key}"
+            )
     given = [k for k in _MODEL_ONLY if getattr(args, k) is not None]
     if given:
         flags = ", ".join("--" + k for k in given)
@@ -493,20 +499,52 @@ def cmd_render_scene(args: argparse.Namespace) -> None:
     _render(sf.scene, camera, args, sf.render_options)
 
 
+def _surface_maps(
+    normal_map: str | None, normal_scale: float, bump_map: str | None, bump_scale: float
+) -> Callable[[core.Material], core.Material]:
+    """A function that adds the normal and bump maps named (image files, read as stored)
+    to a material, keeping its other maps; the identity when neither is given."""
+    nm = None if normal_map is None else core.Texture.load(normal_map)
+    bm = None if bump_map is None else core.Texture.load(bump_map)
+
+    def add(m: core.Material) -> core.Material:
+        if nm is None and bm is None:
+            return m
+        return m.with_maps(
+            diffuse_map=m.diffuse_map,
+            ambient_map=m.ambient_map,
+            specular_map=m.specular_map,
+            emission_map=m.emission_map,
+            shininess_map=m.shininess_map,
+            normal_map=nm if nm is not None else m.normal_map,
+            normal_scale=normal_scale if nm is not None else m.normal_scale,
+            bump_map=bm if bm is not None else m.bump_map,
+            bump_scale=bump_scale if bm is not None else m.bump_scale,
+        )
+
+    return add
+
+
 def _add_model(
-    scene: core.Scene, path: str, preset: str | None, texture: str | None = None
+    scene: core.Scene,
+    path: str,
+    preset: str | None,
+    texture: str | None = None,
+    surface: Callable[[core.Material], core.Material] | None = None,
 ) -> np.ndarray:
     """Adds the model at ``path`` to ``scene``; returns all its vertices (for framing).
 
     An OBJ keeps its MTL materials (and their texture maps), one per group and ``usemtl``
     run, unless a preset is given; parts without one (and other formats) get the preset,
     gold by default. ``texture``: an image file made every part's diffuse map (which also
-    weighs ambient), in place of the MTL's maps; the model needs UVs."""
+    weighs ambient), in place of the MTL's maps; the model needs UVs. ``surface``: adds
+    normal and bump maps (:func:`_surface_maps`) after that."""
     fallback = core.Material.preset(preset or "gold")
     tex = None if texture is None else core.Texture.load(texture)
 
     def with_texture(m: core.Material) -> core.Material:
-        return m if tex is None else m.with_maps(diffuse_map=tex)
+        m = m if tex is None else m.with_maps(diffuse_map=tex)
+        return m if surface is None else surface(m)
 
     if os.fspath(path).lower().endswith(".obj"):
         parts = core.load_obj_parts(path)
@@ -528,7 +566,8 @@ def cmd_render(args: argparse.Namespace) -> None:
         ambient=args.ambient if args.ambient is not None else (0.2, 0.2, 0.2),
         two_sided=bool(args.two_sided),
     )
-    _add_model(scene, args.model, args.material, args.texture)
+    surface = _surface_maps(args.normal_map, args.normal_scale, args.bump_map, args.bump_scale)
+    _add_model(scene, args.model, args.material, args.texture, surface)
     # No --light: the default rig, which moves with the camera.
     _lights(scene, args)
     camera = _camera(scene, None, args, file_up_axis(args.model))
@@ -549,10 +588,11 @@ def cmd_materials(args: argparse.Namespace) -> None:
             f"specular {fmt(m.specular):28s} shininess {m.shininess:g}"
         )
     if args.sheet is not None:
-        sheet = material_sheet(cell=args.cell, columns=args.columns)
+        sheet = material_sheet(cell=args.cell, columns=args.columns, textures=args.textures)
         save_image(sheet, args.sheet)
         h, w = sheet.shape[:2]
-        print(f"wrote {args.sheet} ({w}x{h}, one sphere per preset)", file=sys.stderr)
+        what = "preset, and textured swatches" if args.textures else "preset"
+        print(f"wrote {args.sheet} ({w}x{h}, one sphere per {what})", file=sys.stderr)
 
 
 def cmd_figures(args: argparse.Namespace) -> None:
@@ -585,6 +625,31 @@ def main(argv: Sequence[str] | None = None) -> int:
         metavar="IMAGE",
         help="image file (PNG, JPEG) as the model's diffuse map, in place of its MTL maps "
         "(the model needs UVs; it multiplies the material's ambient and diffuse colour)",
+    )
+    r.add_argument(
+        "--normal-map",
+        default=None,
+        metavar="IMAGE",
+        help="image file as every part's tangent-space normal map (the model needs UVs; "
+        "Phong shading only)",
+    )
+    r.add_argument(
+        "--normal-scale",
+        type=float,
+        default=1.0,
+        help="scale of the normal map's x and y (1.0)",
+    )
+    r.add_argument(
+        "--bump-map",
+        default=None,
+        metavar="IMAGE",
+        help="image file as every part's bump (height) map (the model needs UVs; Phong only)",
+    )
+    r.add_argument(
+        "--bump-scale",
+        type=float,
+        default=1.0,
+        help="height of a bump-map value 1, in UV units (1.0)",
     )
     r.add_argument("--ambient", type=_triple, default=None, help="scene ambient r,g,b (0.2,...)")
     r.add_argument("--fov", type=float, default=None, help="vertical field of view, degrees (35)")
@@ -629,6 +694,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     m.add_argument("--sheet", default=None, help="also write an image with a sphere per preset")
     m.add_argument("--cell", type=int, default=128, help="pixels per swatch (128)")
     m.add_argument("--columns", type=int, default=6, help="swatches per row (6)")
+    m.add_argument(
+        "--textures",
+        action="store_true",
+        help="add rows of textured swatches to the sheet (procedural checker, grid, stripes "
+        "and noise diffuse maps, a bump map, a normal map)",
+    )
     m.set_defaults(func=cmd_materials)
 
     f = sub.add_parser("figures", help="render the lecture figures (PNGs and captions.md)")

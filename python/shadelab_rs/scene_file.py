@@ -212,7 +212,11 @@ _MAP_KEYS = (
     "specular_map",
     "emission_map",
     "shininess_map",
+    "normal_map",
+    "bump_map",
 )
+#: Scales of the normal and bump maps (numbers; written when not 1).
+_MAP_SCALE_KEYS = ("normal_scale", "bump_scale")
 _OPTICS_KEYS = ("reflectivity", "transparency", "ior", "fresnel", "absorption")
 _MATERIAL_KEYS = (
     "preset",
@@ -222,6 +226,7 @@ _MATERIAL_KEYS = (
     "shininess",
     "emission",
     *_MAP_KEYS,
+    *_MAP_SCALE_KEYS,
     *_OPTICS_KEYS,
 )
 _IMAGE_KEYS = ("filter", "wrap", "srgb", "anisotropy", "uv_scale", "uv_offset")
@@ -351,6 +356,9 @@ def _material_table(v: Any, where: str) -> Material:
     for k in _MAP_KEYS:
         if k in t:
             values[k] = _texture(t[k], _at(where, k))
+    for k in _MAP_SCALE_KEYS:
+        if k in t:
+            values[k] = _number(t[k], _at(where, k))
     # Optics: a number or an RGB list (reflectivity, absorption), a number or a preset name
     # (ior), a boolean (fresnel); their ranges are the core's to check.
     for k in ("reflectivity", "absorption"):
@@ -431,6 +439,9 @@ def material_to_dict(m: Material) -> dict[str, Any]:
         tex = getattr(m, k)
         if tex is not None:
             d[k] = texture_to_dict(tex)
+    for k in _MAP_SCALE_KEYS:
+        if getattr(m, k) != 1.0:
+            d[k] = float(getattr(m, k))
     # Optics only when they differ from an opaque material's, so older files stay as they were.
     if any(m.reflectivity) or m.transparency or m.ior != 1.0 or not m.fresnel or any(m.absorption):
         d["reflectivity"] = list(m.reflectivity)

@@ -29,6 +29,13 @@ fn map_arg(t: Option<PyRef<'_, PyTexture>>) -> Option<Arc<core::Texture>> {
     t.map(|t| t.inner.clone())
 }
 
+/// Maps with their scales checked by the core; `None` when no map is set (the scales of
+/// a material without maps are not kept).
+fn checked_maps(maps: core::Maps) -> PyResult<Option<Arc<core::Maps>>> {
+    maps.check_scales().map_err(to_py)?;
+    Ok((!maps.is_empty()).then(|| Arc::new(maps)))
+}
+
 fn map_out(t: Option<&Arc<core::Texture>>) -> Option<PyTexture> {
     t.map(|t| PyTexture::of(t.clone()))
 }
@@ -129,7 +136,8 @@ impl PyMaterial {
     #[pyo3(signature = (ambient=None, diffuse=None, specular=None, shininess=None, emission=None,
                          diffuse_map=None, ambient_map=None, specular_map=None, emission_map=None,
                          shininess_map=None, reflectivity=None, transparency=0.0, ior=None,
-                         fresnel=true, absorption=None))]
+                         fresnel=true, absorption=None, normal_map=None, normal_scale=1.0,
+                         bump_map=None, bump_scale=1.0))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         ambient: Option<&Bound<'_, PyAny>>,
@@ -147,6 +155,10 @@ impl PyMaterial {
         ior: Option<&Bound<'_, PyAny>>,
         fresnel: bool,
         absorption: Option<&Bound<'_, PyAny>>,
+        normal_map: Option<PyRef<'_, PyTexture>>,
+        normal_scale: f64,
+        bump_map: Option<PyRef<'_, PyTexture>>,
+        bump_scale: f64,
     ) -> PyResult<Self> {
         let d = core::Material::default();
         let pick = |v: Option<&Bound<'_, PyAny>>, name: &str, dflt| -> PyResult<glam::Vec3> {
@@ -168,17 +180,23 @@ impl PyMaterial {
             specular: map_arg(specular_map),
             emission: map_arg(emission_map),
             shininess: map_arg(shininess_map),
+            normal: map_arg(normal_map),
+            normal_scale: normal_scale as f32,
+            bump: map_arg(bump_map),
+            bump_scale: bump_scale as f32,
         };
         Ok(PyMaterial {
             inner,
-            maps: (!maps.is_empty()).then(|| Arc::new(maps)),
+            maps: checked_maps(maps)?,
         })
     }
 
     /// The same material with other texture maps (each a Texture or None; the others
     /// are dropped).
     #[pyo3(signature = (diffuse_map=None, ambient_map=None, specular_map=None, emission_map=None,
-                         shininess_map=None))]
+                         shininess_map=None, normal_map=None, normal_scale=1.0, bump_map=None,
+                         bump_scale=1.0))]
+    #[allow(clippy::too_many_arguments)]
     fn with_maps(
         &self,
         diffuse_map: Option<PyRef<'_, PyTexture>>,
@@ -186,18 +204,26 @@ impl PyMaterial {
         specular_map: Option<PyRef<'_, PyTexture>>,
         emission_map: Option<PyRef<'_, PyTexture>>,
         shininess_map: Option<PyRef<'_, PyTexture>>,
-    ) -> Self {
+        normal_map: Option<PyRef<'_, PyTexture>>,
+        normal_scale: f64,
+        bump_map: Option<PyRef<'_, PyTexture>>,
+        bump_scale: f64,
+    ) -> PyResult<Self> {
         let maps = core::Maps {
             diffuse: map_arg(diffuse_map),
             ambient: map_arg(ambient_map),
             specular: map_arg(specular_map),
             emission: map_arg(emission_map),
             shininess: map_arg(shininess_map),
+            normal: map_arg(normal_map),
+            normal_scale: normal_scale as f32,
+            bump: map_arg(bump_map),
+            bump_scale: bump_scale as f32,
         };
-        PyMaterial {
+        Ok(PyMaterial {
             inner: self.inner,
-            maps: (!maps.is_empty()).then(|| Arc::new(maps)),
-        }
+            maps: checked_maps(maps)?,
+        })
     }
 
     /// The diffuse map (a Texture) or None.
@@ -228,6 +254,30 @@ impl PyMaterial {
     #[getter]
     fn shininess_map(&self) -> Option<PyTexture> {
         map_out(self.maps.as_ref().and_then(|m| m.shininess.as_ref()))
+    }
+
+    /// The normal map (tangent space) or None.
+    #[getter]
+    fn normal_map(&self) -> Option<PyTexture> {
+        map_out(self.maps.as_ref().and_then(|m| m.normal.as_ref()))
+    }
+
+    /// Scale of the normal map's x and y (1.0 without maps).
+    #[getter]
+    fn normal_scale(&self) -> f32 {
+        self.maps.as_ref().map_or(1.0, |m| m.normal_scale)
+    }
+
+    /// The bump (height) map or None.
+    #[getter]
+    fn bump_map(&self) -> Option<PyTexture> {
+        map_out(self.maps.as_ref().and_then(|m| m.bump.as_ref()))
+    }
+
+    /// The height of a bump-map value 1, in UV units (1.0 without maps).
+    #[getter]
+    fn bump_scale(&self) -> f32 {
+        self.maps.as_ref().map_or(1.0, |m| m.bump_scale)
     }
 
     /// The named classic preset (case-insensitive; "polished_silver" = "polished silver").
@@ -337,10 +387,21 @@ impl PyMaterial {
                 ("specular_map", &mp.specular),
                 ("emission_map", &mp.emission),
                 ("shininess_map", &mp.shininess),
+                ("normal_map", &mp.normal),
+                ("bump_map", &mp.bump),
             ]
             .iter()
             .filter(|(_, t)| t.is_some())
             .map(|(n, _)| format!(", {n}=Texture(...)"))
+            .chain(
+                [
+                    ("normal_scale", mp.normal_scale),
+                    ("bump_scale", mp.bump_scale),
+                ]
+                .iter()
+                .filter(|(_, x)| *x != 1.0)
+                .map(|(n, x)| format!(", {n}={x}")),
+            )
             .collect()
         });
         let optics = if m.is_reflective() || m.is_transparent() || m.ior != 1.0 {

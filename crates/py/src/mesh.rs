@@ -194,6 +194,20 @@ impl PyMesh {
         })
     }
 
+    /// The same mesh with vertex normals recomputed with a crease angle (degrees, 0 to
+    /// 180; None: every edge smooth), vertices split where the faces around them turn by
+    /// more (see the user guide, "Normals with a crease angle").
+    #[pyo3(signature = (crease_angle=Some(60.0)),
+           text_signature = "($self, crease_angle=60.0)")]
+    fn with_normals(&self, py: Python<'_>, crease_angle: Option<f64>) -> PyResult<Self> {
+        let mesh = py
+            .detach(|| self.inner.with_normals(crease_angle))
+            .map_err(to_py)?;
+        Ok(PyMesh {
+            inner: Arc::new(mesh),
+        })
+    }
+
     /// Number of vertices.
     #[getter]
     fn n_vertices(&self) -> usize {

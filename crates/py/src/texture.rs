@@ -489,17 +489,24 @@ pub fn restore_texture(state: &Bound<'_, PyAny>) -> PyResult<PyTexture> {
     Ok(PyTexture::of(Arc::new(tex)))
 }
 
+/// A map's texture, or None.
+pub type MapState = Option<PyTexture>;
+
 /// The pickled form of a material's maps: (diffuse, ambient, specular, emission,
-/// shininess), each a Texture or None.
+/// shininess, normal, normal_scale, bump, bump_scale), each map a Texture or None.
 #[allow(clippy::type_complexity)]
 pub fn maps_state(
     maps: &core::Maps,
 ) -> (
-    Option<PyTexture>,
-    Option<PyTexture>,
-    Option<PyTexture>,
-    Option<PyTexture>,
-    Option<PyTexture>,
+    MapState,
+    MapState,
+    MapState,
+    MapState,
+    MapState,
+    MapState,
+    f32,
+    MapState,
+    f32,
 ) {
     let t = |m: &Option<Arc<core::Texture>>| m.clone().map(PyTexture::of);
     (
@@ -508,25 +515,42 @@ pub fn maps_state(
         t(&maps.specular),
         t(&maps.emission),
         t(&maps.shininess),
+        t(&maps.normal),
+        maps.normal_scale,
+        t(&maps.bump),
+        maps.bump_scale,
     )
 }
 
-/// Maps from [`maps_state`] (or its earlier four-map form, without a shininess map).
+/// Maps from [`maps_state`] (or its earlier forms: four maps, or five with shininess).
 pub fn restore_maps(state: &Bound<'_, PyAny>) -> PyResult<Option<Arc<core::Maps>>> {
     type Map<'py> = Option<PyRef<'py, PyTexture>>;
-    #[allow(clippy::type_complexity)]
-    let (d, a, s, e, n): (Map<'_>, Map<'_>, Map<'_>, Map<'_>, Map<'_>) =
-        match state.extract::<(Map<'_>, Map<'_>, Map<'_>, Map<'_>)>() {
-            Ok((d, a, s, e)) => (d, a, s, e, None),
-            Err(_) => state.extract()?,
-        };
     let t = |x: Option<PyRef<'_, PyTexture>>| x.map(|x| x.inner.clone());
-    let maps = core::Maps {
-        diffuse: t(d),
-        ambient: t(a),
-        specular: t(s),
-        emission: t(e),
-        shininess: t(n),
-    };
+    let mut maps = core::Maps::default();
+    if let Ok((d, a, s, e)) = state.extract::<(Map<'_>, Map<'_>, Map<'_>, Map<'_>)>() {
+        (maps.diffuse, maps.ambient, maps.specular, maps.emission) = (t(d), t(a), t(s), t(e));
+    } else if let Ok((d, a, s, e, n)) =
+        state.extract::<(Map<'_>, Map<'_>, Map<'_>, Map<'_>, Map<'_>)>()
+    {
+        (maps.diffuse, maps.ambient, maps.specular, maps.emission) = (t(d), t(a), t(s), t(e));
+        maps.shininess = t(n);
+    } else {
+        #[allow(clippy::type_complexity)]
+        let (d, a, s, e, n, nm, ns, bm, bs): (
+            Map<'_>,
+            Map<'_>,
+            Map<'_>,
+            Map<'_>,
+            Map<'_>,
+            Map<'_>,
+            f32,
+            Map<'_>,
+            f32,
+        ) = state.extract()?;
+        (maps.diffuse, maps.ambient, maps.specular, maps.emission) = (t(d), t(a), t(s), t(e));
+        (maps.shininess, maps.normal, maps.bump) = (t(n), t(nm), t(bm));
+        (maps.normal_scale, maps.bump_scale) = (ns, bs);
+        maps.check_scales().map_err(to_py)?;
+    }
     Ok((!maps.is_empty()).then(|| Arc::new(maps)))
 }

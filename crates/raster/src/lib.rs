@@ -23,6 +23,7 @@
 #![warn(missing_docs)]
 
 mod camera;
+mod crease;
 mod effects;
 mod environment;
 mod error;
@@ -46,6 +47,7 @@ pub mod reflect;
 mod render;
 mod scene;
 mod shadows;
+mod tangents;
 pub mod texture;
 
 pub use camera::{Camera, Intrinsics, Projection};
@@ -76,4 +78,5 @@ pub use pool::{default_threads, MAX_THREADS};
 pub use pool::{max_in_flight, set_rendezvous};
 pub use render::{coverage_counts, render, render_depth_map, render_into, render_with};
 pub use scene::{Object, Scene};
+pub use tangents::generate_tangents;
 pub use texture::{Filter, Footprint, Maps, Procedural, Texture, Wrap};

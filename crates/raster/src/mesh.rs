@@ -2,7 +2,7 @@
 
 use std::sync::OnceLock;
 
-use glam::{DVec3, Vec2, Vec3};
+use glam::{DVec3, Vec2, Vec3, Vec4};
 
 use crate::error::{RasterError, Result};
 
@@ -22,6 +22,8 @@ pub struct Mesh {
     /// `normals` were made by a loader (e.g. welded across OBJ UV seams), not given.
     normals_generated: bool,
     generated_normals: OnceLock<Vec<Vec3>>,
+    /// Tangent frames for normal and bump maps, made on first use ([`Mesh::tangents`]).
+    tangents: OnceLock<Vec<Vec4>>,
 }
 
 impl Mesh {
@@ -99,6 +101,7 @@ impl Mesh {
             indices,
             normals_generated: false,
             generated_normals: OnceLock::new(),
+            tangents: OnceLock::new(),
         })
     }
 
@@ -178,6 +181,23 @@ impl Mesh {
                 .generated_normals
                 .get_or_init(|| generate_vertex_normals(&self.positions, &self.indices)),
         }
+    }
+}
+
+impl Mesh {
+    /// Per-vertex tangents (xyz) and handedness (w = ±1) from the UVs and
+    /// [`Mesh::vertex_normals`] ([`crate::tangents::generate_tangents`]), made once on first
+    /// use; `None` without UVs.
+    pub fn tangents(&self) -> Option<&[Vec4]> {
+        let uvs = self.uvs.as_deref()?;
+        Some(self.tangents.get_or_init(|| {
+            crate::tangents::generate_tangents(
+                &self.positions,
+                uvs,
+                self.vertex_normals(),
+                &self.indices,
+            )
+        }))
     }
 }
 

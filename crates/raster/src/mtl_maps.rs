@@ -1,10 +1,11 @@
-//! Texture maps of MTL materials: `map_Kd`, `map_Ka`, `map_Ks`, `map_Ke` and `map_Ns` (a
-//! shininess map: `Maps::shininess_at`) with the `-s` (scale) and `-o`
-//! (offset) options of the texture coordinates and `-clamp on|off`; the other standard
-//! options (`-blendu`, `-blendv`, `-bm`, `-boost`, `-cc`, `-imfchan`, `-mm`, `-texres`,
-//! `-t`) are read and ignored. `bump`, `map_bump`, `norm`, `map_d` and reflection maps are
-//! ignored (no normal or alpha mapping yet). A map whose file is missing or cannot be
-//! decoded, or whose options are malformed, is an error naming the MTL file and line.
+//! Texture maps of MTL materials: `map_Kd`, `map_Ka`, `map_Ks`, `map_Ke`, `map_Ns` (a
+//! shininess map: `Maps::shininess_at`), `norm` (a tangent-space normal map) and
+//! `map_bump` / `bump` (a height map; `-bm` is its `bump_scale`) with the `-s` (scale) and
+//! `-o` (offset) options of the texture coordinates and `-clamp on|off`; the other standard
+//! options (`-blendu`, `-blendv`, `-boost`, `-cc`, `-imfchan`, `-mm`, `-texres`, `-t`, and
+//! `-bm` on other maps) are read and ignored. `map_d` and reflection maps are ignored (no
+//! alpha mapping yet). A map whose file is missing or cannot be decoded, or whose options
+//! are malformed, is an error naming the MTL file and line.
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -23,6 +24,10 @@ pub(crate) enum Slot {
     Specular,
     Emission,
     Shininess,
+    /// `norm`: tangent-space normals.
+    Normal,
+    /// `map_bump`, `bump`: heights.
+    Bump,
 }
 
 /// One map line of an MTL file.
@@ -35,6 +40,8 @@ pub(crate) struct MapLine {
     pub scale: DVec2,
     pub offset: DVec2,
     pub clamp: bool,
+    /// `-bm` (1 when absent).
+    pub bump_multiplier: f64,
 }
 
 /// Reads the map lines of MTL text, per material name. `mtl` names the file in errors.
@@ -61,6 +68,8 @@ pub(crate) fn scan(text: &[u8], mtl: &Path) -> Result<HashMap<String, Vec<MapLin
             "map_Ks" => Slot::Specular,
             "map_Ke" => Slot::Emission,
             "map_Ns" => Slot::Shininess,
+            "norm" => Slot::Normal,
+            "map_bump" | "bump" => Slot::Bump,
             _ => continue,
         };
         let rest: Vec<&str> = fields.collect();
@@ -93,6 +102,7 @@ fn parse_map(slot: Slot, line: usize, tokens: &[&str]) -> std::result::Result<Ma
         scale: DVec2::ONE,
         offset: DVec2::ZERO,
         clamp: false,
+        bump_multiplier: 1.0,
     };
     let mut k = 0;
     while k < tokens.len() && tokens[k].starts_with('-') {
@@ -139,6 +149,9 @@ fn parse_map(slot: Slot, line: usize, tokens: &[&str]) -> std::result::Result<Ma
             }
             "-t" => {
                 numbers()?;
+            }
+            "-bm" => {
+                map.bump_multiplier = numbers()?[0];
             }
             "-clamp" => {
                 map.clamp = match values[0] {
@@ -192,6 +205,11 @@ pub(crate) fn load_maps(
             Slot::Specular => &mut maps.specular,
             Slot::Emission => &mut maps.emission,
             Slot::Shininess => &mut maps.shininess,
+            Slot::Normal => &mut maps.normal,
+            Slot::Bump => {
+                maps.bump_scale = m.bump_multiplier as f32;
+                &mut maps.bump
+            }
         };
         *slot = Some(Arc::new(tex));
     }
@@ -217,6 +235,16 @@ mod tests {
         let m = scan(b"newmtl b\nmap_Ns -imfchan l n.png\n", Path::new("x.mtl")).unwrap();
         assert_eq!(m["b"][0].slot, Slot::Shininess);
         assert_eq!(m["b"][0].file, "n.png");
+        let text = b"newmtl c\nnorm -s 2 n.png\nmap_bump -bm 0.25 -o 0.5 h.png\nbump b.png\n";
+        let m = scan(text, Path::new("x.mtl")).unwrap();
+        let c = &m["c"];
+        assert_eq!((c[0].slot, c[0].scale), (Slot::Normal, DVec2::splat(2.0)));
+        assert_eq!((c[1].slot, c[1].bump_multiplier), (Slot::Bump, 0.25));
+        assert_eq!(
+            (c[1].offset, c[1].file.as_str()),
+            (DVec2::new(0.5, 0.0), "h.png")
+        );
+        assert_eq!((c[2].slot, c[2].bump_multiplier), (Slot::Bump, 1.0));
     }
 
     #[test]
@@ -228,6 +256,8 @@ mod tests {
             ("newmtl a\n\nmap_Kd -zz 1 t.png\n", "unknown option"),
             ("newmtl a\nmap_Kd -clamp maybe t.png\n", "on or off"),
             ("newmtl a\nmap_Ns\n", "map_Ns: no texture file"),
+            ("newmtl a\nmap_bump -bm inf h.png\n", "not a finite number"),
+            ("newmtl a\nnorm\n", "norm: no texture file"),
         ] {
             let e = scan(text.as_bytes(), Path::new("x.mtl"))
                 .unwrap_err()

@@ -91,6 +91,24 @@ impl Object {
     /// texture is read at each shaded point's perspective-correct (u, v).
     pub fn with_maps(self, maps: Option<Arc<Maps>>) -> Result<Self> {
         let maps = maps.filter(|m| !m.is_empty());
+        if let Some(m) = &maps {
+            m.check_scales()?;
+        }
+        if maps.as_ref().is_some_and(|m| m.perturbs()) && self.mesh.uvs().is_none() {
+            let field = if maps.as_ref().is_some_and(|m| m.normal.is_some()) {
+                "normal_map"
+            } else {
+                "bump_map"
+            };
+            return Err(RasterError::invalid_field(
+                field,
+                format!(
+                    "the material has a {} but the mesh has no UVs (texture coordinates): \
+                     the tangent frame comes from the UVs",
+                    field.replace('_', " ")
+                ),
+            ));
+        }
         if maps.is_some() && self.mesh.uvs().is_none() {
             return Err(RasterError::invalid_field(
                 "uvs",

@@ -184,3 +184,65 @@ fn maps_without_uvs_are_refused() {
         .unwrap_err();
     assert!(e.to_string().contains("no UVs"), "{e}");
 }
+
+#[test]
+fn flat_normal_and_constant_bump_maps_change_nothing() {
+    // (0.5, 0.5, 1) decodes to exactly (0, 0, 1); a constant height has no gradient: only
+    // the renormalisation of an already unit normal moves it (by an ulp), which gold's
+    // specular power (51.2) amplifies: 1.8e-6 measured; 1e-5 allowed.
+    let gold = Material::preset("gold").unwrap();
+    let plain = f32_frame(&plane_scene(gold, None, None), ShadingMode::Phong);
+    for maps in [
+        Maps {
+            normal: Some(solid(Vec3::new(0.5, 0.5, 1.0))),
+            ..Maps::default()
+        },
+        Maps {
+            bump: Some(solid(Vec3::splat(0.3))),
+            bump_scale: 5.0,
+            ..Maps::default()
+        },
+    ] {
+        let mapped = f32_frame(&plane_scene(gold, Some(maps), None), ShadingMode::Phong);
+        let d = max_diff(&plain, &mapped);
+        assert!(d < 1e-5, "{d}");
+    }
+}
+
+#[test]
+fn normal_maps_need_phong_and_tilt_the_lighting() {
+    let m = Material::new(Vec3::ZERO, Vec3::ONE, Vec3::ZERO, 1.0).unwrap();
+    // The plane's tangent is +x (u along x): tilting toward +x changes the diffuse term.
+    let tilted = Maps {
+        normal: Some(solid(Vec3::new(0.8, 0.5, 0.9))),
+        ..Maps::default()
+    };
+    for mode in [ShadingMode::Flat, ShadingMode::Gouraud] {
+        let mut o = RenderOptions::new(W, H);
+        o.shading = mode;
+        let scene = plane_scene(m, Some(tilted.clone()), None);
+        let e = render(&scene, &camera(), &o, ColorFormat::F32, false).unwrap_err();
+        assert!(e.to_string().contains("per-pixel lighting"), "{e}");
+    }
+    let a = f32_frame(&plane_scene(m, None, None), ShadingMode::Phong);
+    let b = f32_frame(&plane_scene(m, Some(tilted), None), ShadingMode::Phong);
+    assert!(max_diff(&a, &b) > 0.05);
+}
+
+#[test]
+fn non_finite_scales_are_refused() {
+    let maps = Maps {
+        normal: Some(solid(Vec3::ONE)),
+        normal_scale: f32::NAN,
+        ..Maps::default()
+    };
+    let e = Object::new(
+        Arc::new(primitives::plane()),
+        Material::default(),
+        Mat4::IDENTITY,
+    )
+    .unwrap()
+    .with_maps(Some(Arc::new(maps)))
+    .unwrap_err();
+    assert!(e.to_string().contains("normal_scale"), "{e}");
+}

@@ -246,16 +246,32 @@ pub(crate) fn prepare(
         ));
     }
     if textured && options.shading != ShadingMode::Phong {
-        let shiny = |o: &crate::scene::Object| o.maps().is_some_and(|m| m.shininess.is_some());
-        if let Some(i) = scene.objects().iter().position(shiny) {
-            return Err(RasterError::invalid_field(
-                "shininess_map",
-                format!(
-                    "object {i}: a shininess map varies the specular exponent per pixel and \
-                     needs per-pixel lighting: use shading='phong' (flat and Gouraud light \
-                     at faces and vertices)"
-                ),
-            ));
+        // Maps that act before lighting need per-pixel lighting (flat and Gouraud light at
+        // faces and vertices, where a per-pixel exponent or normal cannot enter).
+        let per_pixel = |m: &crate::texture::Maps| -> Option<(&'static str, &'static str)> {
+            if m.shininess.is_some() {
+                Some((
+                    "shininess_map",
+                    "a shininess map varies the specular exponent",
+                ))
+            } else if m.normal.is_some() {
+                Some(("normal_map", "a normal map varies the normal"))
+            } else if m.bump.is_some() {
+                Some(("bump_map", "a bump map varies the normal"))
+            } else {
+                None
+            }
+        };
+        for (i, o) in scene.objects().iter().enumerate() {
+            if let Some((field, what)) = o.maps().and_then(|m| per_pixel(m)) {
+                return Err(RasterError::invalid_field(
+                    field,
+                    format!(
+                        "object {i}: {what} per pixel and needs per-pixel lighting: use \
+                         shading='phong' (flat and Gouraud light at faces and vertices)"
+                    ),
+                ));
+            }
         }
     }
     let units: Vec<Sides> = scene

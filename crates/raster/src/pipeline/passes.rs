@@ -106,6 +106,11 @@ pub(crate) fn color_pass<P: Pixel>(
                     colors: o.mesh().colors().is_some(),
                 })
                 .collect(),
+            perturb: options.shading == crate::options::ShadingMode::Phong
+                && scene
+                    .objects()
+                    .iter()
+                    .any(|o| o.maps().is_some_and(|m| m.perturbs())),
         }),
         secondary,
         isa,

@@ -34,6 +34,9 @@ pub(crate) struct Vertices {
     pub uv: Vec<Vec2>,
     /// Mesh vertex colours (scenes with any; zero for objects without).
     pub vertex_color: Vec<Vec3>,
+    /// World tangents (xyz) and handedness (w), scenes with normal or bump maps only (zero
+    /// for objects without UVs).
+    pub tangent: Vec<Vec4>,
     /// How each vertex made by clipping blends three transformed ones (their indices and
     /// weights), so an attribute produced after clipping (a lit colour) extends to them.
     pub blends: Vec<([u32; 3], [f32; 3])>,
@@ -59,6 +62,11 @@ impl Vertices {
         if !from.vertex_color.is_empty() {
             self.vertex_color.push(blend(&from.vertex_color, v, w));
         }
+        if !from.tangent.is_empty() {
+            let a = &from.tangent;
+            let t = a[v[0] as usize] * w[0] + a[v[1] as usize] * w[1] + a[v[2] as usize] * w[2];
+            self.tangent.push(t);
+        }
     }
 
     /// Appends all of `other`.
@@ -70,6 +78,7 @@ impl Vertices {
         self.color_back.append(&mut other.color_back);
         self.uv.append(&mut other.uv);
         self.vertex_color.append(&mut other.vertex_color);
+        self.tangent.append(&mut other.tangent);
         self.blends.append(&mut other.blends);
     }
 
@@ -97,6 +106,8 @@ pub(crate) struct Attributes {
     pub uv: bool,
     /// Vertex colours (a mesh has them).
     pub color: bool,
+    /// Tangent frames (a material has a normal or bump map).
+    pub tangent: bool,
 }
 
 impl Attributes {
@@ -105,6 +116,7 @@ impl Attributes {
         normal: false,
         uv: false,
         color: false,
+        tangent: false,
     };
 
     /// What a shading mode reads (world positions always).
@@ -113,16 +125,22 @@ impl Attributes {
             normal: mode != ShadingMode::Flat,
             uv: false,
             color: false,
+            tangent: false,
         }
     }
 
     /// What `mode` reads in `scene`: UVs when an object has maps, vertex colours when a
-    /// lit mesh has them.
+    /// lit mesh has them, tangents when a material has a normal or bump map (Phong: the
+    /// other modes refuse those maps).
     pub fn for_scene(mode: ShadingMode, scene: &Scene) -> Self {
         let objects = scene.objects();
         Attributes {
             uv: objects.iter().any(|o| o.maps().is_some()),
             color: objects.iter().any(|o| o.mesh().colors().is_some()),
+            tangent: mode == ShadingMode::Phong
+                && objects
+                    .iter()
+                    .any(|o| o.maps().is_some_and(|m| m.perturbs())),
             ..Attributes::for_mode(mode)
         }
     }
@@ -209,6 +227,22 @@ pub(crate) fn transform(
                 None => out
                     .vertex_color
                     .resize(out.vertex_color.len() + n, Vec3::ZERO),
+            }
+        }
+        if attrs.tangent {
+            match mesh.tangents() {
+                Some(t) => {
+                    // Tangents follow the surface (the model matrix, not the normals'
+                    // inverse transpose); a mirroring transform flips the handedness.
+                    let m = glam::Mat3::from_mat4(model);
+                    let flip = if m.determinant() < 0.0 { -1.0 } else { 1.0 };
+                    out.tangent.par_extend(
+                        t.par_iter()
+                            .with_min_len(CHUNK)
+                            .map(|t| (m * t.truncate()).normalize_or_zero().extend(t.w * flip)),
+                    );
+                }
+                None => out.tangent.resize(out.tangent.len() + n, Vec4::ZERO),
             }
         }
     }

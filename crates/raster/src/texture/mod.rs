@@ -235,8 +235,9 @@ fn finite_or_zero(x: f64) -> f64 {
 }
 
 /// The texture maps of a material; each colour multiplies its coefficient per point.
-/// `ambient` defaults to `diffuse` (as in MTL) when it is not given.
-#[derive(Debug, Clone, Default)]
+/// `ambient` defaults to `diffuse` (as in MTL) when it is not given. `normal` and `bump`
+/// perturb the shading normal instead (per-pixel lighting only: [`Maps::perturbs`]).
+#[derive(Debug, Clone)]
 pub struct Maps {
     /// Multiplies the diffuse reflectance `kd`.
     pub diffuse: Option<Arc<Texture>>,
@@ -249,6 +250,33 @@ pub struct Maps {
     /// Multiplies the shininess (the mean of the texel's r, g, b: [`Maps::shininess_at`]);
     /// per-pixel lighting (Phong) only.
     pub shininess: Option<Arc<Texture>>,
+    /// A tangent-space normal map: texel (r, g, b) is the normal
+    /// (2r − 1, 2g − 1, 2b − 1) in the frame (tangent, bitangent, normal)
+    /// ([`crate::generate_tangents`]); Phong only.
+    pub normal: Option<Arc<Texture>>,
+    /// Multiplies the normal map's x and y (glTF's `normalTexture.scale`); finite.
+    pub normal_scale: f32,
+    /// A height map (the mean of r, g, b), its gradient taken by central differences in
+    /// texture space ([`Maps::bump_normal`]); Phong only.
+    pub bump: Option<Arc<Texture>>,
+    /// The height of a texel value 1, in UV units; finite.
+    pub bump_scale: f32,
+}
+
+impl Default for Maps {
+    fn default() -> Self {
+        Maps {
+            diffuse: None,
+            ambient: None,
+            specular: None,
+            emission: None,
+            shininess: None,
+            normal: None,
+            normal_scale: 1.0,
+            bump: None,
+            bump_scale: 1.0,
+        }
+    }
 }
 
 impl Maps {
@@ -259,6 +287,58 @@ impl Maps {
             && self.specular.is_none()
             && self.emission.is_none()
             && self.shininess.is_none()
+            && self.normal.is_none()
+            && self.bump.is_none()
+    }
+
+    /// Refuses a non-finite `normal_scale` or `bump_scale` (the error names the field).
+    pub fn check_scales(&self) -> Result<()> {
+        for (name, x) in [
+            ("normal_scale", self.normal_scale),
+            ("bump_scale", self.bump_scale),
+        ] {
+            if !x.is_finite() {
+                return Err(crate::error::RasterError::invalid_field(
+                    name,
+                    format!("{name} must be finite, got {x}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether a map perturbs the shading normal (normal or bump map).
+    pub fn perturbs(&self) -> bool {
+        self.normal.is_some() || self.bump.is_some()
+    }
+
+    /// The tangent-space normal a normal-map texel `t` encodes, x and y scaled by `scale`:
+    /// (s·(2r − 1), s·(2g − 1), 2b − 1), not normalised (a texel (0.5, 0.5, 1) gives
+    /// exactly (0, 0, 1)).
+    #[inline]
+    pub fn normal_at(t: Vec3, scale: f32) -> Vec3 {
+        let n = t * 2.0 - Vec3::ONE;
+        Vec3::new(n.x * scale, n.y * scale, n.z)
+    }
+
+    /// The tangent-space normal of the height field `scale·h(u, v)` over the UV plane,
+    /// (−scale·∂h/∂u, −scale·∂h/∂v, 1) (not normalised), with the gradient by central
+    /// differences of `height` (the mean of r, g, b) at (u ± δu, v) and (u, v ± δv): one
+    /// texel of level 0 for image textures, 1/1024 for procedural ones. A constant map gives
+    /// exactly (0, 0, 1).
+    pub fn bump_normal(map: &Texture, scale: f32, u: f64, v: f64, fp: &Footprint) -> Vec3 {
+        let (du, dv) = match map.image() {
+            Some(img) => (1.0 / img.width() as f64, 1.0 / img.height() as f64),
+            None => (1.0 / 1024.0, 1.0 / 1024.0),
+        };
+        let h = |u: f64, v: f64| {
+            let t = map.sample(u, v, fp);
+            ((t.x + t.y + t.z) / 3.0) as f64
+        };
+        let hu = (h(u + du, v) - h(u - du, v)) / (2.0 * du);
+        let hv = (h(u, v + dv) - h(u, v - dv)) / (2.0 * dv);
+        let s = scale as f64;
+        Vec3::new((-s * hu) as f32, (-s * hv) as f32, 1.0)
     }
 
     /// The specular exponent at a point whose shininess map reads `t`: `shininess × (r + g +
@@ -293,5 +373,9 @@ impl PartialEq for Maps {
             && same(&self.specular, &other.specular)
             && same(&self.emission, &other.emission)
             && same(&self.shininess, &other.shininess)
+            && same(&self.normal, &other.normal)
+            && same(&self.bump, &other.bump)
+            && self.normal_scale.to_bits() == other.normal_scale.to_bits()
+            && self.bump_scale.to_bits() == other.bump_scale.to_bits()
     }
 }

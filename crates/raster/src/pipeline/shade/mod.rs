@@ -226,5 +226,10 @@ pub(crate) fn shade_textured_tile<P: Pixel, const AFFINE: bool>(
     depth: Option<&mut [&mut [Out<f32>]]>,
 ) {
     let tex = ctx.textured.as_ref().expect("a textured scene");
-    textured::shade_textured::<P, AFFINE>(ctx, tex, mode, rect, buf, color, depth);
+    // Normal and bump maps: a body of its own (chosen per render), so the others keep theirs.
+    if tex.perturb {
+        textured::shade_textured::<P, AFFINE, true>(ctx, tex, mode, rect, buf, color, depth);
+    } else {
+        textured::shade_textured::<P, AFFINE, false>(ctx, tex, mode, rect, buf, color, depth);
+    }
 }

@@ -16,8 +16,17 @@
 //! is set), so the specular highlight is added after the texture (OpenGL's separate
 //! specular colour). Vertex colours replace `ka` and `kd` (`GL_COLOR_MATERIAL`,
 //! `GL_AMBIENT_AND_DIFFUSE`). Scenes without maps or vertex colours never come here.
+//!
+//! Normal and bump maps (Phong only) perturb each pixel's normal before it is lit, in the
+//! tangent frame: N the interpolated normal (normalised), T the interpolated tangent made
+//! perpendicular to N and normalised (Gram–Schmidt), B = w·N × T (w the interpolated
+//! handedness's sign), and the lit normal is normalize(t_x·T + t_y·B + t_z·N) for the map's
+//! tangent-space normal t ([`Maps::normal_at`], [`Maps::bump_normal`]; a normal map first,
+//! then a bump map in the frame it made). Shadows keep the unperturbed normal (they are
+//! geometry). That work is compiled only into the `PERTURB` body, chosen once per render
+//! ([`TexturedScene::perturb`]), so textured scenes without such maps run the loop they ran.
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 
 use super::phong::face_normal;
 use super::planes::{weight_planes, Plane, PlaneCache};
@@ -49,6 +58,8 @@ pub(crate) struct TexturedScene<'a> {
     /// Unit surfaces per object (front, back).
     pub units: &'a [Sides],
     pub objects: Vec<TexturedObject<'a>>,
+    /// Whether any object has a normal or bump map (Phong): the tile body that perturbs.
+    pub perturb: bool,
 }
 
 /// Split lighting terms of one point.
@@ -72,6 +83,8 @@ struct Current {
     pos: [Vec3; 3],
     /// Phong with shadows: the geometric normal (the shadow ray offset's direction).
     face: Vec3,
+    /// Phong with normal or bump maps: vertex tangents (world) and handedness.
+    tangent: [Vec4; 3],
     /// (object, back side) of the material.
     key: (u32, bool),
 }
@@ -116,7 +129,7 @@ fn split_at(t: &Split, k: usize) -> Terms3 {
 }
 
 impl Current {
-    fn load<const AFFINE: bool>(
+    fn load<const AFFINE: bool, const PERTURB: bool>(
         ctx: &ShadeContext<'_>,
         tex: &TexturedScene<'_>,
         mode: ShadingMode,
@@ -145,6 +158,7 @@ impl Current {
             normal: [Vec3::ZERO; 3],
             pos: v.map(|k| verts.world[k]),
             face: Vec3::ZERO,
+            tangent: [Vec4::ZERO; 3],
             key: (t.object, back),
         };
         match mode {
@@ -171,6 +185,9 @@ impl Current {
                 if ctx.shadows.is_some() {
                     cur.face = face_normal(t, &verts.world);
                 }
+                if PERTURB {
+                    cur.tangent = v.map(|k| verts.tangent[k]);
+                }
             }
         }
         cur
@@ -192,6 +209,8 @@ struct Batch {
     /// Phong with shadows: each lane's geometric normal, and each source's visibility.
     g: [Lanes; 3],
     vis: Vec<Option<Lanes>>,
+    /// Phong with normal or bump maps: the interpolated tangent and handedness.
+    tan: [Vec4; LANES],
     depth: Lanes,
     key: (u32, bool),
 }
@@ -208,7 +227,46 @@ impl Batch {
         f
     }
 
-    fn flush<P: Pixel>(
+    /// Perturbs the normals `n` (unit; flipped on back faces) of the live lanes by the
+    /// object's normal and bump maps in each lane's tangent frame (see the module's doc).
+    #[allow(clippy::needless_range_loop)] // lane k of several arrays
+    fn perturb(&self, maps: &Maps, back: bool, n: &mut [Lanes; 3]) {
+        let flip = if back { -1.0 } else { 1.0 };
+        for k in 0..self.len {
+            // The frame of the front face: a back face's normal is the front's, flipped.
+            let nf = Vec3::new(n[0][k], n[1][k], n[2][k]) * flip;
+            let t = self.tan[k];
+            let tt = (t.truncate() - nf * nf.dot(t.truncate())).normalize_or_zero();
+            let w = if t.w < 0.0 { -1.0 } else { 1.0 };
+            let (u, v) = self.uv[k];
+            let fp = &self.fp[k];
+            let mut frame = (tt, nf.cross(tt) * w, nf);
+            let mut out = nf;
+            for (map, scale, bump) in [
+                (&maps.normal, maps.normal_scale, false),
+                (&maps.bump, maps.bump_scale, true),
+            ] {
+                let Some(map) = map else { continue };
+                let ts = if bump {
+                    Maps::bump_normal(map, scale, u, v, fp)
+                } else {
+                    Maps::normal_at(map.sample(u, v, fp), scale)
+                };
+                let (ft, fb, fnn) = frame;
+                let p = (ft * ts.x + fb * ts.y + fnn * ts.z).normalize_or_zero();
+                if p != Vec3::ZERO {
+                    out = p;
+                    // A bump map after a normal map: its frame turned with the normal.
+                    let t2 = (ft - p * p.dot(ft)).normalize_or_zero();
+                    frame = (t2, p.cross(t2) * w, p);
+                }
+            }
+            let out = out * flip;
+            (n[0][k], n[1][k], n[2][k]) = (out.x, out.y, out.z);
+        }
+    }
+
+    fn flush<P: Pixel, const PERTURB: bool>(
         &mut self,
         ctx: &ShadeContext<'_>,
         tex: &TexturedScene<'_>,
@@ -229,6 +287,11 @@ impl Batch {
             normalize_lanes(&mut n, |k| (raw[0][k], raw[1][k], raw[2][k]));
             if let Some(s) = &ctx.shadows {
                 s.visibility(&n, &self.p, &self.g, self.len, &mut self.vis);
+            }
+            if PERTURB {
+                if let Some(maps) = obj.maps.filter(|m| m.perturbs()) {
+                    self.perturb(maps, back, &mut n);
+                }
             }
             // Per pixel, as untextured Phong: each shadowed light scaled by its visibility.
             let shininess_map = obj.maps.and_then(|m| m.shininess.as_ref());
@@ -292,7 +355,7 @@ impl Batch {
 /// Shades one tile of a textured scene (any mode). Never inlined: the untextured tile
 /// bodies that branch past it keep their own code layout.
 #[inline(never)]
-pub(super) fn shade_textured<P: Pixel, const AFFINE: bool>(
+pub(super) fn shade_textured<P: Pixel, const AFFINE: bool, const PERTURB: bool>(
     ctx: &ShadeContext<'_>,
     tex: &TexturedScene<'_>,
     mode: ShadingMode,
@@ -321,6 +384,7 @@ pub(super) fn shade_textured<P: Pixel, const AFFINE: bool>(
             .map_or(Vec::new(), |s| vec![None; s.sources()]),
         depth: [0.0; LANES],
         key: (u32::MAX, false),
+        tan: [Vec4::ZERO; LANES],
     };
     for j in 0..rect.h {
         let y = (rect.y0 + j) as f64 + 0.5;
@@ -340,11 +404,18 @@ pub(super) fn shade_textured<P: Pixel, const AFFINE: bool>(
             }
             let t = ctx.tris.get(id);
             if cur.as_ref().map_or(true, |c| c.id != id) {
-                cur = Some(Current::load::<AFFINE>(ctx, tex, mode, id, t, &mut planes));
+                cur = Some(Current::load::<AFFINE, PERTURB>(
+                    ctx,
+                    tex,
+                    mode,
+                    id,
+                    t,
+                    &mut planes,
+                ));
             }
             let c = cur.as_ref().expect("loaded");
             if batch.len > 0 && batch.key != c.key {
-                batch.flush::<P>(ctx, tex, mode, rect, color);
+                batch.flush::<P, PERTURB>(ctx, tex, mode, rect, color);
             }
             batch.key = c.key;
             for s in i..end {
@@ -396,6 +467,10 @@ pub(super) fn shade_textured<P: Pixel, const AFFINE: bool>(
                             n = -n;
                         }
                         let p = blend3(&c.pos);
+                        if PERTURB {
+                            let t = &c.tangent;
+                            batch.tan[k] = t[0] * bf[0] + t[1] * bf[1] + t[2] * bf[2];
+                        }
                         for ax in 0..3 {
                             batch.n[ax][k] = n[ax];
                             batch.p[ax][k] = p[ax];
@@ -410,11 +485,11 @@ pub(super) fn shade_textured<P: Pixel, const AFFINE: bool>(
                 }
                 batch.len += 1;
                 if batch.len == LANES {
-                    batch.flush::<P>(ctx, tex, mode, rect, color);
+                    batch.flush::<P, PERTURB>(ctx, tex, mode, rect, color);
                 }
             }
             i = end;
         }
     }
-    batch.flush::<P>(ctx, tex, mode, rect, color);
+    batch.flush::<P, PERTURB>(ctx, tex, mode, rect, color);
 }
