@@ -5,6 +5,7 @@ use std::sync::OnceLock;
 use glam::{DVec3, Vec2, Vec3};
 
 use crate::error::{RasterError, Result};
+use crate::mesh_edges::MeshEdges;
 
 /// An indexed triangle mesh, validated on construction.
 ///
@@ -22,6 +23,8 @@ pub struct Mesh {
     /// `normals` were made by a loader (e.g. welded across OBJ UV seams), not given.
     normals_generated: bool,
     generated_normals: OnceLock<Vec<Vec3>>,
+    /// Welded vertices and unique edges, computed on first use (lines).
+    edges: OnceLock<MeshEdges>,
 }
 
 impl Mesh {
@@ -99,6 +102,7 @@ impl Mesh {
             indices,
             normals_generated: false,
             generated_normals: OnceLock::new(),
+            edges: OnceLock::new(),
         })
     }
 
@@ -147,6 +151,13 @@ impl Mesh {
     /// Triangles as vertex-index triples; counter-clockwise is the front.
     pub fn indices(&self) -> &[[u32; 3]] {
         &self.indices
+    }
+
+    /// The welded vertices and unique edges (computed on the first call, then kept: they
+    /// depend only on the positions and faces, which never change).
+    pub(crate) fn edges(&self) -> &MeshEdges {
+        self.edges
+            .get_or_init(|| MeshEdges::new(&self.positions, &self.indices))
     }
 
     /// The vertex normals given at construction, if any (not those a loader generated).
