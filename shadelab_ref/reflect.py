@@ -121,7 +121,9 @@ CUBE_TABLE = [
 def _cube_face(d: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Face index and (s, t) in [0, 1] of directions ``d`` (N, 3); ties go to x, then y."""
     a = np.abs(d)
-    axis = np.where((a[:, 0] >= a[:, 1]) & (a[:, 0] >= a[:, 2]), 0, np.where(a[:, 1] >= a[:, 2], 1, 2))
+    axis = np.where(
+        (a[:, 0] >= a[:, 1]) & (a[:, 0] >= a[:, 2]), 0, np.where(a[:, 1] >= a[:, 2], 1, 2)
+    )
     positive = d[np.arange(len(d)), axis] > 0
     face = 2 * axis + np.where(positive, 0, 1)
     s = np.empty(len(d))

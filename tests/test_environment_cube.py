@@ -173,7 +173,9 @@ def test_cube_files_pickle_scene_files_and_command_line(tmp_path):
         pngs.append(tmp_path / f"f{k}.png")
         Image.fromarray(np.full((4, 4, 3), 40 * k, np.uint8)).save(pngs[-1])
     png_env = sl.load_environment(pngs)
-    assert png_env.array[5, 0, 0, 0] == pytest.approx(((200 / 255 + 0.055) / 1.055) ** 2.4, abs=1e-6)
+    assert png_env.array[5, 0, 0, 0] == pytest.approx(
+        ((200 / 255 + 0.055) / 1.055) ** 2.4, abs=1e-6
+    )
     with pytest.raises(ValueError, match="6 face files"):
         sl.load_environment(files[:4])
     with pytest.raises(ValueError, match="all be 8-bit"):

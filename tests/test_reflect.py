@@ -648,7 +648,7 @@ def test_gallery_is_linked_from_the_lighting_guide():
     root = Path(__file__).resolve().parent.parent
     guide = (root / "docs" / "LIGHTING.md").read_text(encoding="utf-8")
     captions = (root / "docs" / "reflect" / "captions.md").read_text(encoding="utf-8")
-    for name in ("mirror", "glass", "water", "transparent"):
+    for name in ("mirror", "glass", "water", "transparent", "antialiased"):
         png = root / "docs" / "reflect" / f"{name}.png"
         assert png.is_file() and png.stat().st_size < 600_000
         assert f"(reflect/{name}.png)" in guide

@@ -25,7 +25,7 @@ import math
 import numpy as np
 import pytest
 import shadelab_rs as sl
-from test_reflect import CAM, planes_scene, sl_cam, sl_mirror, slab_scene, sky, sun
+from test_reflect import CAM, planes_scene, sky, sl_cam, sl_mirror, slab_scene, sun
 
 from shadelab_ref import reference as ref
 from shadelab_ref import reflect as rr
@@ -117,7 +117,9 @@ def interior(scene: sl.Scene, cam: ref.Camera, w: int, h: int) -> np.ndarray:
     objs = scene.objects
     starts = np.cumsum([0] + [len(o.mesh.vertices) for o in objs])[:-1]
     img = ref.render_reference(
-        np.concatenate([o.mesh.vertices @ o.transform[:3, :3].T + o.transform[:3, 3] for o in objs]),
+        np.concatenate(
+            [o.mesh.vertices @ o.transform[:3, :3].T + o.transform[:3, 3] for o in objs]
+        ),
         np.concatenate([o.mesh.faces + s for o, s in zip(objs, starts)]),
         camera=cam,
         width=w,

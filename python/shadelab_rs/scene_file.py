@@ -613,7 +613,9 @@ def _environment(v: Any, where: str) -> Environment:
         key = "faces"
         faces = t["faces"]
         if not isinstance(faces, list) or len(faces) != 6:
-            raise _fail(_at(where, "faces"), "a list of 6 file names (+x, -x, +y, -y, +z, -z)", faces)
+            raise _fail(
+                _at(where, "faces"), "a list of 6 file names (+x, -x, +y, -y, +z, -z)", faces
+            )
         source = [
             _BASE_DIR.get() / _string(f, _at(where, f"faces[{k}]")) for k, f in enumerate(faces)
         ]
