@@ -26,7 +26,7 @@ fn seeds() -> Vec<Vec<u8>> {
 #[test]
 fn fuzz_body_reaches_the_secondary_stage() {
     let mut seed = 0x2545_f491u32;
-    let mut rendered = 0;
+    let (mut rendered, mut multi_optics) = (0, 0);
     for base in seeds().iter().filter(|s| s.len() < 400) {
         for pad in (0..48).step_by(3) {
             let mut data = base.clone();
@@ -36,10 +36,22 @@ fn fuzz_body_reaches_the_secondary_stage() {
                 seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
                 data.push((seed >> 24) as u8);
             }
-            rendered += fuzzing::pipeline(&data) as usize;
+            let ok = fuzzing::pipeline(&data);
+            rendered += ok as usize;
+            // The byte after the optics block picks the sample count: MSAA is reached too.
+            let desc = fuzzing::describe_pipeline_input(&data).unwrap_or_default();
+            let some =
+                |key: &str, zero: &str| desc.matches(key).count() > desc.matches(zero).count();
+            let optical = some("reflectivity: ", "reflectivity: Vec3(0.0, 0.0, 0.0)")
+                || some("transparency: ", "transparency: 0.0,");
+            multi_optics += (ok && optical && !desc.contains("samples: 1,")) as usize;
         }
     }
     assert!(rendered > 20, "only {rendered} inputs rendered");
+    assert!(
+        multi_optics > 5,
+        "only {multi_optics} with samples > 1 and optics"
+    );
 }
 
 fn quad(y: f32, up: bool) -> Mesh {
