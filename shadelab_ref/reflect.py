@@ -106,6 +106,79 @@ def environment(array, d, rotation: float = 0.0, intensity: float = 1.0) -> np.n
     return (top * (1 - ay) + bottom * ay) * intensity
 
 
+#: Per cube face (+X, -X, +Y, -Y, +Z, -Z): the axis of ``ma`` and, as (axis, sign), the
+#: components ``sc`` and ``tc`` read (OpenGL 4.6 table 8.19).
+CUBE_TABLE = [
+    (0, (2, -1), (1, -1)),
+    (0, (2, 1), (1, -1)),
+    (1, (0, 1), (2, 1)),
+    (1, (0, 1), (2, -1)),
+    (2, (0, 1), (1, -1)),
+    (2, (0, -1), (1, -1)),
+]
+
+
+def _cube_face(d: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Face index and (s, t) in [0, 1] of directions ``d`` (N, 3); ties go to x, then y."""
+    a = np.abs(d)
+    axis = np.where(
+        (a[:, 0] >= a[:, 1]) & (a[:, 0] >= a[:, 2]), 0, np.where(a[:, 1] >= a[:, 2], 1, 2)
+    )
+    positive = d[np.arange(len(d)), axis] > 0
+    face = 2 * axis + np.where(positive, 0, 1)
+    s = np.empty(len(d))
+    t = np.empty(len(d))
+    for f, (ma, (sa, ss), (ta, ts)) in enumerate(CUBE_TABLE):
+        m = face == f
+        mag = np.abs(d[m, ma])
+        s[m] = (ss * d[m, sa] / mag + 1) / 2
+        t[m] = (ts * d[m, ta] / mag + 1) / 2
+    return face, s, t
+
+
+def _face_direction(face: np.ndarray, s: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Directions through (s, t) of each face: the inverse of :func:`_cube_face`."""
+    d = np.zeros((len(face), 3))
+    for f, (ma, (sa, ss), (ta, ts)) in enumerate(CUBE_TABLE):
+        m = face == f
+        d[m, ma] = 1.0 if f % 2 == 0 else -1.0
+        d[m, sa] = ss * (2 * s[m] - 1)
+        d[m, ta] = ts * (2 * t[m] - 1)
+    return d
+
+
+def cube_environment(faces, d, rotation: float = 0.0, intensity: float = 1.0) -> np.ndarray:
+    """The cube ``faces`` (6, N, N, 3; +X, -X, +Y, -Y, +Z, -Z, OpenGL orientation) seen
+    along directions ``d`` (..., 3): bilinear, seamless (a tap beyond a face's border reads
+    the face its texel-centre direction falls on)."""
+    img = np.asarray(faces, dtype=np.float64)
+    n = img.shape[1]
+    shape = np.shape(d)[:-1]
+    d = _unit(np.asarray(d, dtype=np.float64).reshape(-1, 3))
+    r = math.radians(rotation)
+    c, sn = math.cos(r), math.sin(r)
+    d = np.stack([c * d[:, 0] - sn * d[:, 2], d[:, 1], sn * d[:, 0] + c * d[:, 2]], axis=-1)
+    face, s, t = _cube_face(d)
+    fx = s * n - 0.5
+    fy = t * n - 0.5
+    x0 = np.floor(fx)
+    y0 = np.floor(fy)
+
+    def tap(i: np.ndarray, j: np.ndarray) -> np.ndarray:
+        inside = (i >= 0) & (j >= 0) & (i < n) & (j < n)
+        f2, s2, t2 = _cube_face(_face_direction(face, (i + 0.5) / n, (j + 0.5) / n))
+        f2 = np.where(inside, face, f2)
+        col = np.where(inside, i, np.clip(np.floor(s2 * n), 0, n - 1)).astype(np.int64)
+        row = np.where(inside, j, np.clip(np.floor(t2 * n), 0, n - 1)).astype(np.int64)
+        return img[f2, row, col]
+
+    ax = (fx - x0)[:, None]
+    ay = (fy - y0)[:, None]
+    top = tap(x0, y0) * (1 - ax) + tap(x0 + 1, y0) * ax
+    bottom = tap(x0, y0 + 1) * (1 - ax) + tap(x0 + 1, y0 + 1) * ax
+    return ((top * (1 - ay) + bottom * ay) * intensity).reshape(*shape, 3)
+
+
 def lateral_shift(thickness: float, theta_deg: float, n: float) -> float:
     """Sideways offset of a ray crossing a slab of index ``n`` in air at incidence
     ``theta``: ``d = t sin(theta - theta2) / cos(theta2)``."""

@@ -316,3 +316,22 @@ def test_scene_files_and_the_command_line_know_the_line_options(tmp_path):
         options=o.replace(edges="features", edge_width=2.0, edge_color=(0, 0, 1), edges_only=True),
     )
     assert np.array_equal(img, want)
+
+
+@pytest.mark.parametrize("samples", [1, 4])
+@pytest.mark.parametrize("shading", ["flat", "gouraud", "phong"])
+def test_edges_only_skips_shading_and_draws_the_same_lines(shading, samples):
+    # Without a depth output the surfaces are only rasterized (no shading); asking for the
+    # depth takes the full tile body. The lines are identical either way, with the
+    # secondary stage (a transparent box hides nothing; a mirror floor) too.
+    scene = sl.Scene(environment=sl.Environment(np.ones((4, 8, 3), np.float32)))
+    scene.add(sl.Mesh.uv_sphere(12, 24), material="gold")
+    box = np.diag([0.7, 0.4, 0.7, 1.0])
+    scene.add(sl.Mesh.cube(), material=sl.Material(transparency=0.5), transform=box)
+    floor = np.diag([3.0, 1.0, 3.0, 1.0])
+    scene.add(sl.Mesh.plane(), material=sl.Material(reflectivity=0.5), transform=floor)
+    cam = sl.Camera.look_at((0.3, 0.8, 3.0), (0, 0, 0), (0, 1, 0), fov_y=45)
+    kw = dict(shading=shading, samples=samples, edges="visible", edges_only=True)
+    fast = sl.render(scene, cam, 100, 70, **kw)
+    full, _ = sl.render(scene, cam, 100, 70, return_depth=True, **kw)
+    assert np.array_equal(fast, full) and fast.min() < 128

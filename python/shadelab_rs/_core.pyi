@@ -759,7 +759,7 @@ class Environment:
     row ``v*H`` (texel centres at half-integers), so row 0 looks straight up (+y) and the
     centre column along -z; sampled bilinearly, wrapping in u and clamped in v.
     ``rotation`` turns it about +y (degrees; positive turns what was seen along -z toward
-    -x); ``intensity`` (>= 0) scales every value."""
+    -x); ``intensity`` (>= 0) scales every value. Six cube faces: :meth:`from_cube`."""
 
     def __new__(
         cls,
@@ -770,14 +770,42 @@ class Environment:
         *,
         path: _Path | None = None,
     ) -> Environment: ...
+    @staticmethod
+    def from_cube(
+        faces: Sequence[ArrayLike] | Mapping[str, ArrayLike] | ArrayLike,
+        rotation: float = 0.0,
+        intensity: float = 1.0,
+        srgb: bool = False,
+        *,
+        paths: Sequence[_Path] | None = None,
+    ) -> Environment:
+        """An environment from six square cube faces of one size N, in the OpenGL cube-map
+        convention: a sequence (or a (6, N, N, 3) array) in the order +X, -X, +Y, -Y, +Z,
+        -Z, or a dict with the keys "+x", "-x", "+y", "-y", "+z", "-z"; each face an
+        (N, N, 3) array as for :class:`Environment`. A direction's major axis picks the
+        face; ``(sc, tc, ma)`` is ``(-z, -y, x)`` on +X, ``(z, -y, x)`` on -X, ``(x, z, y)``
+        on +Y, ``(x, -z, y)`` on -Y, ``(x, -y, z)`` on +Z, ``(-x, -y, z)`` on -Z, and
+        ``s = (sc/|ma| + 1)/2``, ``t = (tc/|ma| + 1)/2`` are read at column ``s*N``, row
+        ``t*N`` (row 0 the face image's first row). Bilinear and seamless: a tap beyond a
+        face's border reads the neighbouring face. ``rotation``, ``intensity``, ``srgb``
+        as for :class:`Environment`; ``paths``: the six files
+        (:func:`shadelab_rs.load_environment`)."""
+    @property
+    def layout(self) -> Literal["equirectangular", "cube"]:
+        """How the texels cover the directions."""
     @property
     def path(self) -> pathlib.Path | None:
-        """The file it was read from (:func:`shadelab_rs.load_environment`), or None."""
+        """The equirectangular file it was read from
+        (:func:`shadelab_rs.load_environment`), or None."""
+    @property
+    def face_paths(self) -> list[pathlib.Path] | None:
+        """The six cube face files it was read from (+X, -X, +Y, -Y, +Z, -Z), or None."""
     def __copy__(self) -> Environment: ...
     def __deepcopy__(self, _memo: Any) -> Environment: ...
     @property
     def array(self) -> NDArray[np.float32]:
-        """The texels, (H, 2H, 3) float32 linear (before the intensity)."""
+        """The texels, float32 linear (before the intensity): (H, 2H, 3), or (6, N, N, 3)
+        for a cube."""
     @property
     def rotation(self) -> float:
         """Rotation about +y in degrees."""
@@ -786,7 +814,7 @@ class Environment:
         """The factor every value is multiplied by."""
     @property
     def shape(self) -> tuple[int, int]:
-        """(height, width) in texels."""
+        """(height, width) in texels (a cube: one face's)."""
     def sample(self, directions: ArrayLike) -> NDArray[np.float32]:
         """The colour seen along each direction of an (..., 3) array, as reflections read
         it (intensity included)."""

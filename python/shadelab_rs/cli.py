@@ -103,9 +103,10 @@ def _render_args(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--environment",
         default=None,
+        nargs="+",
         metavar="FILE",
-        help="equirectangular environment image (.npy float, PNG, JPEG) lighting "
-        "reflections and refractions",
+        help="environment lighting reflections and refractions: one equirectangular image "
+        "(.npy float, PNG, JPEG), or six square cube faces in the order +X -X +Y -Y +Z -Z",
     )
     p.add_argument("--reflections", choices=["environment", "ray"], default=None)
     p.add_argument(
@@ -209,7 +210,13 @@ def _render(
         for light in lights:
             scene.add_light(light)
     if args.environment is not None:
-        scene.environment = load_environment(args.environment)
+        files = args.environment
+        if len(files) not in (1, 6):
+            raise ValueError(
+                f"--environment takes one equirectangular image or six cube faces "
+                f"(+X -X +Y -Y +Z -Z), got {len(files)} files"
+            )
+        scene.environment = load_environment(files[0] if len(files) == 1 else files)
     names = (
         "shading",
         "specular",

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import sys
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any, Literal, get_args
 
@@ -439,22 +440,51 @@ def save_depth(
     _write(path, _png_bytes(q, {"depth_scale": repr(float(scale))}))
 
 
-def load_environment(
-    path: str | os.PathLike[str], rotation: float = 0.0, intensity: float = 1.0
-) -> Environment:
-    """An :class:`Environment` read from an equirectangular image file: ``.npy`` (an
-    (H, 2H, 3) array, float values linear and HDR allowed) or an 8-bit image Pillow reads
-    (PNG, JPEG: sRGB-decoded). The path is recorded for scene files."""
-    p = Path(path)
+def _environment_image(p: Path) -> tuple[np.ndarray, bool]:
+    """An environment image file's array and whether it is sRGB-encoded (8-bit)."""
     if not p.is_file():
         raise FileNotFoundError(f"environment image not found: {p}")
     if p.suffix.lower() == ".npy":
         array = np.load(p, allow_pickle=False)
-        srgb = array.dtype == np.uint8
-    else:
-        from PIL import Image
+        return array, array.dtype == np.uint8
+    from PIL import Image
 
-        with Image.open(p) as im:
-            array = np.asarray(im.convert("RGB"))
-        srgb = True
-    return Environment(array, rotation, intensity, srgb, path=p)
+    with Image.open(p) as im:
+        return np.asarray(im.convert("RGB")), True
+
+
+def load_environment(
+    path: str | os.PathLike[str] | Sequence[str | os.PathLike[str]] | Mapping[str, Any],
+    rotation: float = 0.0,
+    intensity: float = 1.0,
+) -> Environment:
+    """An :class:`Environment` read from image files: ``.npy`` (float values linear and
+    HDR allowed) or 8-bit images Pillow reads (PNG, JPEG: sRGB-decoded). ``path``: one
+    equirectangular (H, 2H, 3) image, or six square cube faces of one size as a sequence
+    in the order +X, -X, +Y, -Y, +Z, -Z or a dict with the keys "+x", "-x", "+y", "-y",
+    "+z", "-z" (see :meth:`Environment.from_cube` for the orientation). The paths are
+    recorded for scene files."""
+    if isinstance(path, (str, os.PathLike)):
+        p = Path(path)
+        array, srgb = _environment_image(p)
+        return Environment(array, rotation, intensity, srgb, path=p)
+    names = ("+x", "-x", "+y", "-y", "+z", "-z")
+    if isinstance(path, Mapping):
+        if sorted(path) != sorted(names):
+            raise ValueError(
+                f"cube faces need exactly the keys {', '.join(names)}, got {sorted(path)}"
+            )
+        files = [Path(path[k]) for k in names]
+    else:
+        files = [Path(f) for f in path]
+    if len(files) != 6:
+        raise ValueError(
+            f"a cube environment needs 6 face files (+x, -x, +y, -y, +z, -z), got {len(files)}"
+        )
+    images = [_environment_image(f) for f in files]
+    encodings = {srgb for _, srgb in images}
+    if len(encodings) > 1:
+        raise ValueError("cube faces must all be 8-bit images or all float .npy arrays")
+    return Environment.from_cube(
+        [a for a, _ in images], rotation, intensity, encodings.pop(), paths=files
+    )

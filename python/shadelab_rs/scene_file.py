@@ -611,29 +611,49 @@ def fog_to_dict(fog: Fog) -> dict[str, Any]:
 
 
 def _environment(v: Any, where: str) -> Environment:
-    """``{file = "sky.png", rotation = 0.0, intensity = 1.0}`` (see :func:`load_environment`;
-    a relative path is read against the file's directory)."""
+    """``{file = "sky.png", rotation = 0.0, intensity = 1.0}``, or six cube faces
+    ``{faces = ["px.png", "nx.png", "py.png", "ny.png", "pz.png", "nz.png"], ...}`` in the
+    order +X, -X, +Y, -Y, +Z, -Z (see :func:`load_environment`; relative paths are read
+    against the file's directory)."""
     from .io import load_environment
 
-    t = _table(v, where, ("file",), ("rotation", "intensity"))
-    path = _BASE_DIR.get() / _string(t["file"], _at(where, "file"))
+    t = _table(v, where, (), ("file", "faces", "rotation", "intensity"))
+    if ("file" in t) == ("faces" in t):
+        raise SceneFileError("needs exactly one of 'file' or 'faces'", where)
     rotation = _number(t.get("rotation", 0.0), _at(where, "rotation"))
     intensity = _number(t.get("intensity", 1.0), _at(where, "intensity"))
+    source: Path | list[Path]
+    if "file" in t:
+        key = "file"
+        source = _BASE_DIR.get() / _string(t["file"], _at(where, "file"))
+    else:
+        key = "faces"
+        faces = t["faces"]
+        if not isinstance(faces, list) or len(faces) != 6:
+            raise _fail(
+                _at(where, "faces"), "a list of 6 file names (+x, -x, +y, -y, +z, -z)", faces
+            )
+        source = [
+            _BASE_DIR.get() / _string(f, _at(where, f"faces[{k}]")) for k, f in enumerate(faces)
+        ]
     try:
-        return _call(where, lambda: load_environment(path, rotation, intensity))
+        return _call(where, lambda: load_environment(source, rotation, intensity))
     except FileNotFoundError as e:
-        raise SceneFileError(str(e), _at(where, "file")) from e
+        raise SceneFileError(str(e), _at(where, key)) from e
 
 
 def environment_to_dict(env: Environment) -> dict[str, Any]:
-    """An environment as a scene-file table. One made from an array has no file to name:
-    ``ValueError`` (save it as .npy and use :func:`load_environment`)."""
+    """An environment as a scene-file table. One made from arrays has no file to name:
+    ``ValueError`` (save them as .npy and use :func:`load_environment`)."""
+    common = {"rotation": env.rotation, "intensity": env.intensity}
+    if env.face_paths is not None:
+        return {"faces": [str(p) for p in env.face_paths], **common}
     if env.path is None:
         raise ValueError(
             "an Environment made from an array cannot be written to a scene file; save the "
             "array (.npy) and use sl.load_environment"
         )
-    return {"file": str(env.path), "rotation": env.rotation, "intensity": env.intensity}
+    return {"file": str(env.path), **common}
 
 
 def _camera(v: Any, where: str) -> Camera:

@@ -170,7 +170,7 @@ pub struct PyScene {
     /// Whether `render` lights a scene without lights with the camera's light rig.
     pub default_lights: bool,
     /// The file the environment was read from, if any (scene files name it).
-    pub(crate) environment_path: Option<std::path::PathBuf>,
+    pub(crate) environment_path: Option<Vec<std::path::PathBuf>>,
 }
 
 /// A material argument: a Material, a preset name, or None for the default.

@@ -1,11 +1,19 @@
-//! The environment: an equirectangular (latitude–longitude) image of the light arriving
-//! from every direction, read by reflections and refractions and, optionally, shown as the
-//! background.
+//! The environment: an image of the light arriving from every direction, read by
+//! reflections and refractions and, optionally, shown as the background. Two layouts:
 //!
-//! A unit direction `d` (after the environment's rotation) maps to
-//! `u = 0.5 + atan2(d.x, −d.z)/(2π)`, `v = acos(d.y)/π`; the image is read at column `u·W`
-//! and row `v·H` (texel centres at half-integers), so row 0 looks straight up (+y) and the
-//! centre column looks along −z. Sampling is bilinear, wrapping in u and clamped in v.
+//! - **Equirectangular** (latitude–longitude): a unit direction `d` (after the
+//!   environment's rotation) maps to `u = 0.5 + atan2(d.x, −d.z)/(2π)`, `v = acos(d.y)/π`;
+//!   the image is read at column `u·W` and row `v·H` (texel centres at half-integers), so
+//!   row 0 looks straight up (+y) and the centre column looks along −z. Sampling is
+//!   bilinear, wrapping in u and clamped in v.
+//! - **Cube** (six square faces, in the order +X, −X, +Y, −Y, +Z, −Z): the OpenGL cube-map
+//!   convention (OpenGL 4.6 §8.13, table 8.19). The face is the direction's major axis; its
+//!   coordinates `(sc, tc, ma)` are `(−z, −y, x)` on +X, `(z, −y, x)` on −X, `(x, z, y)` on
+//!   +Y, `(x, −z, y)` on −Y, `(x, −y, z)` on +Z, `(−x, −y, z)` on −Z, and
+//!   `s = (sc/|ma| + 1)/2`, `t = (tc/|ma| + 1)/2` are read at column `s·N`, row `t·N` of the
+//!   face (row 0 its first row: face images load as files store them). Sampling is
+//!   bilinear and seamless: a tap beyond a face's border reads the neighbouring face's
+//!   texel in that direction (as `GL_TEXTURE_CUBE_MAP_SEAMLESS`), so no seam shows.
 
 use std::sync::Arc;
 
@@ -19,11 +27,24 @@ pub const MAX_ENVIRONMENT_SIZE: usize = 16384;
 /// Largest texel value (the lighting's float32 headroom, as for textures).
 const MAX_TEXEL: f32 = 1e30;
 
-/// An equirectangular environment image with a rotation about +y and an intensity.
+/// How an environment's texels cover the directions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Layout {
+    /// One latitude–longitude image, twice as wide as high.
+    Equirectangular,
+    /// Six square faces +X, −X, +Y, −Y, +Z, −Z (the OpenGL cube-map convention).
+    Cube,
+}
+
+/// An environment image (equirectangular or six cube faces) with a rotation about +y and
+/// an intensity.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Environment {
-    /// Linear RGB texels, row-major from the top row (+y).
+    /// Linear RGB texels, row-major from the top row (+y); a cube's six faces one after
+    /// the other.
     texels: Arc<[Vec3]>,
+    layout: Layout,
+    /// Of the image, or of one cube face.
     width: usize,
     height: usize,
     /// Degrees about +y (right-handed: positive turns what was seen along −z toward −x).
@@ -89,6 +110,71 @@ impl Environment {
                 ),
             ));
         }
+        Self::build(
+            data,
+            Layout::Equirectangular,
+            (height, width),
+            rotation,
+            intensity,
+        )
+    }
+
+    /// An environment from six square cube faces of `size × size` linear RGB texels, in the
+    /// order +X, −X, +Y, −Y, +Z, −Z (`data`: each face row-major from its first row, 3
+    /// floats a texel, the faces one after the other), with the OpenGL cube-map
+    /// orientation (see the module documentation). Texels, `rotation` and `intensity` as
+    /// for [`Environment::new`].
+    pub fn cube(data: &[f32], size: usize, rotation: f32, intensity: f32) -> Result<Self> {
+        if size == 0 {
+            return Err(RasterError::invalid_field(
+                "faces",
+                "cube faces must not be empty",
+            ));
+        }
+        if size > MAX_ENVIRONMENT_SIZE {
+            return Err(RasterError::invalid_field(
+                "faces",
+                format!("cube face size {size} is above the limit of {MAX_ENVIRONMENT_SIZE}"),
+            ));
+        }
+        if data.len() != 6 * size * size * 3 {
+            return Err(RasterError::invalid_field(
+                "faces",
+                format!(
+                    "cube face data holds {} values, expected 6x{size}x{size}x3",
+                    data.len()
+                ),
+            ));
+        }
+        if let Some(k) = data
+            .iter()
+            .position(|v| !v.is_finite() || *v < 0.0 || *v > MAX_TEXEL)
+        {
+            let per_face = size * size * 3;
+            return Err(RasterError::invalid_field(
+                "faces",
+                format!(
+                    "cube face {} ({})[{}, {}, {}] = {} must be finite and in [0, {MAX_TEXEL:e}]",
+                    k / per_face,
+                    FACE_NAMES[k / per_face],
+                    (k % per_face) / (size * 3),
+                    (k / 3) % size,
+                    k % 3,
+                    data[k]
+                ),
+            ));
+        }
+        Self::build(data, Layout::Cube, (size, size), rotation, intensity)
+    }
+
+    /// Checks the rotation and intensity and stores the (checked) texels.
+    fn build(
+        data: &[f32],
+        layout: Layout,
+        (height, width): (usize, usize),
+        rotation: f32,
+        intensity: f32,
+    ) -> Result<Self> {
         if !rotation.is_finite() {
             return Err(RasterError::invalid_field(
                 "rotation",
@@ -108,6 +194,7 @@ impl Environment {
         let r = (rotation as f64).to_radians();
         Ok(Environment {
             texels,
+            layout,
             width,
             height,
             rotation,
@@ -116,12 +203,17 @@ impl Environment {
         })
     }
 
-    /// Height in texels (the width is twice it).
+    /// The layout of the texels.
+    pub fn layout(&self) -> Layout {
+        self.layout
+    }
+
+    /// Height in texels (equirectangular: the width is twice it; cube: one face's side).
     pub fn height(&self) -> usize {
         self.height
     }
 
-    /// Width in texels.
+    /// Width in texels (cube: one face's side).
     pub fn width(&self) -> usize {
         self.width
     }
@@ -136,7 +228,7 @@ impl Environment {
         self.intensity
     }
 
-    /// The texels, row-major from the top, linear RGB.
+    /// The texels, row-major from the top, linear RGB (a cube: its six faces in order).
     pub fn texels(&self) -> &[Vec3] {
         &self.texels
     }
@@ -151,9 +243,9 @@ impl Environment {
         m as f64 * self.intensity as f64
     }
 
-    /// The (u, v) of a direction (any length; zero or non-finite gives the centre column
-    /// at the horizon), after the rotation.
-    pub fn uv(&self, d: Vec3) -> (f64, f64) {
+    /// The unit direction of the unrotated image that `d` (any length; zero or non-finite
+    /// gives −z) looks along: `R_y(−θ)·d`.
+    fn unrotated(&self, d: Vec3) -> DVec3 {
         let d = d.as_dvec3();
         let len = d.length();
         let d = if len > 0.0 && len.is_finite() {
@@ -161,18 +253,25 @@ impl Environment {
         } else {
             DVec3::NEG_Z
         };
-        // R_y(−θ)·d: what the unrotated image shows in that direction.
         let (c, s) = self.cos_sin;
-        let x = c * d.x - s * d.z;
-        let z = s * d.x + c * d.z;
-        let u = 0.5 + x.atan2(-z) / std::f64::consts::TAU;
+        DVec3::new(c * d.x - s * d.z, d.y, s * d.x + c * d.z)
+    }
+
+    /// The equirectangular (u, v) of a direction (any length; zero or non-finite gives the
+    /// centre column at the horizon), after the rotation.
+    pub fn uv(&self, d: Vec3) -> (f64, f64) {
+        let d = self.unrotated(d);
+        let u = 0.5 + d.x.atan2(-d.z) / std::f64::consts::TAU;
         let v = d.y.clamp(-1.0, 1.0).acos() / std::f64::consts::PI;
         (u, v)
     }
 
-    /// The colour seen along direction `d` (bilinear, wrapping in u, clamped in v), times
-    /// the intensity.
+    /// The colour seen along direction `d` (bilinear: equirectangular wrapping in u and
+    /// clamped in v; cube seamless across faces), times the intensity.
     pub fn sample(&self, d: Vec3) -> Vec3 {
+        if self.layout == Layout::Cube {
+            return self.sample_cube(self.unrotated(d)) * self.intensity;
+        }
         let (u, v) = self.uv(d);
         let (w, h) = (self.width as f64, self.height as f64);
         let x = u * w - 0.5;
@@ -187,6 +286,71 @@ impl Environment {
         let top = t(r0, c0) * (1.0 - fx) + t(r0, c1) * fx;
         let bottom = t(r1, c0) * (1.0 - fx) + t(r1, c1) * fx;
         (top * (1.0 - fy) + bottom * fy) * self.intensity
+    }
+
+    /// Bilinear lookup of the cube along the unit direction `d` (unrotated), seamless.
+    fn sample_cube(&self, d: DVec3) -> Vec3 {
+        let n = self.width;
+        let nf = n as f64;
+        let (face, s, t) = cube_face(d);
+        let x = s * nf - 0.5;
+        let y = t * nf - 0.5;
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = ((x - x0) as f32, (y - y0) as f32);
+        let texel = |f: usize, i: usize, j: usize| self.texels[(f * n + j) * n + i];
+        let tap = |i: f64, j: f64| -> Vec3 {
+            if i >= 0.0 && j >= 0.0 && i < nf && j < nf {
+                return texel(face, i as usize, j as usize);
+            }
+            // Beyond the border: the texel of the face the tap's direction falls on.
+            let dir = face_direction(face, (i + 0.5) / nf, (j + 0.5) / nf);
+            let (f, s, t) = cube_face(dir);
+            let c = |v: f64| ((v * nf).floor().max(0.0) as usize).min(n - 1);
+            texel(f, c(s), c(t))
+        };
+        let top = tap(x0, y0) * (1.0 - fx) + tap(x0 + 1.0, y0) * fx;
+        let bottom = tap(x0, y0 + 1.0) * (1.0 - fx) + tap(x0 + 1.0, y0 + 1.0) * fx;
+        top * (1.0 - fy) + bottom * fy
+    }
+}
+
+/// The cube faces' names, in their order.
+pub const FACE_NAMES: [&str; 6] = ["+x", "-x", "+y", "-y", "+z", "-z"];
+
+/// The face a direction (non-zero) falls on and its (s, t) in [0, 1]: OpenGL 4.6 table
+/// 8.19; ties between axes go to x, then y.
+fn cube_face(d: DVec3) -> (usize, f64, f64) {
+    let a = d.abs();
+    let (face, sc, tc, ma) = if a.x >= a.y && a.x >= a.z {
+        if d.x > 0.0 {
+            (0, -d.z, -d.y, a.x)
+        } else {
+            (1, d.z, -d.y, a.x)
+        }
+    } else if a.y >= a.z {
+        if d.y > 0.0 {
+            (2, d.x, d.z, a.y)
+        } else {
+            (3, d.x, -d.z, a.y)
+        }
+    } else if d.z > 0.0 {
+        (4, d.x, -d.y, a.z)
+    } else {
+        (5, -d.x, -d.y, a.z)
+    };
+    (face, (sc / ma + 1.0) * 0.5, (tc / ma + 1.0) * 0.5)
+}
+
+/// The direction (not unit) through (s, t) of `face`: the inverse of [`cube_face`].
+fn face_direction(face: usize, s: f64, t: f64) -> DVec3 {
+    let (sc, tc) = (2.0 * s - 1.0, 2.0 * t - 1.0);
+    match face {
+        0 => DVec3::new(1.0, -tc, -sc),
+        1 => DVec3::new(-1.0, -tc, sc),
+        2 => DVec3::new(sc, 1.0, tc),
+        3 => DVec3::new(sc, -1.0, -tc),
+        4 => DVec3::new(sc, -tc, 1.0),
+        _ => DVec3::new(-sc, -tc, -1.0),
     }
 }
 
@@ -236,6 +400,52 @@ mod tests {
     }
 
     #[test]
+    fn cube_faces_follow_the_opengl_table_and_invert() {
+        // Each axis looks at the centre of its own face.
+        for (k, d) in [
+            DVec3::X,
+            DVec3::NEG_X,
+            DVec3::Y,
+            DVec3::NEG_Y,
+            DVec3::Z,
+            DVec3::NEG_Z,
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            assert_eq!(cube_face(d), (k, 0.5, 0.5));
+        }
+        // +X: s grows toward −z, t toward −y (first row up).
+        let (f, s, t) = cube_face(DVec3::new(1.0, 0.5, -0.5));
+        assert_eq!((f, s, t), (0, 0.75, 0.25));
+        for face in 0..6 {
+            for (s, t) in [(0.1, 0.2), (0.9, 0.4), (0.5, 0.99)] {
+                let (f, s2, t2) = cube_face(face_direction(face, s, t));
+                assert_eq!(f, face);
+                assert!((s2 - s).abs() < 1e-12 && (t2 - t).abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn cube_lookup_is_seamless_and_constant_faces_stay_constant() {
+        // Face k filled with k: along an edge between two faces the lookup is the mean of
+        // their values from either side.
+        let n = 4;
+        let data: Vec<f32> = (0..6)
+            .flat_map(|k| std::iter::repeat(k as f32).take(n * n * 3))
+            .collect();
+        let e = Environment::cube(&data, n, 0.0, 1.0).unwrap();
+        let a = e.sample(Vec3::new(1.0, 0.0, -1.0 + 1e-6)); // +X | −Z edge
+        let b = e.sample(Vec3::new(1.0 - 1e-6, 0.0, -1.0));
+        assert!((a - b).abs().max_element() < 1e-4, "{a} {b}");
+        assert!((a.x - 2.5).abs() < 1e-4, "{a}");
+        assert_eq!(e.sample(Vec3::new(0.1, 0.2, -1.0)).x, 5.0);
+        let single = Environment::cube(&[0.25; 6 * 3], 1, 0.0, 2.0).unwrap();
+        assert_eq!(single.sample(Vec3::new(0.3, -0.9, 0.2)), Vec3::splat(0.5));
+    }
+
+    #[test]
     fn rejects_bad_images() {
         let field = |r: Result<Environment>| match r {
             Err(RasterError::InvalidField { field, .. }) => field,
@@ -258,5 +468,17 @@ mod tests {
             "intensity"
         );
         assert!(Environment::new(&[0.5; 6], 1, 2, 0.0, 0.0).is_ok());
+        assert_eq!(field(Environment::cube(&[], 0, 0.0, 1.0)), "faces");
+        assert_eq!(
+            field(Environment::cube(&[0.5; 5 * 3], 1, 0.0, 1.0)),
+            "faces"
+        );
+        let mut d = [0.5f32; 6 * 3];
+        d[13] = f32::INFINITY;
+        assert_eq!(field(Environment::cube(&d, 1, 0.0, 1.0)), "faces");
+        assert_eq!(
+            field(Environment::cube(&[0.5; 6 * 3], 1, 0.0, f32::NAN)),
+            "intensity"
+        );
     }
 }

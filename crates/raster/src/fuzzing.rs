@@ -418,6 +418,9 @@ fn decode(b: &mut Bytes) -> Option<Case> {
             }
         }
     }
+    // Fourth extension block (zero: one sample): multi-sample anti-aliasing, with every
+    // stage above (the secondary one included).
+    options.samples = [1, 2, 4, 8, 16][(b.u8() % 5) as usize];
     Some(Case {
         scene,
         camera,
@@ -463,7 +466,8 @@ pub fn describe_pipeline_input(data: &[u8]) -> Option<String> {
 /// scene; float32 colour and depth contain no NaN; colour is finite; depth is `+inf` exactly where no triangle covers the
 /// pixel centre (by the coverage test hook), and there the colour is exactly the
 /// background (colours are finite: lighting that could overflow f32 is refused, see
-/// `MAX_RADIANCE`); finite depths are ≥ 0 for a perspective camera; uint8 output is exactly
+/// `MAX_RADIANCE`); finite depths are ≥ 0 for a perspective camera (these per-pixel checks
+/// with one sample only); uint8 output is exactly
 /// `round(clamp(c, 0, 1)·255)` of the float32 output; one thread and several, and the
 /// baseline and AVX2 builds of the tile stage, give the same bits. Returns `false` when the render refused the scene (only lighting beyond
 /// `MAX_RADIANCE` may be refused at this point).
@@ -500,6 +504,11 @@ pub fn check_render(scene: &Scene, camera: &Camera, options: &RenderOptions) -> 
             c.is_finite(),
             "non-finite colour {c} at pixel {i} (depth {d})"
         );
+        // Several samples: the depth is the majority surface's and the colour a mix, so
+        // neither follows the coverage of the pixel centre.
+        if options.samples > 1 {
+            continue;
+        }
         if blended || options.environment_background {
             assert!(
                 d == f32::INFINITY || n > 0,

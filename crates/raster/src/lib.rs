@@ -35,6 +35,7 @@ mod lighting;
 mod lights;
 mod material;
 mod mesh;
+mod mesh_edges;
 mod mtl_maps;
 mod obj;
 mod options;
@@ -52,7 +53,7 @@ pub mod texture;
 
 pub use camera::{Camera, Intrinsics, Projection};
 pub use effects::{Fog, FogMode};
-pub use environment::{Environment, MAX_ENVIRONMENT_SIZE};
+pub use environment::{Environment, Layout as EnvironmentLayout, FACE_NAMES, MAX_ENVIRONMENT_SIZE};
 pub use error::{RasterError, Result};
 pub use frame::{ColorBuffer, ColorFormat, Frame, Outputs, RenderStats, StageTimings};
 pub use lights::{

@@ -5,6 +5,7 @@ use std::sync::OnceLock;
 use glam::{DVec3, Vec2, Vec3, Vec4};
 
 use crate::error::{RasterError, Result};
+use crate::mesh_edges::MeshEdges;
 
 /// An indexed triangle mesh, validated on construction.
 ///
@@ -24,6 +25,8 @@ pub struct Mesh {
     generated_normals: OnceLock<Vec<Vec3>>,
     /// Tangent frames for normal and bump maps, made on first use ([`Mesh::tangents`]).
     tangents: OnceLock<Vec<Vec4>>,
+    /// Welded vertices and unique edges, computed on first use (lines).
+    edges: OnceLock<MeshEdges>,
 }
 
 impl Mesh {
@@ -102,6 +105,7 @@ impl Mesh {
             normals_generated: false,
             generated_normals: OnceLock::new(),
             tangents: OnceLock::new(),
+            edges: OnceLock::new(),
         })
     }
 
@@ -150,6 +154,13 @@ impl Mesh {
     /// Triangles as vertex-index triples; counter-clockwise is the front.
     pub fn indices(&self) -> &[[u32; 3]] {
         &self.indices
+    }
+
+    /// The welded vertices and unique edges (computed on the first call, then kept: they
+    /// depend only on the positions and faces, which never change).
+    pub(crate) fn edges(&self) -> &MeshEdges {
+        self.edges
+            .get_or_init(|| MeshEdges::new(&self.positions, &self.indices))
     }
 
     /// The vertex normals given at construction, if any (not those a loader generated).

@@ -26,7 +26,7 @@ fn seeds() -> Vec<Vec<u8>> {
 #[test]
 fn fuzz_body_reaches_the_secondary_stage() {
     let mut seed = 0x2545_f491u32;
-    let mut rendered = 0;
+    let (mut rendered, mut multi_optics) = (0, 0);
     for base in seeds().iter().filter(|s| s.len() < 400) {
         for pad in (0..48).step_by(3) {
             let mut data = base.clone();
@@ -36,10 +36,22 @@ fn fuzz_body_reaches_the_secondary_stage() {
                 seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
                 data.push((seed >> 24) as u8);
             }
-            rendered += fuzzing::pipeline(&data) as usize;
+            let ok = fuzzing::pipeline(&data);
+            rendered += ok as usize;
+            // The byte after the optics block picks the sample count: MSAA is reached too.
+            let desc = fuzzing::describe_pipeline_input(&data).unwrap_or_default();
+            let some =
+                |key: &str, zero: &str| desc.matches(key).count() > desc.matches(zero).count();
+            let optical = some("reflectivity: ", "reflectivity: Vec3(0.0, 0.0, 0.0)")
+                || some("transparency: ", "transparency: 0.0,");
+            multi_optics += (ok && optical && !desc.contains("samples: 1,")) as usize;
         }
     }
     assert!(rendered > 20, "only {rendered} inputs rendered");
+    assert!(
+        multi_optics > 5,
+        "only {multi_optics} with samples > 1 and optics"
+    );
 }
 
 fn quad(y: f32, up: bool) -> Mesh {
@@ -112,4 +124,98 @@ fn parallel_mirrors_stop_at_max_depth_and_depth_zero_is_the_environment() {
             ..
         })
     ));
+}
+
+/// A ray-traced mirror floor, a reflective sphere, a transparent sphere and a transparent
+/// pane over the environment, with fog.
+fn optics_scene() -> (Scene, Camera) {
+    let mut scene = Scene::new(Vec3::splat(0.1)).unwrap();
+    let sky: Vec<f32> = (0..8 * 16)
+        .flat_map(|k| [k as f32 / 128.0, 0.5, 1.0 - k as f32 / 256.0])
+        .collect();
+    scene.set_environment(Some(Environment::new(&sky, 8, 16, 0.0, 1.0).unwrap()));
+    let optic = |refl: f32, transp: f32| {
+        Material::new(
+            Vec3::splat(0.1),
+            Vec3::new(0.6, 0.3, 0.2),
+            Vec3::splat(0.4),
+            20.0,
+        )
+        .unwrap()
+        .with_optics(Vec3::splat(refl), transp, 1.0, true, Vec3::ZERO)
+        .unwrap()
+    };
+    let sphere = Arc::new(primitives::uv_sphere(10, 20));
+    let at = |s: f32, x: f32, y: f32, z: f32| {
+        Mat4::from_translation(Vec3::new(x, y, z)) * Mat4::from_scale(Vec3::splat(s))
+    };
+    scene
+        .add(Arc::new(quad(0.0, true)), optic(0.6, 0.0), Mat4::IDENTITY)
+        .unwrap();
+    scene
+        .add(sphere.clone(), optic(0.5, 0.0), at(0.5, -0.4, 0.5, 0.0))
+        .unwrap();
+    scene
+        .add(sphere, optic(0.1, 0.6), at(0.4, 0.5, 0.4, 0.6))
+        .unwrap();
+    scene.add_light(DirectionalLight::new(Vec3::new(-1.0, -2.0, -1.0), Vec3::ONE, 1.0).unwrap());
+    scene.set_fog(Some(
+        Fog::new(
+            FogMode::Linear {
+                start: 2.0,
+                end: 8.0,
+            },
+            Vec3::splat(0.5),
+        )
+        .unwrap(),
+    ));
+    let cam = Camera::look_at(
+        DVec3::new(0.2, 1.2, 3.0),
+        DVec3::new(0.0, 0.3, 0.0),
+        DVec3::Y,
+        50.0,
+        0.05,
+        100.0,
+    )
+    .unwrap();
+    (scene, cam)
+}
+
+#[test]
+fn multi_sample_secondary_is_identical_for_any_thread_count_and_instruction_set() {
+    let (scene, cam) = optics_scene();
+    for mode in [ShadingMode::Flat, ShadingMode::Gouraud, ShadingMode::Phong] {
+        for n in [2, 4, 16] {
+            let mut o = RenderOptions::new(90, 70);
+            o.shading = mode;
+            o.samples = n;
+            o.reflections = Technique::Ray;
+            o.environment_background = true;
+            o.threads = Some(1);
+            let base = render(&scene, &cam, &o, ColorFormat::F32, true).unwrap();
+            let ColorBuffer::F32(c) = &base.color else {
+                unreachable!()
+            };
+            assert!(c.iter().all(|v| v.is_finite()));
+            for (threads, baseline) in [(2, false), (1, true), (3, true)] {
+                let mut p = o.clone();
+                p.threads = Some(threads);
+                p.baseline_isa = baseline;
+                let f = render(&scene, &cam, &p, ColorFormat::F32, true).unwrap();
+                assert_eq!(f.color, base.color, "{mode:?} n={n} {threads} {baseline}");
+                let bits = |d: &Option<Vec<f32>>| {
+                    d.iter().flatten().map(|v| v.to_bits()).collect::<Vec<_>>()
+                };
+                assert_eq!(bits(&f.depth), bits(&base.depth));
+            }
+            // The u8 output is the rounded f32 one.
+            let f8 = render(&scene, &cam, &o, ColorFormat::U8, false).unwrap();
+            let ColorBuffer::U8(q) = f8.color else {
+                unreachable!()
+            };
+            for (&q, &c) in q.iter().zip(c) {
+                assert_eq!(q, (c.clamp(0.0, 1.0) * 255.0 + 0.5) as u8);
+            }
+        }
+    }
 }

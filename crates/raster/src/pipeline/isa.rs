@@ -8,6 +8,7 @@
 
 use super::raster::{self, TileBuffers, NO_TRIANGLE};
 use super::samples::{self, SampleTarget};
+use super::secondary_samples::{shade_secondary_samples, SecondarySamplesWork};
 use super::shade::{self, Out, Pixel, ShadeContext};
 use super::tiles::{TileRect, TILE};
 use crate::options::ShadingMode;
@@ -52,6 +53,8 @@ pub(crate) struct Workspace {
     pub target: SampleTarget,
     /// The secondary stage's buffers (empty until a secondary tile needs them).
     pub secondary: shade::SecondaryWork,
+    /// The same with several samples per pixel (empty until such a tile needs them).
+    pub secondary_samples: SecondarySamplesWork,
 }
 
 impl Workspace {
@@ -61,6 +64,7 @@ impl Workspace {
             buf: TileBuffers::new(),
             target: SampleTarget::new(samples),
             secondary: shade::SecondaryWork::default(),
+            secondary_samples: SecondarySamplesWork::default(),
         }
     }
 
@@ -100,6 +104,12 @@ pub(crate) fn run_tile<P: Pixel>(
     job: TileJob<'_, '_, P>,
 ) {
     if samples > 1 {
+        if ctx.secondary.is_some() {
+            // The secondary stage on the multi-sample target: a body of its own, so the
+            // multi-sample bodies below compile as without it.
+            tile_secondary_samples(ctx, mode, screen, work, job);
+            return;
+        }
         multi_sample_tile(isa, ctx, mode, screen, &mut work.target, job);
         return;
     }
@@ -232,6 +242,25 @@ fn tile_secondary<P: Pixel>(
         shade::shade_secondary_tile::<P, true>(ctx, mode, i, rect, buf, sec, job.color, job.depth);
     } else {
         shade::shade_secondary_tile::<P, false>(ctx, mode, i, rect, buf, sec, job.color, job.depth);
+    }
+}
+
+/// The tile body of scenes with the secondary stage and several samples per pixel
+/// (`secondary_samples.rs`; baseline instructions, as `tile_secondary`).
+#[inline(never)]
+fn tile_secondary_samples<P: Pixel>(
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    screen: bool,
+    work: &mut Workspace,
+    job: TileJob<'_, '_, P>,
+) {
+    let (target, sec) = (&mut work.target, &mut work.secondary_samples);
+    let (i, rect) = (job.index, job.rect);
+    if screen && mode != ShadingMode::Flat {
+        shade_secondary_samples::<P, true>(ctx, mode, i, rect, target, sec, job.color, job.depth);
+    } else {
+        shade_secondary_samples::<P, false>(ctx, mode, i, rect, target, sec, job.color, job.depth);
     }
 }
 

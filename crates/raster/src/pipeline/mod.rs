@@ -14,6 +14,7 @@ mod lines;
 mod passes;
 pub(crate) mod raster;
 pub(crate) mod samples;
+mod secondary_samples;
 pub(crate) mod setup;
 pub mod shade;
 pub(crate) mod tiles;
@@ -31,7 +32,8 @@ use crate::error::{RasterError, Result};
 use crate::frame::RenderStats;
 use crate::lighting::{check_mirror, LightSet, Surface};
 use crate::material::Material;
-use crate::options::{GouraudMethod, RenderOptions, ShadingMode, Technique};
+use crate::options::{EdgeMode, GouraudMethod, RenderOptions, ShadingMode, Technique};
+use crate::reflect::SecondaryEffect;
 use crate::scene::Scene;
 use crate::shadows::ShadowEffect;
 use bin::{Binned, Bins, Chunk};
@@ -405,9 +407,11 @@ pub(crate) fn prepare(
     // Textured Gouraud lights its vertices' split terms in the tile stage (it keeps the
     // world positions and normals for that).
     if lit && options.shading == ShadingMode::Gouraud && !textured {
+        // Lines and the secondary stage read world positions (and normals) after this.
+        let keep = options.edges != EdgeMode::None || SecondaryEffect::wanted(scene, options);
         match options.gouraud {
             GouraudMethod::Normals => {
-                prelight::light_vertices(scene, &mut verts, &materials, eye, shadows.as_ref())
+                prelight::light_vertices(scene, &mut verts, &materials, eye, shadows.as_ref(), keep)
             }
             GouraudMethod::FaceIntensities => prelight::light_vertices_by_faces(
                 scene,
@@ -415,6 +419,7 @@ pub(crate) fn prepare(
                 &materials,
                 eye,
                 shadows.as_ref(),
+                keep,
             ),
         }
     }

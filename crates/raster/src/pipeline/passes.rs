@@ -182,13 +182,6 @@ fn scene_vertices(scene: &Scene) -> usize {
 
 /// Combinations the secondary stage does not support yet, refused with the field to change.
 fn check_secondary(scene: &Scene, options: &RenderOptions) -> Result<()> {
-    if options.samples > 1 {
-        return Err(RasterError::invalid_field(
-            "samples",
-            "reflections, transparency and the environment background do not support \
-             samples > 1 yet; use supersample for anti-aliasing",
-        ));
-    }
     if options.environment_background && scene.environment().is_none() {
         return Err(RasterError::invalid_field(
             "background",

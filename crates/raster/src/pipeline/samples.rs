@@ -14,6 +14,7 @@
 //! With one sample the shading loops write the user's rows directly (their store is the
 //! resolve): that path is exactly the single-sample renderer and pays nothing for this room.
 
+use super::bin::Binned;
 use super::raster::{self, TileBuffers, NO_TRIANGLE};
 use super::setup::{SetupTri, HALF, ONE};
 use super::shade::{self, Out, Pixel, RowColors, ShadeContext, ROW_LANES};
@@ -68,6 +69,14 @@ pub(crate) fn pattern(n: u32) -> &'static [(i8, i8)] {
 
 /// Fixed-point units per 1/16 pixel.
 const SIXTEENTH: i64 = ONE / 16;
+
+/// The sample positions of `n` samples per pixel as fixed-point offsets from the centre.
+#[inline]
+pub(crate) fn offsets(n: usize) -> impl Iterator<Item = (i64, i64)> {
+    pattern(n as u32)
+        .iter()
+        .map(|&(sx, sy)| (sx as i64 * SIXTEENTH, sy as i64 * SIXTEENTH))
+}
 
 /// How far (fixed-point units) the samples of `n` reach from the pixel centre: triangle
 /// setup widens its pixel bounds by this, so a triangle that covers a sample but no pixel
@@ -133,6 +142,52 @@ impl SampleTarget {
         self.samples.iter().map(|s| &*s.id)
     }
 
+    /// Rasterizes the triangles of tile `index` that `keep` accepts (in submission order)
+    /// at every sample position, each into its own visibility buffer.
+    #[inline(always)]
+    pub fn rasterize_where(
+        &mut self,
+        tris: &Binned,
+        index: usize,
+        rect: TileRect,
+        keep: impl Fn(&SetupTri) -> bool,
+    ) {
+        let n = self.samples.len();
+        for (buf, offset) in self.samples.iter_mut().zip(offsets(n)) {
+            buf.clear();
+            let kept = tris.tile(index).filter(|(_, t)| keep(t));
+            raster::for_each_span_at(kept, rect, offset, buf);
+        }
+    }
+
+    /// Groups each pixel's samples by owner into the layers (see [`build_layers`]); returns
+    /// how many layers the tile uses.
+    pub fn layer(&mut self, ctx: &ShadeContext<'_>, rect: TileRect) -> usize {
+        build_layers(ctx, rect, self)
+    }
+
+    /// Layer `k` of the tile last grouped (a single-sample visibility buffer: per pixel its
+    /// k-th owner by coverage and that owner's depth at the pixel centre).
+    pub fn layer_buffer(&self, k: usize) -> &TileBuffers {
+        &self.layers[k]
+    }
+
+    /// How many samples of pixel `slot` layer `k` covers (0: the layer has no owner there).
+    #[inline]
+    pub fn layer_count(&self, k: usize, slot: usize) -> u8 {
+        self.counts[k][slot]
+    }
+
+    /// The visibility buffer of sample position `s` of the tile last rasterized.
+    pub fn sample_buffer(&self, s: usize) -> &TileBuffers {
+        &self.samples[s]
+    }
+
+    /// Samples per pixel.
+    pub fn per_pixel(&self) -> usize {
+        self.samples.len()
+    }
+
     /// The share of each pixel's samples owned by a triangle in the tile last rendered,
     /// into `rows`.
     pub fn write_coverage(&self, rect: TileRect, rows: &mut [&mut [Out<f32>]]) {
@@ -166,9 +221,7 @@ pub(crate) fn sample_tile<P: Pixel, const AFFINE: bool>(
     depth: Option<&mut [&mut [Out<f32>]]>,
 ) {
     let n = target.samples.len();
-    let offsets = pattern(n as u32);
-    for (buf, &(sx, sy)) in target.samples.iter_mut().zip(offsets) {
-        let offset = (sx as i64 * SIXTEENTH, sy as i64 * SIXTEENTH);
+    for (buf, offset) in target.samples.iter_mut().zip(offsets(n)) {
         raster::rasterize_tile_at(ctx.tris, index, rect, offset, buf);
     }
     let used = build_layers(ctx, rect, target);
@@ -307,6 +360,11 @@ impl DepthPlane {
         let py = (y as i64 * ONE + HALF) as f64;
         (self.a * px + self.b * py + self.c) as f32
     }
+}
+
+/// Triangle `t`'s window depth at the centre of pixel (x, y), as the layers hold it.
+pub(crate) fn centre_depth(t: &SetupTri, x: usize, y: usize) -> f32 {
+    DepthPlane::new(t).at(x, y)
 }
 
 /// `acc (=|+=) count · colour` over the tile's pixels.

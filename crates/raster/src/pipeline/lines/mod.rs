@@ -20,18 +20,45 @@ use glam::Vec3;
 
 use super::bin::Binned;
 use super::isa::{self, Isa, TileJob, Workspace};
-use super::raster::NO_TRIANGLE;
+use super::raster::{self, NO_TRIANGLE};
 use super::samples;
+use super::setup::SetupTri;
 use super::setup::ONE;
 use super::shade::{Out, Pixel, RowColors, ShadeContext, ROW_LANES};
 use super::tiles::{TileRect, TILE};
 use super::vertex::Vertices;
 use crate::camera::Camera;
 use crate::options::{EdgeMode, RenderOptions, ShadingMode};
+use crate::reflect::Kind;
 use crate::scene::Scene;
 use segments::Segments;
 use topology::Topology;
 use visibility::OwnerCache;
+
+/// Rasterizes tile `index` into the worker's visibility buffers as the tile bodies do (the
+/// single-sample buffer, or every sample position's), without shading: the triangles the
+/// secondary stage blends are not in it, as in its opaque layer.
+fn visibility_only(
+    ctx: &ShadeContext<'_>,
+    multi: bool,
+    work: &mut Workspace,
+    index: usize,
+    rect: TileRect,
+) {
+    let blended = |t: &SetupTri| {
+        ctx.secondary
+            .as_ref()
+            .is_some_and(|s| s.kinds[t.object as usize] == Kind::Blended)
+    };
+    if multi {
+        work.target
+            .rasterize_where(ctx.tris, index, rect, |t| !blended(t));
+    } else {
+        work.buf.clear();
+        let kept = ctx.tris.tile(index).filter(|(_, t)| !blended(t));
+        raster::for_each_span(kept, rect, &mut work.buf);
+    }
+}
 
 /// Everything a render's line stage reads, shared by all tiles.
 pub(crate) struct LinePass<'a> {
@@ -183,7 +210,12 @@ impl<'a> LinePass<'a> {
             coverage,
             mask,
         } = scratch;
-        {
+        if self.edges_only && out.depth.is_none() {
+            // Lines alone: only the visibility the hidden-line rule reads, no shading.
+            if !self.tris.tile_is_empty(index) {
+                visibility_only(ctx, samples > 1, work, index, rect);
+            }
+        } else {
             let mut rows: Vec<&mut [Out<f32>]> = color
                 .chunks_mut(TILE * 3)
                 .take(rect.h)

@@ -1,30 +1,12 @@
-//! Mesh edges: every object's vertices welded by exact position, and each undirected edge
-//! once, with the faces that share it. Built once per render that draws lines.
-
-use std::collections::HashMap;
+//! The scene's edges for the line stage: every object's cached [`MeshEdges`] (its
+//! vertices welded by exact position, each undirected edge once with its faces) placed at
+//! the object's global vertex and face indices. Assembled per render that draws lines; the
+//! per-mesh work is done once per mesh ([`crate::mesh::Mesh::edges`]).
 
 use glam::{DVec3, Vec3};
-use rayon::prelude::*;
 
+pub(crate) use crate::mesh_edges::{MeshEdge, NO_FACE};
 use crate::scene::Scene;
-
-/// No face (an edge's second slot when only one face has it).
-pub(crate) const NO_FACE: u32 = u32::MAX;
-
-/// One undirected edge of a mesh.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct MeshEdge {
-    /// Global vertex indices of its endpoints (those of the first face that has it).
-    pub v: [u32; 2],
-    /// Welded ids of the endpoints.
-    pub ends: [u32; 2],
-    /// The first two faces that have it (global face indices; [`NO_FACE`] when absent).
-    pub faces: [u32; 2],
-    /// How many faces have it: 1 on a boundary, 2 inside a manifold, more where non-manifold.
-    pub count: u32,
-    /// The two faces walk it in opposite directions (consistently wound neighbours).
-    pub consistent: bool,
-}
 
 /// The scene's faces (global vertex indices), welded vertex ids and unique edges.
 pub(crate) struct Topology {
@@ -33,67 +15,36 @@ pub(crate) struct Topology {
     /// Welded id of each (transformed) vertex: vertices of one object at the same position
     /// share an id; ids of different objects never meet.
     pub weld: Vec<u32>,
+    /// Every object's edges in submission order (each sorted by its welded ends), in
+    /// global vertex and face indices.
     pub edges: Vec<MeshEdge>,
 }
 
-/// Position bits with −0 made +0, so the two zeros weld.
-fn key(p: Vec3) -> [u32; 3] {
-    (p + Vec3::ZERO).to_array().map(f32::to_bits)
-}
-
 impl Topology {
-    /// Welds and collects the edges of every object of `scene`.
+    /// The edges of every object of `scene` (each mesh's computed on first use).
     pub fn new(scene: &Scene) -> Self {
-        let mut faces = Vec::new();
-        let mut weld = Vec::new();
-        let mut first_vertex = 0u32;
+        let (mut faces, mut weld, mut edges) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut first_vertex, mut first_face) = (0u32, 0u32);
         for o in scene.objects() {
             let mesh = o.mesh();
-            let mut ids: HashMap<[u32; 3], u32> = HashMap::with_capacity(mesh.positions().len());
-            for p in mesh.positions() {
-                let next = weld.len() as u32;
-                weld.push(*ids.entry(key(*p)).or_insert(next));
-            }
+            let own = mesh.edges();
+            weld.extend(own.weld.iter().map(|&w| w + first_vertex));
             faces.extend(mesh.indices().iter().map(|f| f.map(|i| i + first_vertex)));
-            first_vertex += mesh.positions().len() as u32;
-        }
-        // (lower welded id, higher, face, slot): one entry per face side; sorted, the sides
-        // of one edge are adjacent, faces in submission order.
-        let mut sides: Vec<(u32, u32, u32, u8)> = faces
-            .par_iter()
-            .enumerate()
-            .flat_map_iter(|(f, v)| {
-                let w = v.map(|i| weld[i as usize]);
-                let degenerate = w[0] == w[1] || w[1] == w[2] || w[0] == w[2];
-                (0..3u8).filter(move |_| !degenerate).map(move |k| {
-                    let (a, b) = (w[k as usize], w[(k as usize + 1) % 3]);
-                    (a.min(b), a.max(b), f as u32, k)
-                })
-            })
-            .collect();
-        sides.par_sort_unstable();
-        let mut edges = Vec::with_capacity(sides.len() / 2 + 1);
-        let mut i = 0;
-        while i < sides.len() {
-            let (lo, hi, f, k) = sides[i];
-            let mut j = i + 1;
-            while j < sides.len() && sides[j].0 == lo && sides[j].1 == hi {
-                j += 1;
-            }
-            let fv = faces[f as usize];
-            let (v0, v1) = (fv[k as usize], fv[(k as usize + 1) % 3]);
-            let dir = |(_, _, f, k): (u32, u32, u32, u8)| {
-                weld[faces[f as usize][k as usize] as usize] == lo
+            let face = |f: u32| {
+                if f == NO_FACE {
+                    NO_FACE
+                } else {
+                    f + first_face
+                }
             };
-            let second = (j - i >= 2).then(|| sides[i + 1]);
-            edges.push(MeshEdge {
-                v: [v0, v1],
-                ends: [weld[v0 as usize], weld[v1 as usize]],
-                faces: [f, second.map_or(NO_FACE, |s| s.2)],
-                count: (j - i) as u32,
-                consistent: second.is_some_and(|s| dir(s) != dir(sides[i])),
-            });
-            i = j;
+            edges.extend(own.edges.iter().map(|e| MeshEdge {
+                v: e.v.map(|i| i + first_vertex),
+                ends: e.ends.map(|i| i + first_vertex),
+                faces: e.faces.map(face),
+                ..*e
+            }));
+            first_vertex += mesh.positions().len() as u32;
+            first_face += mesh.indices().len() as u32;
         }
         Topology { faces, weld, edges }
     }
@@ -174,5 +125,42 @@ mod cube_tests {
         let t = Topology::new(&s);
         assert_eq!(t.edges.len(), 18);
         assert!(t.edges.iter().all(|e| e.count == 2 && e.consistent));
+    }
+}
+
+#[cfg(test)]
+mod cache_tests {
+    use super::*;
+    use crate::material::Material;
+    use glam::Mat4;
+    use std::sync::Arc;
+
+    #[test]
+    fn each_mesh_is_welded_once_and_placed_at_its_objects_indices() {
+        let cube = Arc::new(crate::primitives::cube());
+        let mut s = Scene::new(Vec3::ZERO).unwrap();
+        for _ in 0..2 {
+            s.add(cube.clone(), Material::default(), Mat4::IDENTITY)
+                .unwrap();
+        }
+        let first = cube.edges() as *const _;
+        let t = Topology::new(&s);
+        // The cache is the mesh's: the same object, not rebuilt.
+        assert_eq!(cube.edges() as *const _, first);
+        let (nv, nf) = (cube.positions().len() as u32, cube.indices().len() as u32);
+        assert_eq!(t.edges.len(), 36);
+        for (a, b) in t.edges[..18].iter().zip(&t.edges[18..]) {
+            assert_eq!(b.v, a.v.map(|i| i + nv));
+            assert_eq!(b.ends, a.ends.map(|i| i + nv));
+            assert_eq!(b.faces, a.faces.map(|f| f + nf));
+            assert_eq!((b.count, b.consistent), (a.count, a.consistent));
+        }
+        assert_eq!(
+            t.weld[nv as usize..],
+            t.weld[..nv as usize]
+                .iter()
+                .map(|w| w + nv)
+                .collect::<Vec<_>>()[..]
+        );
     }
 }

@@ -17,9 +17,12 @@ mod store;
 mod textured;
 
 pub(crate) use program::Program;
-pub(crate) use secondary::{shade_secondary_tile, SecondaryWork};
+pub(crate) use secondary::{
+    composite, fragment_mix, opaque_color, shade_secondary_tile, world as secondary_world,
+    SecondaryWork,
+};
 pub use store::Pixel;
-pub(crate) use store::{fill_out, put, Out, RowColors, ROW_LANES};
+pub(crate) use store::{fill_out, put, store_out, Out, RowColors, ROW_LANES};
 pub(crate) use textured::{TexturedObject, TexturedScene};
 
 use glam::Vec3;

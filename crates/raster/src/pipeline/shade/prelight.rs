@@ -56,13 +56,15 @@ const CHUNK: usize = 4096;
 /// Gouraud (by vertex normals, the default): the lit colour of every vertex (`verts.color`) and, under two-sided lighting,
 /// the colour lit with the flipped normal and the back material (`verts.color_back`). Reads
 /// the world positions and normals of the transformed vertices and drops them afterwards
-/// (the tile stage interpolates colours only).
+/// (the tile stage interpolates colours only) unless `keep_geometry` (a later stage reads
+/// them: lines, reflections and transparency).
 pub(crate) fn light_vertices(
     scene: &Scene,
     verts: &mut Vertices,
     surfaces: &[Sides],
     eye: Vec3,
     shadows: Option<&ShadowEffect>,
+    keep_geometry: bool,
 ) {
     let two_sided = scene.two_sided();
     let mut first = 0;
@@ -99,16 +101,17 @@ pub(crate) fn light_vertices(
         }
         first += n;
     }
-    finish_vertex_colors(verts, color, color_back, two_sided);
+    finish_vertex_colors(verts, color, color_back, two_sided, keep_geometry);
 }
 
 /// Extends the vertex colours to the clip-made vertices, stores them, and drops the world
-/// positions and normals (the tile stage interpolates colours only).
+/// positions and normals unless `keep_geometry` (the tile stage interpolates colours only).
 fn finish_vertex_colors(
     verts: &mut Vertices,
     mut color: Vec<Vec3>,
     mut color_back: Vec<Vec3>,
     two_sided: bool,
+    keep_geometry: bool,
 ) {
     Vertices::extend_to_clipped(&verts.blends, &mut color);
     if two_sided {
@@ -116,8 +119,10 @@ fn finish_vertex_colors(
     }
     verts.color = color;
     verts.color_back = color_back;
-    verts.world = Vec::new();
-    verts.normal = Vec::new();
+    if !keep_geometry {
+        verts.world = Vec::new();
+        verts.normal = Vec::new();
+    }
 }
 
 /// Gouraud by the lectures' "simple method" ([`crate::GouraudMethod::FaceIntensities`]):
@@ -126,12 +131,14 @@ fn finish_vertex_colors(
 /// vertex's colour is the unweighted mean of the colours of the faces that use it (a face
 /// naming the vertex twice counts once). A vertex no face uses is never drawn and gets
 /// black. Two-sided: the same with the flipped normals and the back material.
+/// `keep_geometry` as for [`light_vertices`].
 pub(crate) fn light_vertices_by_faces(
     scene: &Scene,
     verts: &mut Vertices,
     surfaces: &[Sides],
     eye: Vec3,
     shadows: Option<&ShadowEffect>,
+    keep_geometry: bool,
 ) {
     let two_sided = scene.two_sided();
     let mut first = 0;
@@ -193,7 +200,7 @@ pub(crate) fn light_vertices_by_faces(
         }
         first += n;
     }
-    finish_vertex_colors(verts, color, color_back, two_sided);
+    finish_vertex_colors(verts, color, color_back, two_sided, keep_geometry);
 }
 
 /// Flat: the colour of every set-up triangle of `chunk` (`t.flat`), lit with the face normal

@@ -127,16 +127,7 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool>(
                 .then(a.id.cmp(&b.id))
         });
     }
-    let world = World {
-        world: &ctx.verts.world,
-        normal: if mode == ShadingMode::Flat {
-            &[]
-        } else {
-            &ctx.verts.normal
-        },
-        surfaces: ctx.materials,
-        two_sided: ctx.two_sided,
-    };
+    let world = world(ctx, mode);
     let mut next = 0;
     for (j, out) in color.iter_mut().enumerate().take(rect.h) {
         for i in 0..rect.w {
@@ -151,59 +142,123 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool>(
                 )
             };
             // 3. The opaque layer's colour.
-            let id = buf.id[slot];
-            let mut c = if id == NO_TRIANGLE {
-                if sec.env_background {
-                    sec.sky(sec.view_ray(x, y))
-                } else {
-                    local
-                }
-            } else {
-                let t = ctx.tris.get(id);
-                let c = match kind(t) {
-                    Kind::Optical => {
-                        let pt = point_at::<AFFINE>(ctx, sec, mode, t, x, y);
-                        sec.mix(&world, &pt.0, local, 0, Vec3::ZERO, false).color
-                    }
-                    _ => local,
-                };
-                match &sec.fog {
-                    Some(fog) => fog.apply(c, x, y, ctx.camera.eye_depth_from_z(buf.depth[slot])),
-                    None => c,
-                }
-            };
+            let (id, z) = (buf.id[slot], buf.depth[slot]);
+            let c = opaque_color::<AFFINE>(ctx, sec, &world, mode, id, z, local, x, y);
             // 4. The transparent fragments over it, front to back.
             let first = next;
             while next < work.frags.len() && work.frags[next].slot as usize == slot {
                 next += 1;
             }
-            if next > first {
-                let mut acc = Vec3::ZERO;
-                let mut through = 1.0f32;
-                for f in &work.frags[first..next] {
-                    let t = ctx.tris.get(f.id);
-                    let (pt, b) = point_at::<AFFINE>(ctx, sec, mode, t, x, y);
-                    let own = fragment_color(ctx, mode, t, &pt, b);
-                    let m = sec.mix(&world, &pt, own, 0, Vec3::ZERO, true);
-                    let a = match &sec.fog {
-                        // A layer letting `behind` through fogs as the opaque share of it.
-                        Some(fog) => {
-                            let d = ctx.camera.eye_depth_from_z(f.z);
-                            fog.apply(m.color, x, y, d) - m.behind * fog.apply(Vec3::ZERO, x, y, d)
-                        }
-                        None => m.color,
-                    };
-                    acc += through * a;
-                    through *= m.behind;
-                    if through == 0.0 {
-                        break;
-                    }
-                }
-                c = acc + through * c;
-            }
+            let c = if next > first {
+                let layers = work.frags[first..next]
+                    .iter()
+                    .map(|f| fragment_mix::<AFFINE>(ctx, sec, &world, mode, f.id, f.z, x, y));
+                composite(layers, c)
+            } else {
+                c
+            };
             store_out(&mut out[i * 3..i * 3 + 3], c);
         }
     }
+}
+
+/// What secondary rays and the mix see of the render's vertices and materials.
+pub(crate) fn world<'a>(ctx: &ShadeContext<'a>, mode: ShadingMode) -> World<'a> {
+    World {
+        world: &ctx.verts.world,
+        normal: if mode == ShadingMode::Flat {
+            &[]
+        } else {
+            &ctx.verts.normal
+        },
+        surfaces: ctx.materials,
+        two_sided: ctx.two_sided,
+    }
+}
+
+/// The opaque colour of pixel (x, y) owned by triangle `id` (window depth `z` at the pixel
+/// centre, colour `local` as the mode's loops shaded it): the environment along the view
+/// ray where no triangle is (when asked), the mix at an [`Kind::Optical`] surface, then the
+/// fog on surfaces.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn opaque_color<const AFFINE: bool>(
+    ctx: &ShadeContext<'_>,
+    sec: &SecondaryEffect,
+    world: &World<'_>,
+    mode: ShadingMode,
+    id: u32,
+    z: f32,
+    local: Vec3,
+    x: usize,
+    y: usize,
+) -> Vec3 {
+    if id == NO_TRIANGLE {
+        return if sec.env_background {
+            sec.sky(sec.view_ray(x, y))
+        } else {
+            local
+        };
+    }
+    let t = ctx.tris.get(id);
+    let c = match sec.kinds[t.object as usize] {
+        Kind::Optical => {
+            let pt = point_at::<AFFINE>(ctx, sec, mode, t, x, y);
+            sec.mix(world, &pt.0, local, 0, Vec3::ZERO, false).color
+        }
+        _ => local,
+    };
+    match &sec.fog {
+        Some(fog) => fog.apply(c, x, y, ctx.camera.eye_depth_from_z(z)),
+        None => c,
+    }
+}
+
+/// A transparent fragment of triangle `id` at pixel (x, y) (window depth `z`, for the fog):
+/// what it adds over what lies behind it (its own mix of local and reflected light, fogged)
+/// and the share of what lies behind that still shows through.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn fragment_mix<const AFFINE: bool>(
+    ctx: &ShadeContext<'_>,
+    sec: &SecondaryEffect,
+    world: &World<'_>,
+    mode: ShadingMode,
+    id: u32,
+    z: f32,
+    x: usize,
+    y: usize,
+) -> (Vec3, f32) {
+    let t = ctx.tris.get(id);
+    let (pt, b) = point_at::<AFFINE>(ctx, sec, mode, t, x, y);
+    let own = fragment_color(ctx, mode, t, &pt, b);
+    let m = sec.mix(world, &pt, own, 0, Vec3::ZERO, true);
+    let a = match &sec.fog {
+        // A layer letting `behind` through fogs as the opaque share of it.
+        Some(fog) => {
+            let d = ctx.camera.eye_depth_from_z(z);
+            fog.apply(m.color, x, y, d) - m.behind * fog.apply(Vec3::ZERO, x, y, d)
+        }
+        None => m.color,
+    };
+    (a, m.behind)
+}
+
+/// Transparent layers (nearest first: what each adds, what it lets through) blended front
+/// to back over `behind`: `Σ_i (Π_{j<i} T_j)·a_i + (Π_i T_i)·behind`. Layers after one
+/// that lets nothing through are not read.
+#[inline]
+pub(crate) fn composite(layers: impl Iterator<Item = (Vec3, f32)>, behind: Vec3) -> Vec3 {
+    let mut acc = Vec3::ZERO;
+    let mut through = 1.0f32;
+    for (a, t) in layers {
+        acc += through * a;
+        through *= t;
+        if through == 0.0 {
+            break;
+        }
+    }
+    acc + through * behind
 }
 
 /// The surface point of triangle `t` at the centre of pixel (x, y) and its barycentrics:
