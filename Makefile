@@ -10,7 +10,7 @@ DEPS := $(VENV)/.deps-stamp
 BENCH_ENV := OPENBLAS_NUM_THREADS=1 PYTHONPATH=$(CURDIR)
 ENVS := VIRTUAL_ENV=$(abspath $(VENV)) PATH="$(abspath $(VENV))/bin:$$PATH"
 
-.PHONY: help demo test lint build bench bench-aa bench-batch bench-threads bench-shadows bench-textures bench-cold bench-peers docs-images wheel wheel-check clean fuzz
+.PHONY: help demo test lint build bench bench-aa bench-batch bench-threads bench-shadows bench-textures bench-reflect bench-cold bench-peers docs-images wheel wheel-check clean fuzz
 
 help:  ## list targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
@@ -85,6 +85,7 @@ bench: build $(BENCH_DEPS)  ## benchmarks, speed against error, llvmpipe, featur
 	$(BENCH_ENV) $(PY) bench/bench_threads.py --write docs/BENCHMARKS.md
 	$(BENCH_ENV) $(PY) bench/bench_shadows.py --write docs/BENCHMARKS.md
 	$(BENCH_ENV) $(PY) bench/bench_textures.py --write docs/BENCHMARKS.md
+	$(BENCH_ENV) $(PY) bench/bench_reflect.py --write docs/BENCHMARKS.md
 	$(BENCH_ENV) $(PY) bench/bench_antialiasing.py --write docs/ANTIALIASING.md
 	$(BENCH_ENV) $(PY) bench/bench_cold_start.py --write docs/COLD_START.md
 
@@ -99,6 +100,9 @@ bench-shadows: build $(BENCH_DEPS)  ## shadow maps against llvmpipe's (GLSL dept
 
 bench-textures: build  ## texture filters against the exact area-filtered checkerboard: RMSE and time per filter -> docs/BENCHMARKS.md (~2 min)
 	$(BENCH_ENV) $(PY) bench/bench_textures.py --write docs/BENCHMARKS.md
+
+bench-reflect: build  ## reflections and refractions: environment lookup vs Whitted rays, error against the float64 tracer and time -> docs/BENCHMARKS.md (~3 min)
+	$(BENCH_ENV) $(PY) bench/bench_reflect.py --write docs/BENCHMARKS.md
 
 bench-batch: build  ## many views only: render_batch vs loop vs 2 processes, pickling -> docs/BENCHMARKS.md (~2 min)
 	$(BENCH_ENV) $(PY) bench/bench_batch.py --write docs/BENCHMARKS.md
