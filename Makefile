@@ -98,7 +98,7 @@ bench-threads: build $(BENCH_DEPS)  ## ours against llvmpipe at 1 and at 2 threa
 bench-shadows: build $(BENCH_DEPS)  ## shadow maps against llvmpipe's (GLSL depth pass + sampler2DShadow PCF) and exact rays: time and error -> docs/BENCHMARKS.md (~6 min)
 	$(BENCH_ENV) $(PY) bench/bench_shadows.py --write docs/BENCHMARKS.md
 
-bench-textures: build  ## texture filters against the exact area-filtered checkerboard: RMSE and time per filter -> docs/BENCHMARKS.md (~2 min)
+bench-textures: build $(BENCH_DEPS)  ## texture filters against the exact area-filtered checkerboard, ours and llvmpipe's: RMSE and time per filter -> docs/BENCHMARKS.md (~2 min)
 	$(BENCH_ENV) $(PY) bench/bench_textures.py --write docs/BENCHMARKS.md
 
 bench-reflect: build  ## reflections and refractions: environment lookup vs Whitted rays, error against the float64 tracer and time -> docs/BENCHMARKS.md (~3 min)

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Texture aliasing against the exact area-filtered picture, with each filter's time
-(``make bench``, ``make bench-textures``).
+"""Texture aliasing against the exact area-filtered picture, with each filter's time, ours
+and Mesa llvmpipe's side by side (``make bench``, ``make bench-textures``).
 
 A checkerboard floor running to the horizon (the user guide's ``textures/filters.png``:
 8 × 8 checks of 8 texels, 0.1 and 0.9, repeated every 2 m) is seen unlit, so each pixel is
@@ -9,7 +9,8 @@ the texture alone. The truth is the exact checkerboard averaged over each pixel'
 the exact check: the box-filtered picture, which no texture filter may beat). For each
 filter (nearest, bilinear, trilinear, trilinear with anisotropy 2 to 16) and for 2 × 2 and
 4 × 4 supersampling: the RMSE in 8-bit levels over the pixels the floor covers whole, and the
-median time of a frame.
+median time of a frame; llvmpipe draws the same floor with OpenGL's filters
+(:mod:`peers.llvmpipe_textures`), its frames alternating with ours (``--no-peers``: ours alone).
 
     python bench/bench_textures.py --write docs/BENCHMARKS.md   # replaces its section there
     python bench/bench_textures.py --quick                      # smoke run
@@ -23,6 +24,7 @@ import os
 import statistics
 import sys
 import time
+from types import SimpleNamespace
 
 import numpy as np
 import shadelab_rs as sl
@@ -96,12 +98,31 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--quick", action="store_true", help="smoke run: small image, few frames")
     ap.add_argument("--write", metavar="PATH", help="replace this script's section of the file")
     ap.add_argument("--threads", type=int, default=os.cpu_count() or 1)
+    ap.add_argument("--no-peers", action="store_true", help="leave llvmpipe out")
     args = ap.parse_args(argv)
+    peer = None
+    if not args.no_peers:
+        from peers.llvmpipe import LlvmpipeRenderer
+        from peers.llvmpipe_textures import Textured
+
+        peer = Textured(LlvmpipeRenderer(args.threads))  # first GL context of the process
     t0, load0 = time.perf_counter(), os.getloadavg()[0]
     w, h = (96, 72) if args.quick else (480, 360)
     frames = 3 if args.quick else 9
     ref, whole = truth(w, h)
     cam = camera()
+    if peer is not None:
+        m = floor()
+        peer.set_scene(
+            m.vertices,
+            m.uvs,
+            m.faces,
+            checker_image(),
+            SimpleNamespace(
+                eye=tuple(EYE), target=tuple(TARGET), up=(0, 1, 0), fov_y=FOV, near=0.05, far=200.0
+            ),
+            w / h,
+        )
     rows = []
     settings = [
         ("nearest", 1, 1),
@@ -117,12 +138,30 @@ def main(argv: list[str] | None = None) -> int:
         kw = dict(width=w, height=h, threads=args.threads, supersample=ss)
         img = sl.render(sc, cam, dtype="float32", **kw)
         err = (img[..., 0] - ref)[whole] * 255
-        times = []
-        for _ in range(frames):
+        gl = peer is not None and ss == 1
+        if gl:
+            peer.set_filter(filt, aniso)
+            gl_err = (peer.render_linear(w, h)[..., 0] - ref)[whole] * 255
+        times, gl_times = [], []
+        for _ in range(frames):  # alternating with llvmpipe when it draws this setting too
             t1 = time.perf_counter()
             sl.render(sc, cam, **kw)
             times.append((time.perf_counter() - t1) * 1e3)
-        rows.append((filt, aniso, ss, float(np.sqrt(np.mean(err**2))), statistics.median(times)))
+            if gl:
+                t1 = time.perf_counter()
+                peer.render(w, h)
+                gl_times.append((time.perf_counter() - t1) * 1e3)
+        rows.append(
+            (
+                filt,
+                aniso,
+                ss,
+                float(np.sqrt(np.mean(err**2))),
+                statistics.median(times),
+                float(np.sqrt(np.mean(gl_err**2))) if gl else None,
+                statistics.median(gl_times) if gl else None,
+            )
+        )
         print(
             f"{filt:9} aniso {aniso:2} ss {ss} RMSE {rows[-1][3]:6.2f} {rows[-1][4]:7.1f} ms",
             file=sys.stderr,
@@ -146,9 +185,23 @@ def main(argv: list[str] | None = None) -> int:
         "anisotropic probes along the footprint keep the checks further; supersampling "
         "averages more of the footprint at the cost of k² samples.",
         "",
-        "| filter | anisotropy | supersample | RMSE (levels) | ms per frame |",
-        "|---|---:|---:|---:|---:|",
-        *(f"| {f} | {a} | {s}×{s} | {e:.2f} | {t:.1f} |" for f, a, s, e, t in rows),
+        "llvmpipe draws the same floor with OpenGL's filters (`bench/peers/llvmpipe_textures.py`:"
+        " GL_NEAREST, GL_LINEAR, GL_LINEAR_MIPMAP_LINEAR over glGenerateMipmap's levels, "
+        "GL_TEXTURE_MAX_ANISOTROPY), its frames alternating with ours, same thread count"
+        + ("" if peer is None else f" ({peer.gl.info['renderer']})")
+        + ".",
+        "",
+        "| filter | anisotropy | supersample | RMSE ours (levels) | ms ours | RMSE llvmpipe "
+        "| ms llvmpipe |",
+        "|---|---:|---:|---:|---:|---:|---:|",
+        *(
+            f"| {f} | {a} | {s}×{s} | {e:.2f} | {t:.1f} | "
+            + ("–" if ge is None else f"{ge:.2f}")
+            + " | "
+            + ("–" if gt is None else f"{gt:.1f}")
+            + " |"
+            for f, a, s, e, t, ge, gt in rows
+        ),
         "",
     ]
     report(args.write, "\n".join(lines), MARKER)
