@@ -40,8 +40,8 @@ demo: $(BUILT)  ## render the built-in demo scene to demo.png (builds only when 
 lint: $(DEPS)  ## rustfmt, clippy (warnings are errors), ruff
 	cargo fmt --all -- --check
 	PYO3_PYTHON=$(abspath $(PY)) cargo clippy --workspace --all-targets --features shadelab-raster/fuzzing -- -D warnings
-	$(VENV)/bin/ruff check python tests bench shadelab_ref docs/lighting docs/first_minutes docs/antialiasing docs/edges docs/reflect examples
-	$(VENV)/bin/ruff format --check python tests bench shadelab_ref docs/lighting docs/first_minutes docs/antialiasing docs/edges docs/reflect examples
+	$(VENV)/bin/ruff check python tests bench shadelab_ref docs/lighting docs/first_minutes docs/antialiasing docs/edges docs/reflect docs/textures examples
+	$(VENV)/bin/ruff format --check python tests bench shadelab_ref docs/lighting docs/first_minutes docs/antialiasing docs/edges docs/reflect docs/textures examples
 
 test: lint build  ## lint, stub check, cargo test, pytest
 	$(PY) -m mypy.stubtest shadelab_rs._core
@@ -76,7 +76,7 @@ $(BENCH_DEPS): bench/peers/install.sh bench/requirements-bench.txt $(DEPS)
 
 bench-peers: $(BENCH_DEPS)  ## install the peers: Mesa llvmpipe (headless EGL, apt), moderngl, VTK, matplotlib
 
-bench: build $(BENCH_DEPS)  ## benchmarks, speed against error, llvmpipe, feature costs, many views, anti-aliasing -> docs/BENCHMARKS.md, docs/FEATURE_COSTS.md, docs/ANTIALIASING.md, docs/COLD_START.md (~30 min)
+bench: build $(BENCH_DEPS)  ## benchmarks, speed against error, llvmpipe at 1 and 2 threads, shadows, textures, reflections, feature costs, many views, anti-aliasing -> docs/BENCHMARKS.md, docs/FEATURE_COSTS.md, docs/ANTIALIASING.md, docs/COLD_START.md (~45 min)
 	$(BENCH_ENV) $(PY) bench/bench_render.py --write docs/BENCHMARKS.md
 	$(BENCH_ENV) $(PY) bench/speed_error.py --write docs/BENCHMARKS.md
 	$(BENCH_ENV) $(PY) bench/speed_error_vtk.py --write docs/BENCHMARKS.md
