@@ -91,7 +91,9 @@ def render_frame(
     (``triangles_in``, ``triangles_setup`` (handed to the rasterizer after clipping),
     ``triangles_clipped``, ``triangles_culled``, ``triangles_dropped``), ``light_sources``
     (point sources lit per shaded point, the default rig's three included) and per-stage
-    wall times in milliseconds (``vertex_ms``, ``setup_ms``, ``raster_shade_ms``).
+    wall times in milliseconds (``vertex_ms``, ``setup_ms``, ``raster_shade_ms``). With
+    ``shading="auto"`` also ``shading`` (the mode used per object, in scene order) and
+    ``shading_estimates`` (per object, as :func:`explain` returns them).
     """
     return _frame(
         scene,
@@ -105,6 +107,33 @@ def render_frame(
         encoding=encoding,
         stacklevel=3,
     )
+
+
+def explain(
+    scene: Any,
+    camera: Camera | None = None,
+    *args: Any,
+    tolerance: float | None = None,
+    options: RenderOptions | None = None,
+    **kwargs: Unpack[_RenderOptionsArgs],
+) -> dict[str, Any]:
+    """What ``shading="auto"`` would choose, without rendering.
+
+    Returns ``{"shading": [mode per object, in scene order], "shading_estimates": [...],
+    "tolerance": t}``, the same as ``render_frame(..., shading="auto")["stats"]``: each
+    estimate is a dict with the ``mode`` used, the estimated RMSE in 8-bit levels of
+    ``flat``, ``gouraud`` and ``phong``, ``meets`` (whether the mode's estimate is within
+    the tolerance) and ``pixels`` (the object's estimated projected pixels). ``tolerance``
+    defaults to the options' (``shading="auto", tolerance=...``) or
+    :data:`DEFAULT_TOLERANCE`; the other arguments are :func:`render`'s (the image size
+    and camera decide how large the triangles are on screen).
+    """
+    s = _scene_of(scene)
+    if camera is None:
+        from .scene_file import frame_scene
+
+        camera = frame_scene(s)
+    return _core.explain(s, camera, *args, tolerance=tolerance, options=options, **kwargs)
 
 
 def _frame(

@@ -22,6 +22,7 @@
 //! ```
 #![warn(missing_docs)]
 
+mod auto_shading;
 mod camera;
 mod effects;
 mod environment;
@@ -48,6 +49,7 @@ mod scene;
 mod shadows;
 pub mod texture;
 
+pub use auto_shading::{explain_shading, ShadingEstimate, DEFAULT_TOLERANCE};
 pub use camera::{Camera, Intrinsics, Projection};
 pub use effects::{Fog, FogMode};
 pub use environment::{Environment, MAX_ENVIRONMENT_SIZE};
