@@ -155,9 +155,13 @@ fn run_checked<P: Pixel>(
     }
     pool::run(options.threads, || {
         // `shading="auto"`: the modes are chosen here, inside the render's time.
-        let auto = options
-            .tolerance
-            .map(|t| auto_shading::plan(scene, options, auto_shading::estimate(scene, camera, options, t)));
+        let auto = options.tolerance.map(|t| {
+            auto_shading::plan(
+                scene,
+                options,
+                auto_shading::estimate(scene, camera, options, t),
+            )
+        });
         let (options, modes, estimates) = match &auto {
             Some((estimates, opts, modes)) => (opts, modes.as_deref(), estimates.clone()),
             None => (options, None, Vec::new()),

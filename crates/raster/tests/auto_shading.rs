@@ -26,7 +26,11 @@ fn two_objects(rings: u32) -> Scene {
     let mut scene = Scene::new(Vec3::splat(0.2)).unwrap();
     let sphere = Arc::new(primitives::uv_sphere(rings, 2 * rings));
     scene
-        .add(sphere, gold(), Mat4::from_translation(Vec3::new(-0.6, 0.0, 0.0)))
+        .add(
+            sphere,
+            gold(),
+            Mat4::from_translation(Vec3::new(-0.6, 0.0, 0.0)),
+        )
         .unwrap();
     let floor = Arc::new(primitives::plane());
     let t = Mat4::from_translation(Vec3::new(0.6, -0.5, -0.5)) * Mat4::from_scale(Vec3::splat(1.2));
@@ -55,16 +59,22 @@ fn options(shading: ShadingMode) -> RenderOptions {
 
 #[test]
 fn a_constant_lit_plane_needs_only_flat_and_a_coarse_shiny_sphere_more() {
-    let est = explain_shading(&two_objects(6), &camera(), &options(ShadingMode::Phong), 1.0)
-        .unwrap();
+    let est = explain_shading(
+        &two_objects(6),
+        &camera(),
+        &options(ShadingMode::Phong),
+        1.0,
+    )
+    .unwrap();
     assert_eq!(est.len(), 2);
     // The floor: a directional light, no specular, a plane: every mode is exact.
     assert_eq!(est[1].estimates, [0.0, 0.0, 0.0]);
     assert_eq!(est[1].mode, ShadingMode::Flat);
     assert!(est[1].meets && est[1].pixels > 100.0, "{:?}", est[1]);
-    // The sphere: each mode no better than the next, and well above 1 level for flat.
+    // The sphere: Phong no worse than the others (on a coarse mesh Gouraud can be worse than
+    // flat: it smears a highlight over triangles that do not hold it), flat well above 1.
     let e = est[0].estimates;
-    assert!(e[0] >= e[1] && e[1] >= e[2] && e[0] > 1.0, "{e:?}");
+    assert!(e[0] >= e[2] && e[1] >= e[2] && e[0] > 1.0, "{e:?}");
     assert_ne!(est[0].mode, ShadingMode::Flat);
 }
 
@@ -104,7 +114,13 @@ fn tolerance_is_checked() {
         o.tolerance = Some(bad);
         let err = o.validate().unwrap_err();
         assert!(err.to_string().contains("tolerance"), "{err}");
-        assert!(explain_shading(&two_objects(6), &camera(), &options(ShadingMode::Phong), bad).is_err());
+        assert!(explain_shading(
+            &two_objects(6),
+            &camera(),
+            &options(ShadingMode::Phong),
+            bad
+        )
+        .is_err());
     }
 }
 
@@ -145,7 +161,11 @@ fn a_mixed_frame_is_each_pixels_own_mode() {
         } else {
             (&flat_img, &flat_d)
         };
-        assert_eq!(&mixed[p * 3..p * 3 + 3], &want[p * 3..p * 3 + 3], "pixel {p}");
+        assert_eq!(
+            &mixed[p * 3..p * 3 + 3],
+            &want[p * 3..p * 3 + 3],
+            "pixel {p}"
+        );
         assert_eq!(depth[p].to_bits(), want_d[p].to_bits(), "depth {p}");
         both[is_first as usize] += 1;
     }
@@ -166,7 +186,10 @@ fn a_mixed_frame_is_the_same_for_threads_instruction_sets_and_pixel_types() {
         p.threads = Some(threads);
         p.baseline_isa = baseline;
         let f = render(&scene, &camera(), &p, ColorFormat::U8, true).unwrap();
-        assert_eq!(f.color, reference.color, "threads {threads} baseline {baseline}");
+        assert_eq!(
+            f.color, reference.color,
+            "threads {threads} baseline {baseline}"
+        );
         assert_eq!(f.depth, reference.depth);
     }
     // u8 is the f32 image stored as u8.
@@ -194,4 +217,20 @@ fn scenes_that_cannot_mix_use_the_most_accurate_mode_for_all() {
     fixed.shading = modes[0];
     let g = render(&scene, &camera(), &fixed, ColorFormat::U8, false).unwrap();
     assert_eq!(f.color, g.color);
+}
+
+#[test]
+fn the_estimate_is_the_same_for_any_thread_count() {
+    // A mesh large enough to be split into many parallel chunks.
+    let scene = two_objects(200);
+    let mut want = None;
+    for threads in [1, 2, 3] {
+        let mut o = options(ShadingMode::Phong);
+        o.threads = Some(threads);
+        let e = explain_shading(&scene, &camera(), &o, 1.0).unwrap();
+        match &want {
+            None => want = Some(e),
+            Some(w) => assert_eq!(&e, w, "threads {threads}"),
+        }
+    }
 }

@@ -70,7 +70,9 @@ fn mean_over(lo: f64, hi: f64, g: impl Fn(f64) -> f64) -> f64 {
         return g(lo);
     }
     let n = 16;
-    let inner: f64 = (1..n).map(|k| g(lo + (hi - lo) * k as f64 / n as f64)).sum();
+    let inner: f64 = (1..n)
+        .map(|k| g(lo + (hi - lo) * k as f64 / n as f64))
+        .sum();
     (inner + 0.5 * (g(lo) + g(hi))) / n as f64
 }
 
@@ -176,7 +178,10 @@ mod tests {
         for span in [0.4, 0.2, 0.1, 0.05, 0.01] {
             let s = sensitivity(&spread(span, 0.3), Some(30.0));
             for k in 0..2 {
-                assert!(s.phong[k] <= s.gouraud[k] && s.phong[k] <= s.flat[k], "{s:?}");
+                assert!(
+                    s.phong[k] <= s.gouraud[k] && s.phong[k] <= s.flat[k],
+                    "{s:?}"
+                );
             }
             let total = s.gouraud[0] + s.gouraud[1];
             assert!(total < last, "{span}: {total} >= {last}");

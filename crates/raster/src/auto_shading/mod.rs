@@ -103,7 +103,11 @@ pub(crate) fn plan(
     scene: &Scene,
     options: &RenderOptions,
     mut estimates: Vec<ShadingEstimate>,
-) -> (Vec<ShadingEstimate>, RenderOptions, Option<Vec<ShadingMode>>) {
+) -> (
+    Vec<ShadingEstimate>,
+    RenderOptions,
+    Option<Vec<ShadingMode>>,
+) {
     let most = estimates
         .iter()
         .map(|e| e.mode)
@@ -227,10 +231,9 @@ fn object_estimate(
     let (f, ks_scale) = match model {
         SpecularModel::BlinnPhong => (shininess, 1.0),
         SpecularModel::Phong => (4.0 * shininess, 1.0),
-        SpecularModel::NormalizedBlinnPhong => (
-            shininess,
-            (shininess + 8.0) / (8.0 * std::f64::consts::PI),
-        ),
+        SpecularModel::NormalizedBlinnPhong => {
+            (shininess, (shininess + 8.0) / (8.0 * std::f64::consts::PI))
+        }
     };
     let specular_on = m.has_specular() && shininess.is_finite();
     let ks = m.specular.as_dvec3() * ks_scale;
@@ -253,59 +256,60 @@ fn object_estimate(
     let world = |k: u32| to_world.transform_point3(positions[k as usize].as_dvec3());
     let normal = |k: u32| (normal_matrix * normals[k as usize].as_dvec3()).normalize_or_zero();
     // [front, back] × (area, Σ area·squared error per mode)
-    let sums = indices
-        .par_iter()
-        .step_by(stride)
-        .map(|t| {
-            let mut acc = [[0.0f64; 4]; 2];
-            let p = t.map(world);
-            let n = t.map(normal);
-            let Some(tri) = Triangle::new(p, n, view) else {
-                return acc;
+    let one = |t: &[u32; 3]| {
+        let mut acc = [[0.0f64; 4]; 2];
+        let p = t.map(world);
+        let n = t.map(normal);
+        let Some(tri) = Triangle::new(p, n, view) else {
+            return acc;
+        };
+        let mut e = [[0.0f64; 3]; 3]; // [mode][channel], linear rms
+        for light in &sources {
+            let (l, dist) = match light.geometry {
+                Place::Direction(d) => (d, f64::INFINITY),
+                Place::Position(pos) => {
+                    let d = pos - tri.centroid;
+                    (d.normalize_or_zero(), d.length())
+                }
             };
-            let mut e = [[0.0f64; 3]; 3]; // [mode][channel], linear rms
-            for light in &sources {
-                let (l, dist) = match light.geometry {
-                    Place::Direction(d) => (d, f64::INFINITY),
-                    Place::Position(pos) => {
-                        let d = pos - tri.centroid;
-                        (d.normalize_or_zero(), d.length())
-                    }
-                };
-                let att = light.attenuation.map_or(1.0, |[kc, kl, kq]| {
-                    1.0 / (kc + kl * dist + kq * dist * dist).max(1e-12)
-                });
-                let spread = tri.spread(l, dist);
-                let sens = sensitivity(&spread, specular_on.then_some(f));
-                let d = kd * light.diffuse * att;
-                let s = ks * light.specular * att;
-                for (mode, k) in [sens.flat, sens.gouraud, sens.phong].iter().zip(0..) {
-                    let c = d * mode[0] + s * mode[1];
-                    for ch in 0..3 {
-                        e[k][ch] += c[ch];
-                    }
+            let att = light.attenuation.map_or(1.0, |[kc, kl, kq]| {
+                1.0 / (kc + kl * dist + kq * dist * dist).max(1e-12)
+            });
+            let spread = tri.spread(l, dist);
+            let sens = sensitivity(&spread, specular_on.then_some(f));
+            let d = kd * light.diffuse * att;
+            let s = ks * light.specular * att;
+            for (mode, k) in [sens.flat, sens.gouraud, sens.phong].iter().zip(0..) {
+                let c = d * mode[0] + s * mode[1];
+                for ch in 0..3 {
+                    e[k][ch] += c[ch];
                 }
             }
-            let side = tri.back as usize;
-            acc[side][0] = tri.area;
-            for k in 0..3 {
-                let sq: f64 = e[k].iter().map(|c| quantized_square(c * 255.0)).sum();
-                acc[side][k + 1] = tri.area * sq / 3.0;
+        }
+        let side = tri.back as usize;
+        acc[side][0] = tri.area;
+        for k in 0..3 {
+            let sq: f64 = e[k].iter().map(|c| quantized_square(c * 255.0)).sum();
+            acc[side][k + 1] = tri.area * sq / 3.0;
+        }
+        acc
+    };
+    // Fixed chunks summed in order: the estimate, and so the choice, is the same for any
+    // thread count (a parallel reduce's association depends on the work stealing).
+    let add = |mut s: [[f64; 4]; 2], b: [[f64; 4]; 2]| {
+        for side in 0..2 {
+            for k in 0..4 {
+                s[side][k] += b[side][k];
             }
-            acc
-        })
-        .reduce(
-            || [[0.0; 4]; 2],
-            |a, b| {
-                let mut s = a;
-                for side in 0..2 {
-                    for k in 0..4 {
-                        s[side][k] += b[side][k];
-                    }
-                }
-                s
-            },
-        );
+        }
+        s
+    };
+    let sampled: Vec<&[u32; 3]> = indices.iter().step_by(stride).collect();
+    let partial: Vec<[[f64; 4]; 2]> = sampled
+        .par_chunks(1024)
+        .map(|chunk| chunk.iter().map(|t| one(t)).fold([[0.0; 4]; 2], add))
+        .collect();
+    let sums = partial.into_iter().fold([[0.0; 4]; 2], add);
     // Back faces count only for an object seen from behind everywhere (an open surface):
     // a closed one hides them behind its front faces.
     let acc = if sums[0][0] > 0.0 { sums[0] } else { sums[1] };

@@ -10,9 +10,9 @@ mod phong;
 mod planes;
 mod program;
 
+mod mixed;
 pub(crate) mod prelight;
 mod runs;
-mod mixed;
 mod secondary;
 mod store;
 mod textured;
