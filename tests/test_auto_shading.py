@@ -292,3 +292,26 @@ def test_scene_file_and_cli_know_auto(tmp_path, sphere_scene, camera):
         cli.main(["render", str(path), "-o", str(out), "--shading", "flat", "--tolerance", "1"])
         != 0
     )
+
+
+def test_three_modes_in_one_frame():
+    """Phong, Gouraud and flat objects together (Gouraud's vertex lighting must leave the
+    positions and normals the Phong object reads)."""
+    shiny = sl.Material(
+        ambient=(0.05, 0.05, 0.1), diffuse=(0.2, 0.25, 0.6), specular=(0.6, 0.6, 0.6), shininess=64
+    )
+    matte = material("matte")
+    scene = sl.Scene(ambient=AMBIENT)
+    for x, rings, mat in ((-2.3, 10, shiny), (0.0, 22, matte), (2.3, 158, matte)):
+        v, f = ref.uv_sphere(rings, 2 * rings)
+        scene.add(sl.Mesh(v, f, normals=v), material=mat, transform=_translate(x))
+    scene.add_light(sl.DirectionalLight((-0.6, -0.7, -0.8)))
+    cam = sl.Camera.look_at((0.0, 1.0, 7.5), (0.0, 0.0, 0.0), (0, 1, 0), fov_y=40.0)
+    fr = sl.render_frame(scene, cam, 320, 240, shading="auto", tolerance=4.0)
+    modes = fr["stats"]["shading"]
+    assert modes == ["phong", "gouraud", "flat"], modes
+    img = fr["image"]
+    # Each sphere's columns (they do not overlap on screen) are its mode's render.
+    for mode, cols in zip(modes, (slice(0, 100), slice(115, 205), slice(220, 320))):
+        fixed = sl.render(scene, cam, 320, 240, shading=mode)
+        np.testing.assert_array_equal(img[:, cols], fixed[:, cols], err_msg=mode)

@@ -47,33 +47,31 @@ fn lobe(f: f64, beta: f64) -> f64 {
     }
 }
 
-/// `|dS/dβ| = f cos^(f−1) β sin β`.
-fn lobe_slope(f: f64, beta: f64) -> f64 {
+/// The lobe's slope `|dS/dβ| = f cos^(f−1) β sin β` and curvature
+/// `|d²S/dβ²| = |f(f−1) cos^(f−2) β sin² β − f cos^f β|`, from one power.
+fn lobe_derivatives(f: f64, beta: f64) -> (f64, f64) {
     if beta >= FRAC_PI_2 || f == 0.0 {
-        return 0.0;
-    }
-    f * beta.cos().powf(f - 1.0) * beta.sin()
-}
-
-/// `|d²S/dβ²| = |f(f−1) cos^(f−2) β sin² β − f cos^f β|`.
-fn lobe_curvature(f: f64, beta: f64) -> f64 {
-    if beta >= FRAC_PI_2 || f == 0.0 {
-        return 0.0;
+        return (0.0, 0.0);
     }
     let (c, s) = (beta.cos(), beta.sin());
-    (f * (f - 1.0) * c.powf(f - 2.0) * s * s - f * c.powf(f)).abs()
+    let p = c.powf(f - 2.0);
+    (
+        f * p * c * s,
+        (f * (f - 1.0) * p * s * s - f * p * c * c).abs(),
+    )
 }
 
-/// Mean of `g` over `[lo, hi]` (17 points, the ends at half weight).
-fn mean_over(lo: f64, hi: f64, g: impl Fn(f64) -> f64) -> f64 {
+/// Mean of `g` (a pair) over `[lo, hi]` by Simpson's rule on four intervals.
+fn mean_over(lo: f64, hi: f64, g: impl Fn(f64) -> (f64, f64)) -> (f64, f64) {
     if hi <= lo {
         return g(lo);
     }
-    let n = 16;
-    let inner: f64 = (1..n)
-        .map(|k| g(lo + (hi - lo) * k as f64 / n as f64))
-        .sum();
-    (inner + 0.5 * (g(lo) + g(hi))) / n as f64
+    let mut acc = (0.0, 0.0);
+    for (k, w) in [1.0, 4.0, 2.0, 4.0, 1.0].into_iter().enumerate() {
+        let v = g(lo + (hi - lo) * k as f64 / 4.0);
+        acc = (acc.0 + w * v.0, acc.1 + w * v.1);
+    }
+    (acc.0 / 12.0, acc.1 / 12.0)
 }
 
 /// The centroid lies within 2/3 of the longest edge of every point of a triangle (its
@@ -128,8 +126,7 @@ pub(super) fn sensitivity(s: &Spread, f: Option<f64>) -> Sensitivity {
     // than the diffuse term's: the interpolation error at a point is a kernel-weighted
     // average of the curvature over the triangle, so its mean over the triangle's range of
     // β stands for L'' (exact for a constant curvature), and likewise the slope for flat.
-    let slope = mean_over(lo, hi, |b| lobe_slope(f, b));
-    let curvature = mean_over(lo, hi, |b| lobe_curvature(f, b));
+    let (slope, curvature) = mean_over(lo, hi, |b| lobe_derivatives(f, b));
     // A highlight narrower than the triangle's spread: the lobe covers a share of about
     // (2w/span)² of it (w its half width at half maximum), so the rms of an error as large
     // as the lobe's whole range over it is that range times min(1, 2w/span).

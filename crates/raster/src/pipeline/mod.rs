@@ -390,6 +390,10 @@ pub(crate) fn prepare(
         None => options.shading == ShadingMode::Gouraud,
     };
     if lit && gouraud && !textured {
+        // Gouraud's vertex lighting drops the world positions and normals it no longer
+        // needs; Phong objects in the same frame still read them.
+        let phong_too = modes.is_some_and(|m| m.contains(&ShadingMode::Phong));
+        let kept = phong_too.then(|| (verts.world.clone(), verts.normal.clone()));
         match options.gouraud {
             GouraudMethod::Normals => {
                 prelight::light_vertices(scene, &mut verts, &materials, eye, shadows.as_ref())
@@ -401,6 +405,10 @@ pub(crate) fn prepare(
                 eye,
                 shadows.as_ref(),
             ),
+        }
+        if let Some((world, normal)) = kept {
+            verts.world = world;
+            verts.normal = normal;
         }
     }
     let tris = Binned {
