@@ -1299,12 +1299,13 @@ def explain(
     *args: Any,
     tolerance: float | None = None,
     options: RenderOptions | None = None,
-    **kwargs: Unpack[_RenderOptionsArgs],
+    **kwargs: Any,
 ) -> dict[str, Any]:
     """What ``shading="auto"`` chooses, without rendering: "shading" (the mode per object,
     in scene order), "shading_estimates" (per object: the ``mode``, the estimated RMSE in
     8-bit levels of ``flat``, ``gouraud`` and ``phong``, ``meets`` and the estimated
-    ``pixels``) and "tolerance". The render options are :func:`render`'s."""
+    ``pixels``) and "tolerance". The other keywords are :class:`RenderOptions`' (as for
+    :func:`render`)."""
 
 def render_batch(
     scene: Scene | Sequence[Scene],

@@ -115,7 +115,7 @@ def explain(
     *args: Any,
     tolerance: float | None = None,
     options: RenderOptions | None = None,
-    **kwargs: Unpack[_RenderOptionsArgs],
+    **kwargs: Any,
 ) -> dict[str, Any]:
     """What ``shading="auto"`` would choose, without rendering.
 

@@ -350,7 +350,7 @@ impl Triangle {
     fn new(p: [DVec3; 3], n: [DVec3; 3], view: &View) -> Option<Self> {
         let cross = (p[1] - p[0]).cross(p[2] - p[0]);
         let world_area2 = cross.length();
-        if !(world_area2 > 0.0) || !world_area2.is_finite() {
+        if world_area2 <= 0.0 || !world_area2.is_finite() {
             return None;
         }
         let face = cross / world_area2;
@@ -403,8 +403,12 @@ impl Triangle {
         let tan_a = (1.0 - cos_a * cos_a).sqrt() / cos_a;
         // A pixel's ray meets the mesh up to the sagitta below the surface: the true hit is
         // sagitta·tan α away along the surface, where the normal has turned κ times that.
-        // At grazing angles it is capped by the turn across the whole circle (κρ).
-        let geometric = (kappa * sagitta / 3f64.sqrt() * tan_a).min(kappa * rho);
+        // At grazing angles it is capped by the turn across the whole circle (κρ), and never
+        // exceeds the spread of the vertex normals themselves (a sliver with a tiny edge
+        // otherwise claims an enormous curvature).
+        let geometric = (kappa * sagitta / 3f64.sqrt() * tan_a)
+            .min(kappa * rho)
+            .min(spread);
         let sp = p.map(|q| view.screen(q));
         let area = match sp {
             [Some(a), Some(b), Some(c)] => {
