@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 from typing_extensions import TypeAlias, Unpack
 
 __all__ = [
+    "DEFAULT_TOLERANCE",
     "MAX_AREA_SAMPLES",
     "MAX_ENVIRONMENT_SIZE",
     "MAX_IMAGE_SIZE",
@@ -42,6 +43,7 @@ __all__ = [
     "Texture",
     "__version__",
     "encode_png",
+    "explain",
     "load_obj",
     "load_obj_parts",
     "render",
