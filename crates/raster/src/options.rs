@@ -82,6 +82,17 @@ pub struct RenderOptions {
     pub environment_background: bool,
 }
 
+/// Checks a `shading="auto"` tolerance: finite and > 0 (RMSE in 8-bit levels).
+pub(crate) fn check_tolerance(tolerance: f32) -> Result<()> {
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(RasterError::invalid_field(
+            "tolerance",
+            format!("tolerance must be finite and > 0 (RMSE in 8-bit levels), got {tolerance}"),
+        ));
+    }
+    Ok(())
+}
+
 /// Which triangle edges a render draws as lines.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum EdgeMode {
@@ -209,7 +220,7 @@ impl RenderOptions {
         }
         self.validate_edges()?;
         if let Some(t) = self.tolerance {
-            crate::auto_shading::check_tolerance(t)?;
+            check_tolerance(t)?;
         }
         if self.max_depth > MAX_TRACE_DEPTH {
             return Err(RasterError::invalid_field(

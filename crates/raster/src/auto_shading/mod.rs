@@ -13,9 +13,9 @@ use glam::{DVec3, DVec4};
 use rayon::prelude::*;
 
 use crate::camera::{Camera, Projection};
-use crate::error::{RasterError, Result};
+use crate::error::Result;
 use crate::lighting::{Geometry, LightSet};
-use crate::options::{EdgeMode, RenderOptions, ShadingMode, SpecularModel};
+use crate::options::{check_tolerance, EdgeMode, RenderOptions, ShadingMode, SpecularModel};
 use crate::scene::{Object, Scene};
 use bound::{quantized_square, sensitivity, Spread};
 
@@ -58,17 +58,6 @@ fn mode_index(mode: ShadingMode) -> usize {
 }
 
 const MODES: [ShadingMode; 3] = [ShadingMode::Flat, ShadingMode::Gouraud, ShadingMode::Phong];
-
-/// Checks a tolerance: finite and > 0.
-pub fn check_tolerance(tolerance: f32) -> Result<()> {
-    if !(tolerance.is_finite() && tolerance > 0.0) {
-        return Err(RasterError::invalid_field(
-            "tolerance",
-            format!("tolerance must be finite and > 0 (RMSE in 8-bit levels), got {tolerance}"),
-        ));
-    }
-    Ok(())
-}
 
 /// Per object in scene order, the estimated error of each mode and the cheapest mode (flat <
 /// Gouraud < Phong) whose estimate is within `tolerance`, Phong when none is; nothing is
