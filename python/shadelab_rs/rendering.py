@@ -320,7 +320,9 @@ def render(
       camera (``render(s, c, 640, 480, shading="flat")``) or by keyword, or ``options``
       (a :class:`RenderOptions`, updated by any keyword given with it). ``width``,
       ``height``: pixels, 1 to ``MAX_IMAGE_SIZE`` (800 x 600). ``shading``: "flat",
-      "gouraud" or "phong" (default; case-insensitive). ``specular``: "blinn"
+      "gouraud", "phong" (default; case-insensitive) or "auto" (per object the cheapest
+      mode whose estimated error is within ``tolerance``, RMSE in 8-bit levels, default
+      1.0; see :func:`explain`). ``specular``: "blinn"
       (Blinn-Phong, default), "phong" or "blinn-normalized". ``background``: linear RGB of
       empty pixels, each in [0, 1] for 8-bit output (default black). ``cull_backfaces``:
       skip triangles facing away from the camera. ``threads``: worker threads, None for
