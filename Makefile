@@ -10,7 +10,7 @@ DEPS := $(VENV)/.deps-stamp
 BENCH_ENV := OPENBLAS_NUM_THREADS=1 PYTHONPATH=$(CURDIR)
 ENVS := VIRTUAL_ENV=$(abspath $(VENV)) PATH="$(abspath $(VENV))/bin:$$PATH"
 
-.PHONY: help demo test lint build bench bench-aa bench-batch bench-threads bench-shadows bench-textures bench-reflect bench-cold bench-peers docs-images wheel wheel-check clean fuzz
+.PHONY: help demo test lint build bench bench-aa bench-auto bench-batch bench-threads bench-shadows bench-textures bench-reflect bench-cold bench-peers docs-images wheel wheel-check clean fuzz
 
 help:  ## list targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
@@ -76,7 +76,7 @@ $(BENCH_DEPS): bench/peers/install.sh bench/requirements-bench.txt $(DEPS)
 
 bench-peers: $(BENCH_DEPS)  ## install the peers: Mesa llvmpipe (headless EGL, apt), moderngl, VTK, matplotlib
 
-bench: build $(BENCH_DEPS)  ## benchmarks, speed against error, llvmpipe at 1 and 2 threads, shadows, textures, reflections, feature costs, many views, anti-aliasing -> docs/BENCHMARKS.md, docs/FEATURE_COSTS.md, docs/ANTIALIASING.md, docs/COLD_START.md (~45 min)
+bench: build $(BENCH_DEPS)  ## benchmarks, speed against error, llvmpipe at 1 and 2 threads, shadows, textures, reflections, feature costs, many views, anti-aliasing, auto shading -> docs/BENCHMARKS.md, docs/FEATURE_COSTS.md, docs/ANTIALIASING.md, docs/COLD_START.md, docs/AUTO_SHADING.md (~60 min)
 	$(BENCH_ENV) $(PY) bench/bench_render.py --write docs/BENCHMARKS.md
 	$(BENCH_ENV) $(PY) bench/speed_error.py --write docs/BENCHMARKS.md
 	$(BENCH_ENV) $(PY) bench/speed_error_vtk.py --write docs/BENCHMARKS.md
@@ -88,6 +88,7 @@ bench: build $(BENCH_DEPS)  ## benchmarks, speed against error, llvmpipe at 1 an
 	$(BENCH_ENV) $(PY) bench/bench_reflect.py --write docs/BENCHMARKS.md
 	$(BENCH_ENV) $(PY) bench/bench_antialiasing.py --write docs/ANTIALIASING.md
 	$(BENCH_ENV) $(PY) bench/bench_cold_start.py --write docs/COLD_START.md
+	$(BENCH_ENV) $(PY) bench/bench_auto.py --write docs/AUTO_SHADING.md
 
 bench-aa: build  ## anti-aliasing only: edge error against exact coverage, time per setting -> docs/ANTIALIASING.md (~3 min)
 	$(BENCH_ENV) $(PY) bench/bench_antialiasing.py --write docs/ANTIALIASING.md
@@ -106,6 +107,9 @@ bench-reflect: build  ## reflections and refractions: environment lookup vs Whit
 
 bench-batch: build  ## many views only: render_batch vs loop vs 2 processes, pickling -> docs/BENCHMARKS.md (~2 min)
 	$(BENCH_ENV) $(PY) bench/bench_batch.py --write docs/BENCHMARKS.md
+
+bench-auto: build  ## shading="auto" only: its choice, error and time against the fastest fixed mode meeting the tolerance -> docs/AUTO_SHADING.md (~30 min)
+	$(BENCH_ENV) $(PY) bench/bench_auto.py --write docs/AUTO_SHADING.md
 
 bench-cold: build  ## cold start only: import time, first picture, save_image per PNG compression -> docs/COLD_START.md (~1 min)
 	$(BENCH_ENV) $(PY) bench/bench_cold_start.py --write docs/COLD_START.md

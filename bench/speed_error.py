@@ -754,7 +754,13 @@ def markdown(ctx: dict, rows: list[Row], impl: list[ImplRow], plots: dict[str, s
         for w, h in sorted({(r.width, r.height) for r in sel}):
             part = [r for r in sel if (r.width, r.height) == (w, h)]
             L += [f"### {w}×{h}", "", *speed_table(part), ""]
-            L += ["Which mode when (ours, this scene and size):", "", *guide(part), ""]
+            L += [
+                'Which mode when (ours, this scene and size; for any mesh, `shading="auto"` '
+                "makes this choice per object: [AUTO_SHADING.md](AUTO_SHADING.md)):",
+                "",
+                *guide(part),
+                "",
+            ]
     if peers:
         L += ["## First-frame cost", ""]
         gs = ctx["gl_setup"]

@@ -377,6 +377,51 @@ def _shading() -> list[Panel]:
     return out
 
 
+def three_spheres() -> sl.Scene:
+    """A coarse shiny sphere, a medium and a fine matte one, side by side."""
+    scene = sl.Scene(ambient=(0.2, 0.2, 0.2))
+    shiny = sl.Material(
+        ambient=(0.05, 0.05, 0.1), diffuse=(0.2, 0.25, 0.6), specular=(0.6, 0.6, 0.6), shininess=64
+    )
+    matte = sl.Material(
+        ambient=(0.05, 0.05, 0.05), diffuse=(0.7, 0.55, 0.4), specular=(0, 0, 0), shininess=1
+    )
+    for x, rings, mat in ((-2.3, 10, shiny), (0.0, 22, matte), (2.3, 158, matte)):
+        scene.add(
+            sl.Mesh.uv_sphere(rings, 2 * rings),
+            material=mat,
+            transform=translate_scale((x, 0, 0), 1),
+        )
+    scene.add_light(sl.DirectionalLight(direction=(-0.6, -0.7, -0.8)))
+    return scene
+
+
+def three_spheres_camera() -> sl.Camera:
+    return sl.Camera.look_at((0.0, 1.0, 7.5), (0.0, 0.0, 0.0), (0, 1, 0), fov_y=40.0)
+
+
+@figure(
+    "auto",
+    'shading="auto": each object its cheapest mode within the tolerance (labels: the modes '
+    "chosen, left to right), and Phong everywhere",
+)
+def _auto() -> list[Panel]:
+    scene, cam = three_spheres(), three_spheres_camera()
+    out = []
+    for tol in (1.0, 4.0):
+        modes = sl.explain(scene, cam, *PANEL, tolerance=tol)["shading"]
+        out.append(
+            Panel(
+                f"auto, tolerance {tol:g}: {', '.join(modes)}",
+                scene,
+                cam,
+                {"shading": "auto", "tolerance": tol},
+            )
+        )
+    out.append(Panel("phong everywhere", scene, cam, {"shading": "phong"}))
+    return out
+
+
 @figure(
     "specular",
     "Specular lobes at shininess 8, 32, 128: rows blinn, phong, blinn-normalized",

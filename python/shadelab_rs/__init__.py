@@ -12,6 +12,7 @@ this package adds file helpers, the bundled demo scene and the command line.
 from typing import TYPE_CHECKING, Any
 
 from ._core import (
+    DEFAULT_TOLERANCE,
     MAX_AREA_SAMPLES,
     MAX_ENVIRONMENT_SIZE,
     MAX_IMAGE_SIZE,
@@ -59,7 +60,7 @@ from .io import (
     to_uint8,
 )
 from .preview import RenderedImage, preview  # eager: the module shares the function's name
-from .rendering import EmptyRenderWarning, render, render_frame, srgb_encode
+from .rendering import EmptyRenderWarning, explain, render, render_frame, srgb_encode
 from .textures import bake_texture, texel_centres
 
 # Imported on first use (PEP 562), so that `import shadelab_rs` costs little beyond NumPy's
@@ -120,6 +121,7 @@ def __dir__() -> list[str]:
 
 
 __all__ = [
+    "DEFAULT_TOLERANCE",
     "MAX_AREA_SAMPLES",
     "MAX_ENVIRONMENT_SIZE",
     "MAX_IMAGE_SIZE",
@@ -154,6 +156,7 @@ __all__ = [
     "data_path",
     "demo_scene",
     "distributed",
+    "explain",
     "file_up_axis",
     "frame_mesh",
     "frame_scene",

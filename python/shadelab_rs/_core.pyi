@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 from typing_extensions import TypeAlias, Unpack
 
 __all__ = [
+    "DEFAULT_TOLERANCE",
     "MAX_AREA_SAMPLES",
     "MAX_ENVIRONMENT_SIZE",
     "MAX_IMAGE_SIZE",
@@ -42,6 +43,7 @@ __all__ = [
     "Texture",
     "__version__",
     "encode_png",
+    "explain",
     "load_obj",
     "load_obj_parts",
     "render",
@@ -61,7 +63,7 @@ _U8: TypeAlias = Literal["uint8"] | type[np.uint8] | np.dtype[np.uint8]
 _F32: TypeAlias = Literal["float32"] | type[np.float32] | np.dtype[np.float32]
 # Literal only, so that a type checker rejects an unknown mode (the runtime also accepts
 # any capitalisation).
-_Shading: TypeAlias = Literal["flat", "gouraud", "phong"]
+_Shading: TypeAlias = Literal["flat", "gouraud", "phong", "auto"]
 _Specular: TypeAlias = Literal["blinn", "phong", "blinn-normalized"]
 _Gouraud: TypeAlias = Literal["normals", "face-intensities"]
 _Interpolation: TypeAlias = Literal["perspective", "screen"]
@@ -88,6 +90,8 @@ MAX_TEXTURE_SIZE: Final[int]
 MAX_ENVIRONMENT_SIZE: Final[int]
 #: Largest ``max_depth`` of :class:`RenderOptions` (32).
 MAX_TRACE_DEPTH: Final[int]
+#: The tolerance of ``shading="auto"`` when none is given: RMSE of 1.0 level of 255.
+DEFAULT_TOLERANCE: Final[float]
 
 #: Largest :class:`ShadowSettings` ``resolution`` (8192 texels a side).
 MAX_SHADOW_RESOLUTION: Final[int]
@@ -1118,8 +1122,11 @@ class RenderOptions:
     scene files' ``[render]`` table has these keys, and the command line's flags map to
     them. Checked when built (a ``ValueError`` names the argument in ``field``).
 
-    ``width``, ``height``: 1 to :data:`MAX_IMAGE_SIZE`. ``shading``: "flat", "gouraud" or
-    "phong"; ``specular``: "blinn" (Blinn-Phong), "phong" or "blinn-normalized"
+    ``width``, ``height``: 1 to :data:`MAX_IMAGE_SIZE`. ``shading``: "flat", "gouraud",
+    "phong", or "auto": each object shaded with the cheapest mode whose estimated error
+    (RMSE in 8-bit levels against the exact surface) is within ``tolerance`` (finite,
+    > 0; default :data:`DEFAULT_TOLERANCE`; only with "auto"), Phong where none is
+    (see :func:`explain`); ``specular``: "blinn" (Blinn-Phong), "phong" or "blinn-normalized"
     (case-insensitive). ``background``: linear RGB of empty pixels (default black).
     ``cull_backfaces``: skip clockwise faces. ``threads``: worker threads, None for all
     cores; the image is bit-identical for any count. ``gouraud``: "normals" (each vertex lit
@@ -1166,11 +1173,12 @@ class RenderOptions:
         reflections: _Technique = "environment",
         refractions: _Technique | None = None,
         max_depth: int | None = 5,
+        tolerance: float | None = None,
     ) -> RenderOptions: ...
     def __copy__(self) -> RenderOptions: ...
     def __deepcopy__(self, _memo: Any) -> RenderOptions:
         """Pickling and copying keep every value exactly (see the user guide, "Many views")."""
-    shading_names: ClassVar[tuple[str, str, str]]
+    shading_names: ClassVar[tuple[str, str, str, str]]
     """The names ``shading`` takes (in any case)."""
     specular_names: ClassVar[tuple[str, str, str]]
     """The names ``specular`` takes (in any case)."""
@@ -1192,7 +1200,10 @@ class RenderOptions:
         """Image height in pixels."""
     @property
     def shading(self) -> str:
-        """ "flat", "gouraud" or "phong"."""
+        """ "flat", "gouraud", "phong" or "auto"."""
+    @property
+    def tolerance(self) -> float | None:
+        """The error budget of ``shading="auto"`` (RMSE in 8-bit levels), else None."""
     @property
     def specular(self) -> str:
         """ "blinn", "phong" or "blinn-normalized"."""
@@ -1265,6 +1276,7 @@ class _RenderOptionsArgs(TypedDict, total=False):
     reflections: _Technique
     refractions: _Technique | None
     max_depth: int | None
+    tolerance: float | None
 
 # One overload per output type; the render options are RenderOptions' arguments.
 @overload
@@ -1343,7 +1355,23 @@ def render_frame(
     (point sources lit per shaded point; an area light counts its ``n_points``) and
     per-stage wall times in milliseconds (keys ending in ``_ms``). With ``alpha=True`` the
     background is transparent: "image" is premultiplied and "alpha" is the float32 coverage
-    (the share of each pixel's samples a triangle covers); otherwise "alpha" is None."""
+    (the share of each pixel's samples a triangle covers); otherwise "alpha" is None.
+    With ``shading="auto"`` the stats also hold "shading" (the mode per object, in scene
+    order) and "shading_estimates" (see :func:`explain`)."""
+
+def explain(
+    scene: Scene,
+    camera: Camera,
+    *args: Any,
+    tolerance: float | None = None,
+    options: RenderOptions | None = None,
+    **kwargs: Any,
+) -> dict[str, Any]:
+    """What ``shading="auto"`` chooses, without rendering: "shading" (the mode per object,
+    in scene order), "shading_estimates" (per object: the ``mode``, the estimated RMSE in
+    8-bit levels of ``flat``, ``gouraud`` and ``phong``, ``meets`` and the estimated
+    ``pixels``) and "tolerance". The other keywords are :class:`RenderOptions`' (as for
+    :func:`render`)."""
 
 def render_batch(
     scene: Scene | Sequence[Scene],

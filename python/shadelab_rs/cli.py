@@ -92,7 +92,18 @@ def _render_args(p: argparse.ArgumentParser) -> None:
         help="image file to write (PNG, JPEG, TIFF, .npy; '-' writes PNG to stdout)",
     )
     p.add_argument("--size", type=_size, default=None, help="WIDTHxHEIGHT (800x600)")
-    p.add_argument("--shading", choices=core.RenderOptions.shading_names, default=None)
+    p.add_argument(
+        "--shading",
+        choices=core.RenderOptions.shading_names,
+        default=None,
+        help="flat, gouraud, phong, or auto: per object the cheapest mode within --tolerance",
+    )
+    p.add_argument(
+        "--tolerance",
+        type=float,
+        default=None,
+        help="error budget of --shading auto: RMSE in 8-bit levels (1.0)",
+    )
     p.add_argument("--specular", choices=core.RenderOptions.specular_names, default=None)
     p.add_argument(
         "--background",
@@ -231,6 +242,7 @@ def _render(
         "edges_only",
         "reflections",
         "max_depth",
+        "tolerance",
     )
     flags = {k: getattr(args, k) for k in names}
     flags["cull_backfaces"] = args.cull_backfaces
@@ -239,7 +251,11 @@ def _render(
     given = {k: v for k, v in flags.items() if v is not None}
     if args.refractions is not None:
         given["refractions"] = None if args.refractions == "none" else args.refractions
-    opts = core.RenderOptions(**{**(file_options or {}), **given})
+    base = dict(file_options or {})
+    if given.get("shading", "auto") != "auto" and "tolerance" not in given:
+        # --shading with a fixed mode overrides a file's shading="auto" and its tolerance.
+        base.pop("tolerance", None)
+    opts = core.RenderOptions(**{**base, **given})
     if args.views is not None and args.cameras is not None:
         raise ValueError("--views and --cameras cannot be used together")
     if args.views is not None:

@@ -91,7 +91,9 @@ def render_frame(
     (``triangles_in``, ``triangles_setup`` (handed to the rasterizer after clipping),
     ``triangles_clipped``, ``triangles_culled``, ``triangles_dropped``), ``light_sources``
     (point sources lit per shaded point, the default rig's three included) and per-stage
-    wall times in milliseconds (``vertex_ms``, ``setup_ms``, ``raster_shade_ms``).
+    wall times in milliseconds (``vertex_ms``, ``setup_ms``, ``raster_shade_ms``). With
+    ``shading="auto"`` also ``shading`` (the mode used per object, in scene order) and
+    ``shading_estimates`` (per object, as :func:`explain` returns them).
     """
     return _frame(
         scene,
@@ -105,6 +107,33 @@ def render_frame(
         encoding=encoding,
         stacklevel=3,
     )
+
+
+def explain(
+    scene: Any,
+    camera: Camera | None = None,
+    *args: Any,
+    tolerance: float | None = None,
+    options: RenderOptions | None = None,
+    **kwargs: Any,
+) -> dict[str, Any]:
+    """What ``shading="auto"`` would choose, without rendering.
+
+    Returns ``{"shading": [mode per object, in scene order], "shading_estimates": [...],
+    "tolerance": t}``, the same as ``render_frame(..., shading="auto")["stats"]``: each
+    estimate is a dict with the ``mode`` used, the estimated RMSE in 8-bit levels of
+    ``flat``, ``gouraud`` and ``phong``, ``meets`` (whether the mode's estimate is within
+    the tolerance) and ``pixels`` (the object's estimated projected pixels). ``tolerance``
+    defaults to the options' (``shading="auto", tolerance=...``) or
+    :data:`DEFAULT_TOLERANCE`; the other arguments are :func:`render`'s (the image size
+    and camera decide how large the triangles are on screen).
+    """
+    s = _scene_of(scene)
+    if camera is None:
+        from .scene_file import frame_scene
+
+        camera = frame_scene(s)
+    return _core.explain(s, camera, *args, tolerance=tolerance, options=options, **kwargs)
 
 
 def _frame(
@@ -291,7 +320,9 @@ def render(
       camera (``render(s, c, 640, 480, shading="flat")``) or by keyword, or ``options``
       (a :class:`RenderOptions`, updated by any keyword given with it). ``width``,
       ``height``: pixels, 1 to ``MAX_IMAGE_SIZE`` (800 x 600). ``shading``: "flat",
-      "gouraud" or "phong" (default; case-insensitive). ``specular``: "blinn"
+      "gouraud", "phong" (default; case-insensitive) or "auto" (per object the cheapest
+      mode whose estimated error is within ``tolerance``, RMSE in 8-bit levels, default
+      1.0; see :func:`explain`). ``specular``: "blinn"
       (Blinn-Phong, default), "phong" or "blinn-normalized". ``background``: linear RGB of
       empty pixels, each in [0, 1] for 8-bit output (default black). ``cull_backfaces``:
       skip triangles facing away from the camera. ``threads``: worker threads, None for

@@ -733,9 +733,10 @@ def _render_options(v: Any, where: str) -> dict[str, Any]:
         "edges_only": _boolean,
         "reflections": _string,
         "refractions": _string,
+        "tolerance": _number,
     }
     for k, value in t.items():
-        if value is not None or k not in ("threads", "edges", "refractions"):
+        if value is not None or k not in ("threads", "edges", "refractions", "tolerance"):
             types.get(k, _integer)(value, _at(where, k))
     _call(where, lambda: RenderOptions(**t))
     return t

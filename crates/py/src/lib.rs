@@ -53,6 +53,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
         shadelab_raster::MAX_ENVIRONMENT_SIZE,
     )?;
     m.add("MAX_TRACE_DEPTH", shadelab_raster::MAX_TRACE_DEPTH)?;
+    m.add("DEFAULT_TOLERANCE", shadelab_raster::DEFAULT_TOLERANCE)?;
     m.add_class::<camera::PyCamera>()?;
     m.add_function(wrap_pyfunction!(mesh::load_obj, m)?)?;
     m.add_function(wrap_pyfunction!(mesh::load_obj_parts, m)?)?;
@@ -60,6 +61,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(png::encode_png, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(render::render_frame, m)?)?;
+    m.add_function(wrap_pyfunction!(render::explain, m)?)?;
     m.add_function(wrap_pyfunction!(batch::render_batch, m)?)?;
     // Pickle's reconstructor and the test hooks are set as attributes, out of `__all__`.
     m.setattr("_restore", wrap_pyfunction!(pickle::_restore, m)?)?;

@@ -4,7 +4,7 @@ use numpy::ndarray::{Array2, Array3};
 use numpy::IntoPyArray;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyTuple};
+use pyo3::types::{PyDict, PyList, PyTuple};
 use shadelab_raster as core;
 
 use crate::camera::PyCamera;
@@ -126,6 +126,9 @@ fn edges_name(mode: core::EdgeMode) -> Option<&'static str> {
     }
 }
 
+/// `shading="auto"`: each object's mode chosen for `tolerance`.
+const AUTO: &str = "auto";
+
 fn shading_name(mode: core::ShadingMode) -> &'static str {
     match mode {
         core::ShadingMode::Flat => "flat",
@@ -193,8 +196,8 @@ impl PyRenderOptions {
                         gouraud="normals", interpolation="perspective", samples=None,
                         supersample=None, edges=None, edge_color=None, edge_width=None,
                         edge_angle=None, edges_only=false, reflections="environment",
-                        refractions=None, max_depth=None),
-           text_signature = "(width=800, height=600, shading='phong', specular='blinn', background=None, cull_backfaces=False, threads=None, gouraud='normals', interpolation='perspective', samples=1, supersample=1, edges=None, edge_color=(0.0, 0.0, 0.0), edge_width=1.0, edge_angle=30.0, edges_only=False, reflections='environment', refractions=None, max_depth=5)")]
+                        refractions=None, max_depth=None, tolerance=None),
+           text_signature = "(width=800, height=600, shading='phong', specular='blinn', background=None, cull_backfaces=False, threads=None, gouraud='normals', interpolation='perspective', samples=1, supersample=1, edges=None, edge_color=(0.0, 0.0, 0.0), edge_width=1.0, edge_angle=30.0, edges_only=False, reflections='environment', refractions=None, max_depth=5, tolerance=None)")]
     #[allow(clippy::too_many_arguments)]
     fn new(
         width: Option<&Bound<'_, PyAny>>,
@@ -216,12 +219,28 @@ impl PyRenderOptions {
         reflections: &str,
         refractions: Option<&str>,
         max_depth: Option<&Bound<'_, PyAny>>,
+        tolerance: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let mut inner =
             core::RenderOptions::new(size(width, 800, "width")?, size(height, 600, "height")?);
-        inner.shading = shading
-            .parse()
-            .map_err(|e| with_field(to_py(e), "shading"))?;
+        let given_tolerance = tolerance.is_some_and(|t| !t.is_none());
+        if shading.eq_ignore_ascii_case(AUTO) {
+            // The mode each object is shaded with is chosen per render (auto_shading).
+            inner.tolerance = Some(float_arg(tolerance, "tolerance", core::DEFAULT_TOLERANCE)?);
+        } else {
+            if given_tolerance {
+                return Err(value_error(
+                    "tolerance",
+                    format!(
+                        "tolerance is the error budget of shading='auto'; with \
+                         shading={shading:?} it has no meaning: drop it or use shading='auto'"
+                    ),
+                ));
+            }
+            inner.shading = shading
+                .parse()
+                .map_err(|e| with_field(to_py(e), "shading"))?;
+        }
         inner.specular = specular
             .parse()
             .map_err(|e| with_field(to_py(e), "specular"))?;
@@ -280,12 +299,13 @@ impl PyRenderOptions {
 
     /// The names `shading` takes (it also accepts them in any case).
     #[classattr]
-    fn shading_names() -> (&'static str, &'static str, &'static str) {
+    fn shading_names() -> (&'static str, &'static str, &'static str, &'static str) {
         use core::ShadingMode::*;
         (
             shading_name(Flat),
             shading_name(Gouraud),
             shading_name(Phong),
+            AUTO,
         )
     }
 
@@ -334,7 +354,7 @@ impl PyRenderOptions {
         let d = PyDict::new(py);
         d.set_item("width", self.inner.width)?;
         d.set_item("height", self.inner.height)?;
-        d.set_item("shading", shading_name(self.inner.shading))?;
+        d.set_item("shading", self.shading())?;
         d.set_item("specular", specular_name(self.inner.specular))?;
         d.set_item("background", self.background(py)?)?;
         d.set_item("cull_backfaces", self.inner.cull_backfaces)?;
@@ -354,6 +374,7 @@ impl PyRenderOptions {
         d.set_item("reflections", technique_name(self.inner.reflections))?;
         d.set_item("refractions", self.inner.refractions.map(technique_name))?;
         d.set_item("max_depth", self.inner.max_depth)?;
+        d.set_item("tolerance", self.inner.tolerance)?;
         Ok(d)
     }
 
@@ -436,10 +457,19 @@ impl PyRenderOptions {
         self.inner.height
     }
 
-    /// "flat", "gouraud" or "phong".
+    /// "flat", "gouraud", "phong", or "auto" (each object's mode chosen for `tolerance`).
     #[getter]
     fn shading(&self) -> &'static str {
-        shading_name(self.inner.shading)
+        match self.inner.tolerance {
+            Some(_) => AUTO,
+            None => shading_name(self.inner.shading),
+        }
+    }
+
+    /// The error budget of `shading="auto"` (RMSE in 8-bit levels), None for a fixed mode.
+    #[getter]
+    fn tolerance(&self) -> Option<f32> {
+        self.inner.tolerance
     }
 
     /// "blinn", "phong" or "blinn-normalized".
@@ -667,6 +697,11 @@ pub fn render_frame<'py>(
     let r = render_impl(py, scene, camera, options, dtype, outputs)?;
     let s = r.stats;
     let stats = PyDict::new(py);
+    if !s.shading.is_empty() {
+        let (modes, estimates) = shading_stats(py, &s.shading)?;
+        stats.set_item("shading", modes)?;
+        stats.set_item("shading_estimates", estimates)?;
+    }
     stats.set_item("triangles_in", s.triangles_in)?;
     stats.set_item("triangles_setup", s.triangles_setup)?;
     stats.set_item("triangles_clipped", s.triangles_clipped)?;
@@ -682,5 +717,64 @@ pub fn render_frame<'py>(
     out.set_item("depth", r.depth)?;
     out.set_item("alpha", r.alpha)?;
     out.set_item("stats", stats)?;
+    Ok(out)
+}
+
+/// `stats["shading"]` (each object's mode, in scene order) and `stats["shading_estimates"]`
+/// (per object: the mode, the estimated RMSE of each mode, whether the mode meets the
+/// tolerance, the estimated pixels).
+fn shading_stats<'py>(
+    py: Python<'py>,
+    estimates: &[core::ShadingEstimate],
+) -> PyResult<(Bound<'py, PyList>, Bound<'py, PyList>)> {
+    let modes = PyList::empty(py);
+    let list = PyList::empty(py);
+    for e in estimates {
+        modes.append(shading_name(e.mode))?;
+        let d = PyDict::new(py);
+        d.set_item("mode", shading_name(e.mode))?;
+        for (name, v) in ["flat", "gouraud", "phong"].iter().zip(e.estimates) {
+            d.set_item(*name, v)?;
+        }
+        d.set_item("meets", e.meets)?;
+        d.set_item("pixels", e.pixels)?;
+        list.append(d)?;
+    }
+    Ok((modes, list))
+}
+
+/// What `shading="auto"` would choose, without rendering: a dict with "shading" (each
+/// object's mode, in scene order), "shading_estimates" (as `render_frame`'s stats) and
+/// "tolerance". The other render options (size, camera-dependent ones) are
+/// `RenderOptions`' arguments, as for `render`.
+#[pyfunction]
+#[pyo3(signature = (scene, camera, *args, tolerance=None, options=None, **kwargs))]
+pub fn explain<'py>(
+    py: Python<'py>,
+    scene: &PyScene,
+    camera: &PyCamera,
+    args: &Bound<'py, PyTuple>,
+    tolerance: Option<&Bound<'py, PyAny>>,
+    options: Option<PyRef<'py, PyRenderOptions>>,
+    kwargs: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let options = options_of(py, options.as_deref(), args, kwargs)?;
+    let tolerance = match tolerance.filter(|t| !t.is_none()) {
+        Some(t) => float_arg(Some(t), "tolerance", core::DEFAULT_TOLERANCE)?,
+        None => options.tolerance.unwrap_or(core::DEFAULT_TOLERANCE),
+    };
+    let (scene_copy, cam) = crate::defaults::prepare(scene, camera)?;
+    let estimates = py
+        .detach(|| {
+            no_panic("explain", || {
+                core::explain_shading(&scene_copy, &cam, &options, tolerance)
+            })
+        })?
+        .map_err(to_py)?;
+    let (modes, list) = shading_stats(py, &estimates)?;
+    let out = PyDict::new(py);
+    out.set_item("shading", modes)?;
+    out.set_item("shading_estimates", list)?;
+    out.set_item("tolerance", tolerance)?;
     Ok(out)
 }

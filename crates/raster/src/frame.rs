@@ -2,6 +2,8 @@
 
 use std::time::Duration;
 
+use crate::auto_shading::ShadingEstimate;
+
 /// Wall time per pipeline stage of one render.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct StageTimings {
@@ -15,7 +17,7 @@ pub struct StageTimings {
 }
 
 /// Counters and timings of one render.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct RenderStats {
     /// Triangles submitted.
     pub triangles_in: usize,
@@ -32,6 +34,9 @@ pub struct RenderStats {
     pub light_sources: usize,
     /// Per-stage wall times.
     pub timings: StageTimings,
+    /// `shading="auto"` ([`crate::RenderOptions::tolerance`]): per object in scene order,
+    /// the mode used and the estimated errors; empty otherwise.
+    pub shading: Vec<ShadingEstimate>,
 }
 
 /// Colour samples of a frame.

@@ -22,6 +22,7 @@
 //! ```
 #![warn(missing_docs)]
 
+mod auto_shading;
 mod camera;
 mod crease;
 mod effects;
@@ -51,6 +52,7 @@ mod shadows;
 mod tangents;
 pub mod texture;
 
+pub use auto_shading::{explain_shading, ShadingEstimate, DEFAULT_TOLERANCE};
 pub use camera::{Camera, Intrinsics, Projection};
 pub use effects::{Fog, FogMode};
 pub use environment::{Environment, Layout as EnvironmentLayout, FACE_NAMES, MAX_ENVIRONMENT_SIZE};

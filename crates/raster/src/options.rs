@@ -18,8 +18,15 @@ pub struct RenderOptions {
     pub width: u32,
     /// Image height in pixels, 1..=[`MAX_IMAGE_SIZE`].
     pub height: u32,
-    /// Where lighting is evaluated.
+    /// Where lighting is evaluated (with [`RenderOptions::tolerance`], only where objects
+    /// cannot be mixed: see there).
     pub shading: ShadingMode,
+    /// `shading="auto"`: the largest RMSE (8-bit levels, against the exact surface) the
+    /// shading may cost. Each object is shaded with the cheapest mode (flat < Gouraud <
+    /// Phong) whose estimated error is within it, Phong where none is
+    /// ([`crate::explain_shading`]); `None` shades every object with
+    /// [`RenderOptions::shading`]. Finite and > 0.
+    pub tolerance: Option<f32>,
     /// Which specular lobe.
     pub specular: SpecularModel,
     /// Linear RGB of pixels no triangle covers.
@@ -73,6 +80,17 @@ pub struct RenderOptions {
     /// Show the scene's environment as the background (each pixel's view ray looked up)
     /// instead of [`RenderOptions::background`]; needs a scene environment.
     pub environment_background: bool,
+}
+
+/// Checks a `shading="auto"` tolerance: finite and > 0 (RMSE in 8-bit levels).
+pub(crate) fn check_tolerance(tolerance: f32) -> Result<()> {
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(RasterError::invalid_field(
+            "tolerance",
+            format!("tolerance must be finite and > 0 (RMSE in 8-bit levels), got {tolerance}"),
+        ));
+    }
+    Ok(())
 }
 
 /// Which triangle edges a render draws as lines.
@@ -140,6 +158,7 @@ impl RenderOptions {
             width,
             height,
             shading: ShadingMode::Phong,
+            tolerance: None,
             specular: SpecularModel::BlinnPhong,
             background: Vec3::ZERO,
             cull_backfaces: false,
@@ -200,6 +219,9 @@ impl RenderOptions {
             ));
         }
         self.validate_edges()?;
+        if let Some(t) = self.tolerance {
+            check_tolerance(t)?;
+        }
         if self.max_depth > MAX_TRACE_DEPTH {
             return Err(RasterError::invalid_field(
                 "max_depth",

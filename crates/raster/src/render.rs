@@ -1,5 +1,6 @@
 //! The public entry points: `render`, `render_into` and the coverage test hook.
 
+use crate::auto_shading;
 use crate::camera::Camera;
 use crate::error::{RasterError, Result};
 use crate::frame::{ColorBuffer, ColorFormat, Frame, Outputs, RenderStats};
@@ -153,11 +154,25 @@ fn run_checked<P: Pixel>(
         }
     }
     pool::run(options.threads, || {
-        if options.supersample > 1 {
-            supersampled(scene, camera, options, out)
+        // `shading="auto"`: the modes are chosen here, inside the render's time.
+        let auto = options.tolerance.map(|t| {
+            auto_shading::plan(
+                scene,
+                options,
+                auto_shading::estimate(scene, camera, options, t),
+            )
+        });
+        let (options, modes, estimates) = match &auto {
+            Some((estimates, opts, modes)) => (opts, modes.as_deref(), estimates.clone()),
+            None => (options, None, Vec::new()),
+        };
+        let mut stats = if options.supersample > 1 {
+            supersampled(scene, camera, options, modes, out)
         } else {
-            pipeline::color_pass(scene, camera, options, out)
-        }
+            pipeline::color_pass(scene, camera, options, modes, out)
+        }?;
+        stats.shading = estimates;
+        Ok(stats)
     })?
 }
 
@@ -169,6 +184,7 @@ fn supersampled<P: Pixel>(
     scene: &Scene,
     camera: &Camera,
     options: &RenderOptions,
+    modes: Option<&[crate::options::ShadingMode]>,
     out: Buffers<'_, P>,
 ) -> Result<RenderStats> {
     let Buffers {
@@ -200,7 +216,7 @@ fn supersampled<P: Pixel>(
         depth: d.as_mut().map(|d| &mut d.spare_capacity_mut()[..n]),
         coverage: v.as_mut().map(|v| &mut v.spare_capacity_mut()[..n]),
     };
-    let stats = pipeline::color_pass(scene, camera, &big, big_out)?;
+    let stats = pipeline::color_pass(scene, camera, &big, modes, big_out)?;
     // SAFETY: the pass succeeded, so it wrote all `n·3` colour samples and, when asked for,
     // all `n` depths and coverages; each vector has that capacity.
     unsafe {

@@ -55,6 +55,8 @@ pub(crate) struct Workspace {
     pub secondary: shade::SecondaryWork,
     /// The same with several samples per pixel (empty until such a tile needs them).
     pub secondary_samples: SecondarySamplesWork,
+    /// The mixed-mode buffers (empty until a tile mixes modes).
+    pub mixed: shade::MixedWork,
 }
 
 impl Workspace {
@@ -65,6 +67,7 @@ impl Workspace {
             target: SampleTarget::new(samples),
             secondary: shade::SecondaryWork::default(),
             secondary_samples: SecondarySamplesWork::default(),
+            mixed: shade::MixedWork::default(),
         }
     }
 
@@ -124,6 +127,12 @@ pub(crate) fn run_tile<P: Pixel>(
         // Maps or vertex colours: a tile body of its own, so the untextured ones below stay
         // as they were (their code, and their instruction counts, unchanged).
         tile_textured(ctx, mode, screen, buf, job);
+        return;
+    }
+    if let Some(modes) = ctx.modes {
+        // Objects with their own modes (`shading="auto"`): a body of its own, so the
+        // bodies below compile as without it.
+        tile_mixed(isa, ctx, modes, screen, work, job);
         return;
     }
     if screen && mode != ShadingMode::Flat {
@@ -284,6 +293,58 @@ fn tile_textured<P: Pixel>(
     } else {
         shade::shade_textured_tile::<P, false>(ctx, mode, job.rect, buf, job.color, job.depth);
     }
+}
+
+/// Tiles of a render whose objects have their own modes (`shade/mixed.rs`), dispatched per
+/// instruction set like the default bodies; out of line so those compile as without it.
+#[inline(never)]
+fn tile_mixed<P: Pixel>(
+    isa: Isa,
+    ctx: &ShadeContext<'_>,
+    modes: &[ShadingMode],
+    screen: bool,
+    work: &mut Workspace,
+    job: TileJob<'_, '_, P>,
+) {
+    if ctx.tris.tile_is_empty(job.index) {
+        shade::fill_background(ctx, job.rect, job.color, job.depth);
+        return;
+    }
+    if screen {
+        mixed_body::<P, true>(ctx, modes, work, job);
+        return;
+    }
+    match isa {
+        Isa::Baseline => mixed_body::<P, false>(ctx, modes, work, job),
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: as in `run_tile`: `Isa::Avx2` exists only on CPUs with AVX2 and FMA.
+        Isa::Avx2 => unsafe { mixed_avx2(ctx, modes, work, job) },
+    }
+}
+
+/// # Safety
+/// The CPU must support AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn mixed_avx2<P: Pixel>(
+    ctx: &ShadeContext<'_>,
+    modes: &[ShadingMode],
+    work: &mut Workspace,
+    job: TileJob<'_, '_, P>,
+) {
+    mixed_body::<P, false>(ctx, modes, work, job);
+}
+
+#[inline(always)]
+fn mixed_body<P: Pixel, const AFFINE: bool>(
+    ctx: &ShadeContext<'_>,
+    modes: &[ShadingMode],
+    work: &mut Workspace,
+    job: TileJob<'_, '_, P>,
+) {
+    let (buf, mixed) = (&mut work.buf, &mut work.mixed);
+    raster::rasterize_tile(ctx.tris, job.index, job.rect, buf);
+    shade::shade_mixed_tile::<P, AFFINE>(ctx, modes, job.rect, buf, mixed, job.color, job.depth);
 }
 
 /// The tile body; always inlined, so each variant above compiles all of it for its own

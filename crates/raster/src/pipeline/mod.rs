@@ -185,6 +185,7 @@ pub(crate) fn prepare(
     camera: &Camera,
     options: &RenderOptions,
     needs: Needs,
+    modes: Option<&[ShadingMode]>,
 ) -> Result<Prepared> {
     let t_start = Instant::now();
     let (w, h) = (options.width as usize, options.height as usize);
@@ -361,8 +362,10 @@ pub(crate) fn prepare(
         options,
         tiles: tiles::tile_counts(w, h),
     };
+    // Each object's mode: the render's, or its own (`shading="auto"` mixing modes).
+    let mode_of = |object: u32| modes.map_or(options.shading, |m| m[object as usize]);
     // Textured flat lights its faces' split terms in the tile stage.
-    let flat_lit = lit && options.shading == ShadingMode::Flat && !textured;
+    let flat_lit = lit && !textured;
     let mut outs: Vec<ChunkOut> = work
         .par_iter()
         .map(|&(oi, fv, idx)| {
@@ -371,7 +374,7 @@ pub(crate) fn prepare(
             // cache (a second pass over all chunks re-read ~10 MB for 100k triangles and
             // made setup ~3 ms slower at 1080p), and from the transformed vertices only:
             // the clip-made ones have not joined yet.
-            if flat_lit {
+            if flat_lit && mode_of(oi) == ShadingMode::Flat {
                 prelight::light_faces(
                     &mut out.chunk,
                     &verts.world,
@@ -406,9 +409,18 @@ pub(crate) fn prepare(
     verts.append(&mut extras);
     // Textured Gouraud lights its vertices' split terms in the tile stage (it keeps the
     // world positions and normals for that).
-    if lit && options.shading == ShadingMode::Gouraud && !textured {
-        // Lines and the secondary stage read world positions (and normals) after this.
-        let keep = options.edges != EdgeMode::None || SecondaryEffect::wanted(scene, options);
+    let gouraud = match modes {
+        Some(m) => m.contains(&ShadingMode::Gouraud),
+        None => options.shading == ShadingMode::Gouraud,
+    };
+    if lit && gouraud && !textured {
+        // Gouraud's vertex lighting drops the world positions and normals it no longer
+        // needs, unless lines, the secondary stage or Phong objects in the same frame read
+        // them after this.
+        let phong_too = modes.is_some_and(|m| m.contains(&ShadingMode::Phong));
+        let keep = phong_too
+            || options.edges != EdgeMode::None
+            || SecondaryEffect::wanted(scene, options);
         match options.gouraud {
             GouraudMethod::Normals => {
                 prelight::light_vertices(scene, &mut verts, &materials, eye, shadows.as_ref(), keep)

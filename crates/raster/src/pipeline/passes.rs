@@ -44,18 +44,21 @@ fn tile_rows<T>(
 
 /// Runs the whole pipeline into caller-provided row-major buffers. On success every sample
 /// of the colour, depth and coverage buffers has been written (tiles cover the image, and
-/// each tile writes every pixel of its rows: background or shaded).
+/// each tile writes every pixel of its rows: background or shaded). `modes`: each object's
+/// own shading mode (`shading="auto"` mixing modes; `options.shading` is then the most
+/// accurate of them); `None` shades every object with `options.shading`.
 pub(crate) fn color_pass<P: Pixel>(
     scene: &Scene,
     camera: &Camera,
     options: &RenderOptions,
+    modes: Option<&[ShadingMode]>,
     out: Buffers<'_, P>,
 ) -> Result<RenderStats> {
     let secondary_wanted = SecondaryEffect::wanted(scene, options);
     if secondary_wanted {
         check_secondary(scene, options)?;
     }
-    let mut prep = prepare(scene, camera, options, Needs::Color)?;
+    let mut prep = prepare(scene, camera, options, Needs::Color, modes)?;
     // Phong reads them per pixel, and the texture stage where it lights (every mode); the
     // untextured flat and Gouraud have used them already (prelight).
     let shadows = match options.shading {
@@ -114,6 +117,7 @@ pub(crate) fn color_pass<P: Pixel>(
         }),
         secondary,
         isa,
+        modes,
     };
     if options.edges != EdgeMode::None {
         // Lines: a tile closure of its own, chosen once per render, so a render without
@@ -214,7 +218,7 @@ pub(crate) fn depth_pass(
     options: &RenderOptions,
     depth: &mut [Out<f32>],
 ) -> Result<RenderStats> {
-    let prep = prepare(scene, camera, options, Needs::Geometry)?;
+    let prep = prepare(scene, camera, options, Needs::Geometry, None)?;
     let (w, h) = (options.width as usize, options.height as usize);
     let rects = tiles::tile_rects(w, h);
     let mut rows = tiles::split_rows(depth, w, h, 1);
@@ -239,7 +243,7 @@ pub(crate) fn coverage_counts(
     camera: &Camera,
     options: &RenderOptions,
 ) -> Result<Vec<u32>> {
-    let prep = prepare(scene, camera, options, Needs::Geometry)?;
+    let prep = prepare(scene, camera, options, Needs::Geometry, None)?;
     let (w, h) = (options.width as usize, options.height as usize);
     struct Counter<'a> {
         counts: &'a mut [u32],

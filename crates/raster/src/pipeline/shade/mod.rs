@@ -10,12 +10,14 @@ mod phong;
 mod planes;
 mod program;
 
+mod mixed;
 pub(crate) mod prelight;
 mod runs;
 mod secondary;
 mod store;
 mod textured;
 
+pub(crate) use mixed::{shade_mixed_tile, MixedWork};
 pub(crate) use program::Program;
 pub(crate) use secondary::{
     composite, fragment_mix, opaque_color, shade_secondary_tile, world as secondary_world,
@@ -67,6 +69,10 @@ pub(crate) struct ShadeContext<'a> {
     /// secondary stage's constants (every tile then runs `isa::tile_secondary`, outside
     /// the other tile bodies; the fog moves into it); `None` runs the loops unchanged.
     pub secondary: Option<SecondaryEffect>,
+    /// Each object's own shading mode when a render mixes them (`shading="auto"`): every
+    /// tile then runs `isa::tile_mixed`, outside the other tile bodies; `None` shades every
+    /// object with the render's mode.
+    pub modes: Option<&'a [ShadingMode]>,
 }
 
 impl ShadeContext<'_> {

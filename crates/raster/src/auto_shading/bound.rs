@@ -1,0 +1,204 @@
+//! The shading error of one triangle under one light, from what is known before shading.
+//!
+//! Everything is in angles: how far the lighting's arguments (the normal against the light
+//! direction `l` and against the half vector `h`) move across the triangle, and how fast the
+//! diffuse `cos θ` and the specular lobe `cos^f β` change with them. The derivation is in
+//! docs/LIGHTING.md ("How `shading="auto"` estimates the error"); the names here follow it.
+
+use std::f64::consts::FRAC_PI_2;
+
+/// How the lighting's arguments vary over one triangle (radians).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Spread {
+    /// Angle between the light direction and the centroid's normal.
+    pub theta: f64,
+    /// How far `θ` moves over the triangle: the normal spread plus the angle the triangle
+    /// subtends from a point light.
+    pub span_d: f64,
+    /// Σ over the three edges of the square of how far `θ` moves along each.
+    pub edges_d: f64,
+    /// Angle between the half vector and the centroid's normal.
+    pub beta: f64,
+    /// How far `β` moves: the normal spread plus half the angles the triangle subtends from
+    /// the light and from the eye.
+    pub span_s: f64,
+    /// Σ over the three edges of the square of how far `β` moves along each.
+    pub edges_s: f64,
+    /// The geometric normal error every mode shares: the rms angle between the normal the
+    /// mesh gives a pixel and the true surface's normal where that pixel's ray meets it.
+    pub geometric: f64,
+}
+
+/// Per unit of the light's diffuse and specular amplitudes (`kd·Id·att`, `ks·Is·att`), the
+/// rms error of each mode over the triangle, linear colour.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(super) struct Sensitivity {
+    pub flat: [f64; 2],
+    pub gouraud: [f64; 2],
+    pub phong: [f64; 2],
+}
+
+/// The specular lobe `S(β) = cos^f β` (0 beyond 90°).
+fn lobe(f: f64, beta: f64) -> f64 {
+    if beta >= FRAC_PI_2 {
+        0.0
+    } else {
+        beta.cos().powf(f)
+    }
+}
+
+/// The lobe's slope `|dS/dβ| = f cos^(f−1) β sin β` and curvature
+/// `|d²S/dβ²| = |f(f−1) cos^(f−2) β sin² β − f cos^f β|`, from one power.
+fn lobe_derivatives(f: f64, beta: f64) -> (f64, f64) {
+    if beta >= FRAC_PI_2 || f == 0.0 {
+        return (0.0, 0.0);
+    }
+    let (c, s) = (beta.cos(), beta.sin());
+    let p = c.powf(f - 2.0);
+    (
+        f * p * c * s,
+        (f * (f - 1.0) * p * s * s - f * p * c * c).abs(),
+    )
+}
+
+/// Mean of `g` (a pair) over `[lo, hi]` by Simpson's rule on four intervals.
+fn mean_over(lo: f64, hi: f64, g: impl Fn(f64) -> (f64, f64)) -> (f64, f64) {
+    if hi <= lo {
+        return g(lo);
+    }
+    let mut acc = (0.0, 0.0);
+    for (k, w) in [1.0, 4.0, 2.0, 4.0, 1.0].into_iter().enumerate() {
+        let v = g(lo + (hi - lo) * k as f64 / 4.0);
+        acc = (acc.0 + w * v.0, acc.1 + w * v.1);
+    }
+    (acc.0 / 12.0, acc.1 / 12.0)
+}
+
+/// The centroid lies within 2/3 of the longest edge of every point of a triangle (its
+/// medians are at most as long as... the longest edge times √3/2, and it sits at 2/3 of
+/// each), so an argument that moves by `span` across the triangle stays within this of its
+/// centroid value.
+const REACH: f64 = 2.0 / 3.0;
+
+/// The rms error of flat, Gouraud and Phong over a triangle with spread `s` under a light
+/// whose specular lobe has exponent `f` (`None`: no specular term), per unit amplitude.
+pub(super) fn sensitivity(s: &Spread, f: Option<f64>) -> Sensitivity {
+    // Unlit over the whole triangle: no diffuse or specular anywhere, no error.
+    if s.theta - REACH * s.span_d >= FRAC_PI_2 {
+        return Sensitivity::default();
+    }
+    // Diffuse `max(cos θ, 0)`: slope `sin θ ≤ 1`, curvature `cos θ ≤ 1`.
+    let (lo_d, hi_d) = (
+        (s.theta - REACH * s.span_d).max(0.0),
+        s.theta + REACH * s.span_d,
+    );
+    let slope_d = hi_d.min(FRAC_PI_2).sin();
+    // Linear interpolation of a quadratic with curvature L'' over a triangle with edges
+    // a, b, c errs by ½L''(ρ² − |x − o|²) (o, ρ: circumcentre and radius), whose mean is
+    // L''(a² + b² + c²)/24; its rms is at most 1.2 times that (/20). Across the terminator
+    // the kink of `max(cos θ, 0)` (unit slope) leaves a tent of height ≤ span/4 along the
+    // gradient, of rms ≤ (span/4)/√3 < span/7.
+    let interp_d = if hi_d > FRAC_PI_2 {
+        s.span_d / 7.0
+    } else {
+        lo_d.cos() * s.edges_d / 20.0
+    };
+    // Flat: the rms deviation of a field linear over the triangle (gradient g) from its
+    // value at the centroid is at most |g|·√((a² + b² + c²)/36).
+    let flat_d = slope_d * s.edges_d.sqrt() / 6.0;
+    let geo_d = slope_d * s.geometric;
+    let mut out = Sensitivity {
+        flat: [flat_d + geo_d, 0.0],
+        gouraud: [interp_d + geo_d, 0.0],
+        phong: [geo_d, 0.0],
+    };
+    let Some(f) = f.filter(|f| f.is_finite() && *f > 0.0) else {
+        return out;
+    };
+    let (lo, hi) = (
+        (s.beta - REACH * s.span_s).max(0.0),
+        (s.beta + REACH * s.span_s).min(FRAC_PI_2),
+    );
+    if lo >= FRAC_PI_2 {
+        return out;
+    }
+    // The lobe's slope and curvature vary across a triangle near the highlight by far more
+    // than the diffuse term's: the interpolation error at a point is a kernel-weighted
+    // average of the curvature over the triangle, so its mean over the triangle's range of
+    // β stands for L'' (exact for a constant curvature), and likewise the slope for flat.
+    let (slope, curvature) = mean_over(lo, hi, |b| lobe_derivatives(f, b));
+    // A highlight narrower than the triangle's spread: the lobe covers a share of about
+    // (2w/span)² of it (w its half width at half maximum), so the rms of an error as large
+    // as the lobe's whole range over it is that range times min(1, 2w/span).
+    let range = lobe(f, lo) - lobe(f, hi);
+    let half_width = (0.5f64.powf(1.0 / f)).acos();
+    let missed = range * (2.0 * half_width / s.span_s.max(1e-12)).min(1.0);
+    let geo_s = slope * s.geometric;
+    out.flat[1] = (slope * s.edges_s.sqrt() / 6.0).min(missed) + geo_s;
+    out.gouraud[1] = (curvature * s.edges_s / 20.0).min(missed) + geo_s;
+    out.phong[1] = geo_s;
+    out
+}
+
+/// The expected squared difference in 8-bit levels of two images whose exact colours differ
+/// by `e` levels (rms): `e²` plus the rounding of both to whole levels, which differs at a
+/// pixel with probability about `|e|` for `|e| < 1` and adds at most 1/4 beyond.
+pub(super) fn quantized_square(e: f64) -> f64 {
+    e * e + e.min(0.25)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spread(span: f64, beta: f64) -> Spread {
+        Spread {
+            theta: 0.3,
+            span_d: span,
+            edges_d: 2.0 * span * span,
+            beta,
+            span_s: span,
+            edges_s: 2.0 * span * span,
+            geometric: 0.0,
+        }
+    }
+
+    #[test]
+    fn a_flat_triangle_under_a_directional_light_has_no_error() {
+        let s = sensitivity(&spread(0.0, 0.2), Some(50.0));
+        assert_eq!(s, Sensitivity::default());
+    }
+
+    #[test]
+    fn modes_are_ordered_and_shrink_with_the_spread() {
+        let mut last = f64::INFINITY;
+        for span in [0.4, 0.2, 0.1, 0.05, 0.01] {
+            let s = sensitivity(&spread(span, 0.3), Some(30.0));
+            for k in 0..2 {
+                assert!(
+                    s.phong[k] <= s.gouraud[k] && s.phong[k] <= s.flat[k],
+                    "{s:?}"
+                );
+            }
+            let total = s.gouraud[0] + s.gouraud[1];
+            assert!(total < last, "{span}: {total} >= {last}");
+            last = total;
+        }
+    }
+
+    #[test]
+    fn a_narrow_highlight_inside_a_wide_triangle_is_bounded_by_its_share() {
+        // f = 10^4: the lobe is ~0.012 rad wide; a 0.5 rad triangle holding the peak can miss
+        // it, and the bound is the lobe's range times its share, not the curvature's f·span².
+        let s = sensitivity(&spread(0.5, 0.0), Some(1e4));
+        let w = 0.5f64.powf(1e-4).acos();
+        assert!((s.gouraud[1] - 2.0 * w / 0.5).abs() < 1e-9, "{s:?}");
+    }
+
+    #[test]
+    fn rounding_adds_at_most_a_quarter() {
+        assert_eq!(quantized_square(0.0), 0.0);
+        assert!((quantized_square(0.1) - 0.11).abs() < 1e-12);
+        assert!((quantized_square(3.0) - 9.25).abs() < 1e-12);
+    }
+}
