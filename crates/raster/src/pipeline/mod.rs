@@ -335,9 +335,11 @@ pub(crate) fn prepare(
             &light_set,
             &verts.world[..total_vertices],
             // Only Phong shades at visible points alone: flat and Gouraud light face centres
-            // and vertices (which may lie off the view), ray hits may lie anywhere.
-            (options.shading == ShadingMode::Phong
-                && options.reflections != Technique::Ray
+            // and vertices (which may lie off the view), ray hits may lie anywhere. With
+            // `shading="auto"` every object must be Phong.
+            (modes.map_or(options.shading == ShadingMode::Phong, |m| {
+                m.iter().all(|&x| x == ShadingMode::Phong)
+            }) && options.reflections != Technique::Ray
                 && options.refractions != Some(Technique::Ray))
             .then_some(camera),
             options,
@@ -418,9 +420,8 @@ pub(crate) fn prepare(
         // needs, unless lines, the secondary stage or Phong objects in the same frame read
         // them after this.
         let phong_too = modes.is_some_and(|m| m.contains(&ShadingMode::Phong));
-        let keep = phong_too
-            || options.edges != EdgeMode::None
-            || SecondaryEffect::wanted(scene, options);
+        let keep =
+            phong_too || options.edges != EdgeMode::None || SecondaryEffect::wanted(scene, options);
         match options.gouraud {
             GouraudMethod::Normals => {
                 prelight::light_vertices(scene, &mut verts, &materials, eye, shadows.as_ref(), keep)
