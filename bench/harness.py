@@ -6,9 +6,11 @@ from __future__ import annotations
 
 import csv
 import datetime as _dt
+import importlib.util
 import os
 import platform
 import subprocess
+import sys
 import time
 from pathlib import Path
 from typing import Any
@@ -162,3 +164,14 @@ def report(path: str | None, text: str, marker: str) -> None:
         write_section(Path(path), text, marker)
     else:
         print(text)
+
+
+def test_module(name: str) -> Any:
+    """``tests/<name>.py`` imported as a module (its scenes and figures, reused by a report
+    so the benchmark measures what the tests assert), registered in ``sys.modules``."""
+    spec = importlib.util.spec_from_file_location(name, ROOT / "tests" / f"{name}.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    spec.loader.exec_module(module)
+    return module

@@ -8,20 +8,16 @@ docs/LIGHTING.md's shadows section, with each technique's render time at 800 x 6
 
 from __future__ import annotations
 
-import importlib.util
 import statistics
 import sys
 import time
 from pathlib import Path
 
 import shadelab_rs as sl
+from harness import test_module
 
 ROOT = Path(__file__).resolve().parent.parent
-spec = importlib.util.spec_from_file_location("test_shadows", ROOT / "tests" / "test_shadows.py")
-assert spec is not None and spec.loader is not None
-t = importlib.util.module_from_spec(spec)
-sys.modules["test_shadows"] = t
-spec.loader.exec_module(t)
+t = test_module("test_shadows")
 
 TECHNIQUES = {
     '"exact"': "exact",
