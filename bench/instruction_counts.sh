@@ -12,6 +12,7 @@ phong 12 1080 lights=sun
 phong 99 1080 lights=sun,point
 phong 99 1080 lights=spot,area
 phong 99 1080 lights=sun fog depth two-sided
+phong 99 1080 plane lights=sun shadows=map
 gouraud 99 1080 lights=sun fog depth f32"
 printf '%-45s' "config (frames=1)"
 for b in "$@"; do printf ' %16s' "$(basename "$b")"; done

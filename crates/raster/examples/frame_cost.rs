@@ -9,7 +9,9 @@
 //!
 //! Arguments: shading mode, sphere rings (segments = 2·rings), image height (16:9), then any
 //! of `lights=none|sun|point|spot|area` (comma-separated), `fog`, `two-sided`, `depth`,
-//! `f32`, `frames=N`. Prints a checksum of the last frame so the work cannot be optimised away.
+//! `f32`, `frames=N`, `plane` (a ground plane under the sphere, for shadows to fall on),
+//! `shadows=map|plain|exact` (every light casts shadows: a default map, a map with
+//! `filter="none"`, or rays). Prints a checksum of the last frame so the work cannot be optimised away.
 
 use std::sync::Arc;
 
@@ -28,6 +30,13 @@ fn main() -> std::result::Result<(), Box<dyn std::error::Error>> {
     };
     let frames: usize = value("frames=").map_or(Ok(2), |s| s.parse())?;
     let lights = value("lights=").unwrap_or_else(|| "sun".to_owned());
+    let shadows = match value("shadows=").as_deref() {
+        None => Shadows::Off,
+        Some("map") => Shadows::Map(ShadowSettings::default()),
+        Some("plain") => Shadows::Map(ShadowSettings::new(2048, ShadowFilter::None, 1.0)?),
+        Some("exact") => Shadows::Exact,
+        Some(other) => return Err(format!("unknown shadows {other}").into()),
+    };
 
     let mut scene = Scene::new(Vec3::splat(0.2))?;
     scene.add(
@@ -35,17 +44,24 @@ fn main() -> std::result::Result<(), Box<dyn std::error::Error>> {
         Material::preset("gold")?,
         Mat4::IDENTITY,
     )?;
+    if flag("plane") {
+        scene.add(
+            Arc::new(primitives::plane()),
+            Material::preset("white plastic")?,
+            Mat4::from_translation(Vec3::new(0.0, -1.2, 0.0)) * Mat4::from_scale(Vec3::splat(6.0)),
+        )?;
+    }
     for kind in lights.split(',') {
         match kind {
             "none" => {}
-            "sun" => scene.add_light(DirectionalLight::new(
-                Vec3::new(-1.0, -1.0, -1.0),
-                Vec3::ONE,
-                1.0,
-            )?),
+            "sun" => scene.add_light(
+                DirectionalLight::new(Vec3::new(-1.0, -1.0, -1.0), Vec3::ONE, 1.0)?
+                    .with_shadows(shadows),
+            ),
             "point" => scene.add_light(
                 PointLight::new(Vec3::new(2.0, 3.0, 4.0), Vec3::splat(0.5), 1.0)?
-                    .with_attenuation(1.0, 0.05, 0.01)?,
+                    .with_attenuation(1.0, 0.05, 0.01)?
+                    .with_shadows(shadows),
             ),
             "spot" => scene.add_light(
                 SpotLight::new(

@@ -284,15 +284,11 @@ impl Surface {
             let (lx, ly, lz) = (l[0][k], l[1][k], l[2][k]);
             let ndl = nx * lx + ny * ly + nz * lz;
             let lit = ndl > 0.0;
-            let d = if lit {
-                if SCALED {
-                    ndl * att[k]
-                } else {
-                    ndl
-                }
-            } else {
-                0.0
-            };
+            // The scale multiplies the selected term (0 when unlit: `att` is finite and
+            // ≥ 0, so the product is the same as scaling inside the select) -- so the
+            // select stays a select and the loop vectorises.
+            let d = if lit { ndl } else { 0.0 };
+            let d = if SCALED { d * att[k] } else { d };
             let cd = c.diffuse();
             cd[0][k] += light.diffuse.x * d;
             cd[1][k] += light.diffuse.y * d;
@@ -313,15 +309,8 @@ impl Surface {
                     ((rx * vx + ry * vy + rz * vz).max(0.0), true)
                 };
                 let sp = pow01(s, shin.map_or(self.shininess, |f| f[k]));
-                let sp = if lit && ok {
-                    if SCALED {
-                        sp * att[k]
-                    } else {
-                        sp
-                    }
-                } else {
-                    0.0
-                };
+                let sp = if lit && ok { sp } else { 0.0 };
+                let sp = if SCALED { sp * att[k] } else { sp };
                 let cs = c.specular();
                 cs[0][k] += light.specular.x * sp;
                 cs[1][k] += light.specular.y * sp;

@@ -344,6 +344,7 @@ pub(crate) fn prepare(
             .then_some(camera),
             options,
             &|cam, opts, out| depth_pass(scene, cam, opts, out).map(|_| ()),
+            isa::Isa::detect(options.baseline_isa) != isa::Isa::Baseline,
         )?,
         false => None,
     };

@@ -19,12 +19,13 @@
 
 use std::mem::MaybeUninit;
 
-use glam::{DMat4, DVec3, DVec4, Vec3};
+use glam::{DMat4, DVec3, Vec3};
 
 use super::fit;
-use crate::camera::{Camera, Projection};
+use super::lookup::{self, FaceLanes, Kernel, Points};
+use crate::camera::Camera;
 use crate::error::{RasterError, Result};
-use crate::lighting::{Geometry, Source};
+use crate::lighting::{Geometry, Lanes, Source, LANES};
 use crate::lights::{ShadowFilter, ShadowSettings};
 use crate::options::RenderOptions;
 
@@ -37,17 +38,12 @@ pub(crate) type DepthPass<'a> =
 /// (`f32::INFINITY` where nothing was drawn).
 #[derive(Debug)]
 struct Face {
+    /// Read by the tests' f64 reference look-up.
+    #[cfg_attr(not(test), allow(dead_code))]
     camera: Camera,
-    view_proj: DMat4,
-    view: DMat4,
     depth: Vec<f32>,
-    /// World size of a texel at eye depth 1 (perspective) or anywhere (orthographic).
-    texel: f64,
-    /// Half the view's extent: `tan(fov/2)` (perspective) or half the height (orthographic).
-    half: f64,
-    /// Orthographic: the unit direction toward the light (the view's back axis).
-    toward: DVec3,
-    perspective: bool,
+    /// The constants of the batched look-up ([`lookup`]).
+    lanes: FaceLanes,
 }
 
 /// A light's shadow map: one face, six for a cube, or one per cascade.
@@ -190,120 +186,57 @@ impl ShadowMap {
         })
     }
 
-    /// The share of the filter's texels (one for `filter="none"`) that see the point `p`
-    /// (shading normal `n`, geometric normal `g`) lit.
-    pub fn visibility(&self, n: Vec3, p: Vec3, g: Vec3) -> f32 {
-        let face = match (self.cube_at, &self.cascades) {
-            (Some(q), _) => &self.faces[cube_face(p - q)],
+    /// The share of the filter's texels (one for `filter="none"`) that see each of the
+    /// first `live` lanes' points lit ([`lookup`]; `out` is left as it is beyond `live`).
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // lane loops index several arrays
+    pub fn visibility_lanes(&self, pts: &Points<'_>, live: usize, out: &mut Lanes) {
+        let live_lanes: [bool; LANES] = std::array::from_fn(|l| l < live);
+        if self.faces.len() == 1 {
+            let f = &self.faces[0];
+            lookup::visibility(&f.lanes, self.kernel(&f.depth), pts, &live_lanes, out);
+            return;
+        }
+        // Several faces (cube, cascades): each lane's face, then one pass per face present.
+        let mut which = [usize::MAX; LANES];
+        for l in 0..live {
+            let p = Vec3::new(pts.p[0][l], pts.p[1][l], pts.p[2][l]);
+            which[l] = self.face_of(p);
+        }
+        for (i, f) in self.faces.iter().enumerate() {
+            let active: [bool; LANES] = std::array::from_fn(|l| which[l] == i);
+            if active.iter().any(|&a| a) {
+                lookup::visibility(&f.lanes, self.kernel(&f.depth), pts, &active, out);
+            }
+        }
+    }
+
+    /// The look-up's view of one face's depths under this map's filter and bias.
+    fn kernel<'m>(&self, depth: &'m [f32]) -> Kernel<'m> {
+        Kernel {
+            depth,
+            res: self.res,
+            half: match self.filter {
+                ShadowFilter::None => 0,
+                ShadowFilter::Pcf(k) => (k / 2) as i32,
+            },
+            clamp_outside: self.filter != ShadowFilter::None,
+            bias: self.bias,
+        }
+    }
+
+    /// The index of the face that holds point `p`: the cube face seeing it, or the first
+    /// cascade reaching its view depth.
+    fn face_of(&self, p: Vec3) -> usize {
+        match (self.cube_at, &self.cascades) {
+            (Some(q), _) => cube_face(p - q),
             (None, Some((eye, axis, ends))) => {
                 let z = (p.as_dvec3() - *eye).dot(*axis);
-                &self.faces[ends.iter().take_while(|&&e| z > e).count()]
+                ends.iter().take_while(|&&e| z > e).count()
             }
-            (None, None) => &self.faces[0],
-        };
-        let toward = if face.perspective {
-            (face.camera.eye() - p.as_dvec3()).normalize_or_zero()
-        } else {
-            face.toward
-        };
-        if n.as_dvec3().dot(toward) <= 0.0 {
-            return 1.0; // faces away: no diffuse or specular whatever the map says
+            (None, None) => 0,
         }
-        let g = g.as_dvec3().normalize_or_zero();
-        let g = if g.dot(n.as_dvec3()) < 0.0 { -g } else { g };
-        // In the light's view space (looking down −z): the point, its plane's normal.
-        let pv = face.view.transform_point3(p.as_dvec3());
-        let gv = face.view.transform_vector3(g);
-        let depth = -pv.z;
-        if face.perspective && depth.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-            return 1.0; // behind the light: the face does not see it
-        }
-        // World size of a texel at the point; the tolerance is one texel (times `bias`).
-        let s = if face.perspective {
-            face.texel * depth
-        } else {
-            face.texel
-        };
-        let tolerance = s * self.bias as f64 + 1e-6 * depth.abs();
-        // The point's texel coordinates.
-        let c = face.view_proj * DVec4::new(p.x as f64, p.y as f64, p.z as f64, 1.0);
-        let res = self.res as f64;
-        let (sx, sy) = ((c.x / c.w + 1.0) / 2.0 * res, (1.0 - c.y / c.w) / 2.0 * res);
-        if !(sx.is_finite() && sy.is_finite()) {
-            return 1.0;
-        }
-        // Far outside the map (clamped so the kernel offsets cannot overflow) reads its edge.
-        let (tx, ty) = (
-            floor(sx).clamp(-(1 << 40), 1 << 40),
-            floor(sy).clamp(-(1 << 40), 1 << 40),
-        );
-        let r = self.res as i64;
-        // Receiver-plane depth: the depth at which the light's ray through a texel's centre
-        // meets the point's own plane, so a sloped receiver compares with its own depth at
-        // every texel of the kernel (no acne at grazing light, no large constant bias).
-        // The ray through texel (x, y) leaves o (orthographic: (ndc_x, ndc_y, 0)·half) along
-        // d (perspective: (ndc_x·half, ndc_y·half, −1); orthographic −z) and meets the plane
-        // at t = g·(p − o) / g·d: numerator and denominator are affine in (x, y), since
-        // ndc_x = a·x + a/2 − 1 and ndc_y = 1 − a/2 − a·y with a = 2/res.
-        let a = 2.0 / res;
-        let (gx, gy) = (gv.x * face.half, gv.y * face.half);
-        let (cx, cy) = (a / 2.0 - 1.0, 1.0 - a / 2.0);
-        let gp = gv.dot(pv);
-        let (num, den) = if face.perspective {
-            ((gp, 0.0, 0.0), (gx * cx + gy * cy - gv.z, gx * a, -gy * a))
-        } else {
-            ((gp - gx * cx - gy * cy, -gx * a, gy * a), (-gv.z, 0.0, 0.0))
-        };
-        let (h, k) = match self.filter {
-            ShadowFilter::None if tx < 0 || ty < 0 || tx >= r || ty >= r => {
-                return 1.0; // outside the map: nothing there casts a shadow
-            }
-            ShadowFilter::None => (0, 1),
-            ShadowFilter::Pcf(k) => ((k / 2) as i64, k),
-        };
-        // The share of the k × k texels around (tx, ty) (clamped to the map's edge) whose
-        // stored depth is not nearer than the receiver's, less the tolerance.
-        // Along the plane (denominator ≈ 0) or behind: the point's own depth.
-        let receiver = |t: f64, d: f64| {
-            if d.abs() > 1e-9 && t.is_finite() && t > 0.0 {
-                t
-            } else {
-                depth
-            }
-        };
-        let mut lit = 0u32;
-        if face.perspective {
-            for y in ty - h..=ty + h {
-                let row = &face.depth[(y.clamp(0, r - 1) * r) as usize..][..r as usize];
-                let yf = y as f64;
-                let d_row = den.0 + den.2 * yf;
-                for x in tx - h..=tx + h {
-                    let d = d_row + den.1 * x as f64;
-                    let t = receiver(num.0 / d, d);
-                    lit += (t - tolerance <= row[x.clamp(0, r - 1) as usize] as f64) as u32;
-                }
-            }
-        } else {
-            // Orthographic: one denominator, so one division per point.
-            let inv = 1.0 / den.0;
-            for y in ty - h..=ty + h {
-                let row = &face.depth[(y.clamp(0, r - 1) * r) as usize..][..r as usize];
-                let n_row = num.0 + num.2 * y as f64;
-                for x in tx - h..=tx + h {
-                    let t = receiver((n_row + num.1 * x as f64) * inv, den.0);
-                    lit += (t - tolerance <= row[x.clamp(0, r - 1) as usize] as f64) as u32;
-                }
-            }
-        }
-        lit as f32 / (k * k) as f32
     }
-}
-
-/// `⌊v⌋` of a finite `v` in the `i64` range, without the libm call `f64::floor` is on the
-/// baseline instruction set.
-fn floor(v: f64) -> i64 {
-    let i = v as i64;
-    i - ((i as f64) > v) as i64
 }
 
 /// The settings of one sample point of an area light with `side` samples per side: its
@@ -417,7 +350,8 @@ fn cube_face(d: Vec3) -> usize {
     }
 }
 
-/// The depth pass from `camera` into a face of eye distances.
+/// The depth pass from `camera` into a face of eye distances; `texel` is the world size
+/// of one texel at eye depth 1 (perspective) or anywhere (orthographic).
 fn render_face(
     depth_pass: DepthPass<'_>,
     camera: Camera,
@@ -426,11 +360,6 @@ fn render_face(
     perspective: bool,
     texel: f64,
 ) -> Result<Face> {
-    let half = match camera.projection() {
-        Projection::Perspective { fov_y } => (fov_y.to_radians() / 2.0).tan(),
-        Projection::Orthographic { height } => height / 2.0,
-        Projection::Pinhole(_) => unreachable!("light cameras are look_at or orthographic"),
-    };
     // Initialised (to "nothing drawn"), so reading every sample is sound whatever the pass did.
     let mut out = vec![MaybeUninit::new(-1.0f32); res * res];
     depth_pass(&camera, opts, &mut out)?;
@@ -447,13 +376,250 @@ fn render_face(
         })
         .collect();
     Ok(Face {
-        toward: (camera.eye() - camera.target()).normalize(),
-        view_proj: camera.projection_matrix(1.0) * camera.view_matrix(),
-        view: camera.view_matrix(),
+        lanes: FaceLanes::new(&camera.view_matrix(), camera.eye(), texel, res, perspective),
         camera,
         depth,
-        texel,
-        half,
-        perspective,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec4;
+
+    use super::*;
+    use crate::camera::Projection;
+    use crate::lighting::LightSet;
+    use crate::lights::{DirectionalLight, Light, PointLight, Shadows, SpotLight};
+
+    /// The point-at-a-time f64 look-up (the form before the batched one): each kernel
+    /// texel's receiver depth from the light's ray through its centre and the point's plane,
+    /// through the face camera's f64 matrices.
+    fn reference(map: &ShadowMap, n: Vec3, p: Vec3, g: Vec3) -> f32 {
+        let face = &map.faces[map.face_of(p)];
+        let cam = &face.camera;
+        let res = map.res as f64;
+        let (perspective, half) = match cam.projection() {
+            Projection::Perspective { fov_y } => (true, (fov_y.to_radians() / 2.0).tan()),
+            Projection::Orthographic { height } => (false, height / 2.0),
+            Projection::Pinhole(_) => unreachable!(),
+        };
+        let texel = 2.0 * half / res;
+        let (view, view_proj) = (
+            cam.view_matrix(),
+            cam.projection_matrix(1.0) * cam.view_matrix(),
+        );
+        let toward = if perspective {
+            (cam.eye() - p.as_dvec3()).normalize_or_zero()
+        } else {
+            (cam.eye() - cam.target()).normalize()
+        };
+        if n.as_dvec3().dot(toward) <= 0.0 {
+            return 1.0;
+        }
+        let g = g.as_dvec3().normalize_or_zero();
+        let g = if g.dot(n.as_dvec3()) < 0.0 { -g } else { g };
+        let pv = view.transform_point3(p.as_dvec3());
+        let gv = view.transform_vector3(g);
+        let depth = -pv.z;
+        if perspective && depth.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            return 1.0;
+        }
+        let s = if perspective { texel * depth } else { texel };
+        let tolerance = s * map.bias as f64 + 1e-6 * depth.abs();
+        let c = view_proj * DVec4::new(p.x as f64, p.y as f64, p.z as f64, 1.0);
+        let (sx, sy) = ((c.x / c.w + 1.0) / 2.0 * res, (1.0 - c.y / c.w) / 2.0 * res);
+        if !(sx.is_finite() && sy.is_finite()) {
+            return 1.0;
+        }
+        let (tx, ty) = (sx.floor() as i64, sy.floor() as i64);
+        let r = map.res as i64;
+        let (h, k) = match map.filter {
+            ShadowFilter::None if tx < 0 || ty < 0 || tx >= r || ty >= r => return 1.0,
+            ShadowFilter::None => (0, 1),
+            ShadowFilter::Pcf(k) => ((k / 2) as i64, k as i64),
+        };
+        let mut lit = 0;
+        for y in ty - h..=ty + h {
+            for x in tx - h..=tx + h {
+                // The ray through the texel's centre, in view space, and the plane's depth on it.
+                let ndc = DVec3::new(
+                    (x as f64 + 0.5) / res * 2.0 - 1.0,
+                    1.0 - (y as f64 + 0.5) / res * 2.0,
+                    0.0,
+                );
+                let (o, d) = if perspective {
+                    (DVec3::ZERO, DVec3::new(ndc.x * half, ndc.y * half, -1.0))
+                } else {
+                    (DVec3::new(ndc.x * half, ndc.y * half, 0.0), DVec3::NEG_Z)
+                };
+                let den = gv.dot(d);
+                let t = gv.dot(pv - o) / den;
+                let t = if den.abs() > 1e-9 && t.is_finite() && t > 0.0 {
+                    t
+                } else {
+                    depth
+                };
+                let stored = face.depth[(y.clamp(0, r - 1) * r + x.clamp(0, r - 1)) as usize];
+                lit += (t - tolerance <= stored as f64) as i64;
+            }
+        }
+        lit as f32 / (k * k) as f32
+    }
+
+    /// A deterministic stream of numbers in [0, 1).
+    struct Lcg(u64);
+    impl Lcg {
+        fn next(&mut self) -> f32 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (self.0 >> 40) as f32 / (1u64 << 24) as f32
+        }
+        fn in_box(&mut self, lo: f32, hi: f32) -> Vec3 {
+            Vec3::new(self.next(), self.next(), self.next()) * (hi - lo) + lo
+        }
+    }
+
+    /// The batched f32 look-up agrees with the f64 reference for every light kind and
+    /// filter, over points of all kinds (lit, shadowed, in penumbrae, behind the light,
+    /// outside the map, facing away): a lane may differ only where a comparison is within
+    /// rounding of its threshold, so by one texel of the kernel, on a tiny share of points.
+    #[test]
+    #[allow(clippy::needless_range_loop)] // lane loops index several arrays
+    fn batched_lookup_matches_the_f64_reference() {
+        let lights: Vec<Light> = vec![
+            DirectionalLight::new(Vec3::new(-0.3, -1.0, -0.4), Vec3::ONE, 1.0)
+                .unwrap()
+                .into(),
+            SpotLight::new(
+                PointLight::new(Vec3::new(0.2, 3.0, 0.5), Vec3::ONE, 1.0).unwrap(),
+                Vec3::new(-0.1, -1.0, -0.2),
+                40.0,
+                1.0,
+            )
+            .unwrap()
+            .into(),
+            PointLight::new(Vec3::new(0.1, 0.2, -0.3), Vec3::ONE, 1.0)
+                .unwrap()
+                .into(),
+        ];
+        let set = LightSet::new(&lights);
+        let bounds = (Vec3::splat(-2.0), Vec3::splat(2.0));
+        // A bumpy depth field over the whole NDC depth range.
+        let pass = |_: &Camera, o: &RenderOptions, out: &mut [MaybeUninit<f32>]| {
+            let w = o.width as usize;
+            for (i, z) in out.iter_mut().enumerate() {
+                let (x, y) = ((i % w) as f32, (i / w) as f32);
+                let v = 0.5 + 0.45 * (x * 0.031).sin() * (y * 0.017 + 0.3).cos();
+                *z = MaybeUninit::new(if (i * 7919) % 97 == 0 { -1.0 } else { v });
+            }
+            Ok(())
+        };
+        let options = RenderOptions::new(64, 48);
+        for (li, s) in set.sources.iter().enumerate() {
+            for filter in [
+                ShadowFilter::None,
+                ShadowFilter::Pcf(3),
+                ShadowFilter::Pcf(5),
+            ] {
+                let settings = ShadowSettings::new(256, filter, 1.0).unwrap();
+                let map = ShadowMap::new(s, settings, bounds, None, &options, &pass).unwrap();
+                let mut rng = Lcg(li as u64 * 31 + 7);
+                let (mut differ, mut total) = (0, 0);
+                let (mut lit, mut dark, mut partial) = (0, 0, 0);
+                for _ in 0..400 {
+                    let mut pts = [[[0.0f32; LANES]; 3]; 3];
+                    for l in 0..LANES {
+                        let p = rng.in_box(-2.5, 2.5);
+                        let g = (rng.in_box(-1.0, 1.0) + Vec3::Y).normalize_or_zero();
+                        let n = (g + 0.3 * rng.in_box(-1.0, 1.0)).normalize_or_zero();
+                        for a in 0..3 {
+                            (pts[0][a][l], pts[1][a][l], pts[2][a][l]) = (n[a], p[a], g[a]);
+                        }
+                    }
+                    let mut out = [f32::NAN; LANES];
+                    let points = Points {
+                        n: &pts[0],
+                        p: &pts[1],
+                        g: &pts[2],
+                    };
+                    map.visibility_lanes(&points, LANES, &mut out);
+                    for l in 0..LANES {
+                        let at = |a: usize| Vec3::new(pts[a][0][l], pts[a][1][l], pts[a][2][l]);
+                        let want = reference(&map, at(0), at(1), at(2));
+                        let tap = 1.0 / (filter_taps(filter) as f32);
+                        assert!(
+                            (out[l] - want).abs() <= tap + 1e-6,
+                            "light {li} {filter:?}: {} vs {want}",
+                            out[l]
+                        );
+                        differ += ((out[l] - want).abs() > 1e-6) as u32;
+                        total += 1;
+                        if want == 1.0 {
+                            lit += 1;
+                        } else if want == 0.0 {
+                            dark += 1;
+                        } else {
+                            partial += 1;
+                        }
+                    }
+                }
+                assert!(
+                    differ * 500 <= total,
+                    "light {li} {filter:?}: {differ} of {total}"
+                );
+                assert!(
+                    lit > total / 20 && dark > total / 20,
+                    "{lit} lit, {dark} dark"
+                );
+                if filter != ShadowFilter::None {
+                    assert!(partial > total / 50, "{partial} partial of {total}");
+                }
+            }
+        }
+    }
+
+    fn filter_taps(f: ShadowFilter) -> u32 {
+        match f {
+            ShadowFilter::None => 1,
+            ShadowFilter::Pcf(k) => k * k,
+        }
+    }
+
+    /// Lanes beyond `live` are left as they were.
+    #[test]
+    fn lanes_beyond_live_are_untouched() {
+        let light: Light = DirectionalLight::new(-Vec3::Y, Vec3::ONE, 1.0)
+            .unwrap()
+            .with_shadows(Shadows::Map(ShadowSettings::default()))
+            .into();
+        let set = LightSet::new(std::slice::from_ref(&light));
+        let pass = |_: &Camera, _: &RenderOptions, out: &mut [MaybeUninit<f32>]| {
+            out.fill(MaybeUninit::new(0.5));
+            Ok(())
+        };
+        let options = RenderOptions::new(8, 8);
+        let bounds = (Vec3::splat(-1.0), Vec3::splat(1.0));
+        let map = ShadowMap::new(
+            &set.sources[0],
+            ShadowSettings::default(),
+            bounds,
+            None,
+            &options,
+            &pass,
+        )
+        .unwrap();
+        let up = [[0.0; LANES], [1.0; LANES], [0.0; LANES]];
+        let p = [[0.0; LANES], [-0.9; LANES], [0.0; LANES]];
+        let mut out = [7.0; LANES];
+        let points = Points {
+            n: &up,
+            p: &p,
+            g: &up,
+        };
+        map.visibility_lanes(&points, 3, &mut out);
+        assert_eq!(&out[3..], &[7.0; LANES - 3]);
+        assert!(out[..3].iter().all(|&v| v == 0.0), "{out:?}");
+    }
 }

@@ -11,6 +11,7 @@
 
 mod exact;
 mod fit;
+mod lookup;
 mod map;
 
 use glam::Vec3;
@@ -21,6 +22,7 @@ use crate::lights::{Light, Shadows};
 use crate::options::RenderOptions;
 use crate::rays::Bvh;
 use crate::scene::Scene;
+use lookup::Points;
 pub(crate) use map::DepthPass;
 use map::ShadowMap;
 pub(crate) use map::ViewFit;
@@ -60,6 +62,9 @@ pub(crate) struct ShadowEffect {
     bvh: Option<Bvh>,
     /// Scene-size part of the ray offset (see the module's doc).
     offset: f32,
+    /// Whether the CPU has AVX2 and FMA and the render may use them: the map look-ups then
+    /// run a copy compiled for them (8 lanes a vector instead of 4).
+    wide: bool,
 }
 
 impl ShadowEffect {
@@ -67,7 +72,8 @@ impl ShadowEffect {
     /// casts one. `world` holds every object's world-space vertices in scene order (the
     /// vertex stage's). The BVH is built only when a light asks for exact shadows; shadow
     /// maps are rendered here from each light, through `depth` (the pipeline's depth pass),
-    /// directional ones fitted to what `view` sees (see [`ViewFit`]).
+    /// directional ones fitted to what `view` sees (see [`ViewFit`]). `wide`: the render's
+    /// instruction set is AVX2 + FMA (see [`ShadowEffect::visibility`]).
     pub fn new(
         scene: &Scene,
         set: &LightSet,
@@ -75,6 +81,7 @@ impl ShadowEffect {
         view: ViewFit<'_>,
         options: &RenderOptions,
         depth: DepthPass<'_>,
+        wide: bool,
     ) -> Result<Option<Self>> {
         if !set.sources.iter().any(|s| s.shadows.on()) {
             return Ok(None);
@@ -140,6 +147,7 @@ impl ShadowEffect {
             casters,
             bvh,
             offset,
+            wide,
         }))
     }
 
@@ -150,7 +158,9 @@ impl ShadowEffect {
 
     /// The visibility of each source from the first `live` lanes of points `p` with unit
     /// shading normals `n` and geometric normals `g` (any length, any side): `None` for a
-    /// source that casts no shadow, else 0 (hidden) to 1 (lit) per lane.
+    /// source that casts no shadow, else 0 (hidden) to 1 (lit) per lane. Map look-ups run
+    /// over whole lanes ([`lookup`]), in the AVX2 copy when the render is `wide`; both
+    /// copies do the same IEEE operations, so they give identical results.
     pub fn visibility(
         &self,
         n: &[Lanes; 3],
@@ -159,25 +169,45 @@ impl ShadowEffect {
         live: usize,
         out: &mut [Option<Lanes>],
     ) {
+        let pts = Points { n, p, g };
         for (caster, o) in self.casters.iter().zip(out.iter_mut()) {
             *o = caster.as_ref().map(|c| {
                 let mut vis = [1.0; LANES];
-                for k in 0..live {
-                    let nk = Vec3::new(n[0][k], n[1][k], n[2][k]);
-                    let pk = Vec3::new(p[0][k], p[1][k], p[2][k]);
-                    let gk = Vec3::new(g[0][k], g[1][k], g[2][k]);
-                    vis[k] = match c {
-                        Caster::Exact(toward) => {
-                            let bvh = self.bvh.as_ref().expect("built for exact shadows");
-                            exact::visibility(bvh, *toward, nk, pk, gk, self.offset)
+                match c {
+                    Caster::Exact(toward) => {
+                        let bvh = self.bvh.as_ref().expect("built for exact shadows");
+                        for k in 0..live {
+                            let nk = Vec3::new(n[0][k], n[1][k], n[2][k]);
+                            let pk = Vec3::new(p[0][k], p[1][k], p[2][k]);
+                            let gk = Vec3::new(g[0][k], g[1][k], g[2][k]);
+                            vis[k] = exact::visibility(bvh, *toward, nk, pk, gk, self.offset);
                         }
-                        Caster::Map(m) => m.visibility(nk, pk, gk),
-                    };
+                    }
+                    Caster::Map(m) => map_lanes(m, &pts, live, &mut vis, self.wide),
                 }
                 vis
             });
         }
     }
+}
+
+/// A map's look-up of a batch, in the copy for the render's instruction set.
+fn map_lanes(m: &ShadowMap, pts: &Points<'_>, live: usize, vis: &mut Lanes, wide: bool) {
+    #[cfg(target_arch = "x86_64")]
+    if wide {
+        // SAFETY: `wide` is set only when the render's instruction set was detected as
+        // AVX2 + FMA (`Isa::detect`), the features this copy is compiled for.
+        unsafe { map_lanes_avx2(m, pts, live, vis) };
+        return;
+    }
+    let _ = wide;
+    m.visibility_lanes(pts, live, vis)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn map_lanes_avx2(m: &ShadowMap, pts: &Points<'_>, live: usize, vis: &mut Lanes) {
+    m.visibility_lanes(pts, live, vis)
 }
 
 /// Every object's triangles in world space (the vertex stage's positions).
