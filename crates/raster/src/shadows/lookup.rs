@@ -85,7 +85,7 @@ pub(super) struct Points<'a> {
 /// `active` is set (the others are left as they are in `out`).
 #[inline(always)]
 #[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
-pub(super) fn visibility(
+pub(super) fn visibility<const WIDE: bool>(
     face: &FaceLanes,
     k: Kernel<'_>,
     pts: &Points<'_>,
@@ -93,15 +93,15 @@ pub(super) fn visibility(
     out: &mut Lanes,
 ) {
     if face.perspective {
-        lanes::<true>(face, k, pts, active, out)
+        lanes::<true, WIDE>(face, k, pts, active, out)
     } else {
-        lanes::<false>(face, k, pts, active, out)
+        lanes::<false, WIDE>(face, k, pts, active, out)
     }
 }
 
 #[inline(always)]
 #[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
-fn lanes<const PERSPECTIVE: bool>(
+fn lanes<const PERSPECTIVE: bool, const WIDE: bool>(
     face: &FaceLanes,
     k: Kernel<'_>,
     pts: &Points<'_>,
@@ -167,47 +167,159 @@ fn lanes<const PERSPECTIVE: bool>(
         }
         own[l] = depth;
     }
+    let q = Receivers {
+        tx,
+        ty,
+        c0,
+        cx,
+        cy,
+        num,
+        own,
+        tol,
+    };
     let mut lit = [0.0f32; LANES];
-    for dy in -k.half..=k.half {
-        let mut row = [0usize; LANES];
-        for l in 0..LANES {
-            row[l] = ((ty[l] + dy).clamp(0, r - 1) * r) as usize;
-        }
-        let fdy = dy as f32;
-        for dx in -k.half..=k.half {
-            let fdx = dx as f32;
-            for l in 0..LANES {
-                let at = row[l] + (tx[l] + dx).clamp(0, r - 1) as usize;
-                debug_assert!(at < k.depth.len());
-                // SAFETY: both coordinates are clamped to [0, res), so `at < res²`, the
-                // length of every face's depth buffer.
-                let stored = unsafe { *k.depth.get_unchecked(at) };
-                let t = if PERSPECTIVE {
-                    let den = c0[l] + cx[l] * fdx + cy[l] * fdy;
-                    let t = num[l] / den;
-                    if den.abs() > 1e-9 && t.is_finite() && t > 0.0 {
-                        t
-                    } else {
-                        own[l]
-                    }
-                } else {
-                    let t = c0[l] + cx[l] * fdx + cy[l] * fdy;
-                    if t.is_finite() && t > 0.0 {
-                        t
-                    } else {
-                        own[l]
-                    }
-                };
-                lit[l] += if t - tol[l] <= stored { 1.0 } else { 0.0 };
-            }
-        }
+    #[cfg(target_arch = "x86_64")]
+    if WIDE {
+        // SAFETY: `WIDE` is only set by the AVX2+FMA copy of the look-up (`ShadowEffect`
+        // picks it when the render's instruction set has them).
+        unsafe { kernel_avx2::<PERSPECTIVE>(&k, &q, &mut lit) };
+    } else {
+        kernel::<PERSPECTIVE>(&k, &q, &mut lit);
     }
+    #[cfg(not(target_arch = "x86_64"))]
+    kernel::<PERSPECTIVE>(&k, &q, &mut lit);
     let share = 1.0 / ((2 * k.half + 1) * (2 * k.half + 1)) as f32;
     for l in 0..LANES {
         if active[l] {
             out[l] = if decide[l] { lit[l] * share } else { 1.0 };
         }
     }
+}
+
+/// Each lane's texel and receiver depth coefficients (see the module's doc): the depth the
+/// kernel texel `dx, dy` is compared with is `c0 + cx·dx + cy·dy` (orthographic) or
+/// `num / (c0 + cx·dx + cy·dy)` (perspective), `own` where that is unusable, less `tol`.
+struct Receivers {
+    tx: [i32; LANES],
+    ty: [i32; LANES],
+    c0: Lanes,
+    cx: Lanes,
+    cy: Lanes,
+    num: Lanes,
+    own: Lanes,
+    tol: Lanes,
+}
+
+/// The kernel's comparisons, a lane at a time: adds to `lit` the number of texels of each
+/// lane's kernel (clamped to the map's edge) that see its receiver lit.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
+fn kernel<const PERSPECTIVE: bool>(k: &Kernel<'_>, q: &Receivers, lit: &mut Lanes) {
+    let r = k.res as i32;
+    for dy in -k.half..=k.half {
+        let mut row = [0usize; LANES];
+        for l in 0..LANES {
+            row[l] = ((q.ty[l] + dy).clamp(0, r - 1) * r) as usize;
+        }
+        let fdy = dy as f32;
+        for dx in -k.half..=k.half {
+            let fdx = dx as f32;
+            for l in 0..LANES {
+                let at = row[l] + (q.tx[l] + dx).clamp(0, r - 1) as usize;
+                debug_assert!(at < k.depth.len());
+                // SAFETY: both coordinates are clamped to [0, res), so `at < res²`, the
+                // length of every face's depth buffer.
+                let stored = unsafe { *k.depth.get_unchecked(at) };
+                let t = if PERSPECTIVE {
+                    let den = q.c0[l] + q.cx[l] * fdx + q.cy[l] * fdy;
+                    let t = q.num[l] / den;
+                    if den.abs() > 1e-9 && t.is_finite() && t > 0.0 {
+                        t
+                    } else {
+                        q.own[l]
+                    }
+                } else {
+                    let t = q.c0[l] + q.cx[l] * fdx + q.cy[l] * fdy;
+                    if t.is_finite() && t > 0.0 {
+                        t
+                    } else {
+                        q.own[l]
+                    }
+                };
+                lit[l] += if t - q.tol[l] <= stored { 1.0 } else { 0.0 };
+            }
+        }
+    }
+}
+
+/// [`kernel`] with AVX2: the same operations in the same order over a vector of 8 lanes, the
+/// texels fetched by one gather per kernel texel.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn kernel_avx2<const PERSPECTIVE: bool>(k: &Kernel<'_>, q: &Receivers, lit: &mut Lanes) {
+    use std::arch::x86_64::*;
+    const _: () = assert!(LANES == 8, "one AVX2 vector holds the lanes");
+    // SAFETY (loads and stores): each array holds exactly one vector of 8 lanes.
+    let (tx, ty) = unsafe {
+        (
+            _mm256_loadu_si256(q.tx.as_ptr().cast()),
+            _mm256_loadu_si256(q.ty.as_ptr().cast()),
+        )
+    };
+    let [c0, cx, cy, num, own, tol] = [&q.c0, &q.cx, &q.cy, &q.num, &q.own, &q.tol]
+        .map(|a| unsafe { _mm256_loadu_ps(a.as_ptr()) });
+    let zero_i = _mm256_setzero_si256();
+    let last = _mm256_set1_epi32(k.res as i32 - 1);
+    let res = _mm256_set1_epi32(k.res as i32);
+    let zero = _mm256_setzero_ps();
+    let one = _mm256_set1_ps(1.0);
+    let inf = _mm256_set1_ps(f32::INFINITY);
+    let sign = _mm256_set1_ps(-0.0);
+    let tiny = _mm256_set1_ps(1e-9);
+    let base = k.depth.as_ptr();
+    let mut acc = unsafe { _mm256_loadu_ps(lit.as_ptr()) };
+    for dy in -k.half..=k.half {
+        let y = _mm256_min_epi32(
+            _mm256_max_epi32(_mm256_add_epi32(ty, _mm256_set1_epi32(dy)), zero_i),
+            last,
+        );
+        let row = _mm256_mullo_epi32(y, res);
+        let fdy = _mm256_set1_ps(dy as f32);
+        for dx in -k.half..=k.half {
+            let x = _mm256_min_epi32(
+                _mm256_max_epi32(_mm256_add_epi32(tx, _mm256_set1_epi32(dx)), zero_i),
+                last,
+            );
+            // SAFETY: both coordinates are clamped to [0, res), so every index is below
+            // res², the length of the face's depth buffer.
+            let stored = unsafe { _mm256_i32gather_ps::<4>(base, _mm256_add_epi32(row, x)) };
+            let fdx = _mm256_set1_ps(dx as f32);
+            let lin = _mm256_add_ps(
+                _mm256_add_ps(c0, _mm256_mul_ps(cx, fdx)),
+                _mm256_mul_ps(cy, fdy),
+            );
+            let t = if PERSPECTIVE {
+                let t = _mm256_div_ps(num, lin);
+                let ok = _mm256_and_ps(
+                    _mm256_cmp_ps::<_CMP_GT_OQ>(_mm256_andnot_ps(sign, lin), tiny),
+                    _mm256_and_ps(
+                        _mm256_cmp_ps::<_CMP_LT_OQ>(_mm256_andnot_ps(sign, t), inf),
+                        _mm256_cmp_ps::<_CMP_GT_OQ>(t, zero),
+                    ),
+                );
+                _mm256_blendv_ps(own, t, ok)
+            } else {
+                let ok = _mm256_and_ps(
+                    _mm256_cmp_ps::<_CMP_LT_OQ>(_mm256_andnot_ps(sign, lin), inf),
+                    _mm256_cmp_ps::<_CMP_GT_OQ>(lin, zero),
+                );
+                _mm256_blendv_ps(own, lin, ok)
+            };
+            let pass = _mm256_cmp_ps::<_CMP_LE_OQ>(_mm256_sub_ps(t, tol), stored);
+            acc = _mm256_add_ps(acc, _mm256_and_ps(pass, one));
+        }
+    }
+    unsafe { _mm256_storeu_ps(lit.as_mut_ptr(), acc) };
 }
 
 /// `⌊v⌋` of a finite `v` in the `i32` range, without the libm call `f32::floor` is on the

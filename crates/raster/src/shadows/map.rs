@@ -188,13 +188,19 @@ impl ShadowMap {
 
     /// The share of the filter's texels (one for `filter="none"`) that see each of the
     /// first `live` lanes' points lit ([`lookup`]; `out` is left as it is beyond `live`).
+    /// `WIDE`: the caller is compiled for AVX2 + FMA (the kernel then gathers its texels).
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // lane loops index several arrays
-    pub fn visibility_lanes(&self, pts: &Points<'_>, live: usize, out: &mut Lanes) {
+    pub fn visibility_lanes<const WIDE: bool>(
+        &self,
+        pts: &Points<'_>,
+        live: usize,
+        out: &mut Lanes,
+    ) {
         let live_lanes: [bool; LANES] = std::array::from_fn(|l| l < live);
         if self.faces.len() == 1 {
             let f = &self.faces[0];
-            lookup::visibility(&f.lanes, self.kernel(&f.depth), pts, &live_lanes, out);
+            lookup::visibility::<WIDE>(&f.lanes, self.kernel(&f.depth), pts, &live_lanes, out);
             return;
         }
         // Several faces (cube, cascades): each lane's face, then one pass per face present.
@@ -206,7 +212,7 @@ impl ShadowMap {
         for (i, f) in self.faces.iter().enumerate() {
             let active: [bool; LANES] = std::array::from_fn(|l| which[l] == i);
             if active.iter().any(|&a| a) {
-                lookup::visibility(&f.lanes, self.kernel(&f.depth), pts, &active, out);
+                lookup::visibility::<WIDE>(&f.lanes, self.kernel(&f.depth), pts, &active, out);
             }
         }
     }
@@ -544,7 +550,16 @@ mod tests {
                         p: &pts[1],
                         g: &pts[2],
                     };
-                    map.visibility_lanes(&points, LANES, &mut out);
+                    map.visibility_lanes::<false>(&points, LANES, &mut out);
+                    #[cfg(target_arch = "x86_64")]
+                    if std::arch::is_x86_feature_detected!("avx2")
+                        && std::arch::is_x86_feature_detected!("fma")
+                    {
+                        let mut wide = [f32::NAN; LANES];
+                        // SAFETY: the CPU has the features the wide copy is compiled for.
+                        unsafe { wide_lanes(&map, &points, &mut wide) };
+                        assert_eq!(out, wide, "the AVX2 kernel gives the same shares");
+                    }
                     for l in 0..LANES {
                         let at = |a: usize| Vec3::new(pts[a][0][l], pts[a][1][l], pts[a][2][l]);
                         let want = reference(&map, at(0), at(1), at(2));
@@ -578,6 +593,12 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn wide_lanes(map: &ShadowMap, points: &Points<'_>, out: &mut Lanes) {
+        map.visibility_lanes::<true>(points, LANES, out)
     }
 
     fn filter_taps(f: ShadowFilter) -> u32 {
@@ -618,7 +639,7 @@ mod tests {
             p: &p,
             g: &up,
         };
-        map.visibility_lanes(&points, 3, &mut out);
+        map.visibility_lanes::<false>(&points, 3, &mut out);
         assert_eq!(&out[3..], &[7.0; LANES - 3]);
         assert!(out[..3].iter().all(|&v| v == 0.0), "{out:?}");
     }

@@ -201,13 +201,13 @@ fn map_lanes(m: &ShadowMap, pts: &Points<'_>, live: usize, vis: &mut Lanes, wide
         return;
     }
     let _ = wide;
-    m.visibility_lanes(pts, live, vis)
+    m.visibility_lanes::<false>(pts, live, vis)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 unsafe fn map_lanes_avx2(m: &ShadowMap, pts: &Points<'_>, live: usize, vis: &mut Lanes) {
-    m.visibility_lanes(pts, live, vis)
+    m.visibility_lanes::<true>(pts, live, vis)
 }
 
 /// Every object's triangles in world space (the vertex stage's positions).
