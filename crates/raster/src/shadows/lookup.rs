@@ -259,7 +259,7 @@ fn kernel<const PERSPECTIVE: bool>(k: &Kernel<'_>, q: &Receivers, lit: &mut Lane
 unsafe fn kernel_avx2<const PERSPECTIVE: bool>(k: &Kernel<'_>, q: &Receivers, lit: &mut Lanes) {
     use std::arch::x86_64::*;
     const _: () = assert!(LANES == 8, "one AVX2 vector holds the lanes");
-    // SAFETY (loads and stores): each array holds exactly one vector of 8 lanes.
+    // SAFETY: each array holds exactly one vector of 8 lanes.
     let (tx, ty) = unsafe {
         (
             _mm256_loadu_si256(q.tx.as_ptr().cast()),
@@ -267,6 +267,7 @@ unsafe fn kernel_avx2<const PERSPECTIVE: bool>(k: &Kernel<'_>, q: &Receivers, li
         )
     };
     let [c0, cx, cy, num, own, tol] = [&q.c0, &q.cx, &q.cy, &q.num, &q.own, &q.tol]
+        // SAFETY: each array holds exactly one vector of 8 lanes.
         .map(|a| unsafe { _mm256_loadu_ps(a.as_ptr()) });
     let zero_i = _mm256_setzero_si256();
     let last = _mm256_set1_epi32(k.res as i32 - 1);
@@ -277,6 +278,7 @@ unsafe fn kernel_avx2<const PERSPECTIVE: bool>(k: &Kernel<'_>, q: &Receivers, li
     let sign = _mm256_set1_ps(-0.0);
     let tiny = _mm256_set1_ps(1e-9);
     let base = k.depth.as_ptr();
+    // SAFETY: `lit` holds exactly one vector of 8 lanes.
     let mut acc = unsafe { _mm256_loadu_ps(lit.as_ptr()) };
     for dy in -k.half..=k.half {
         let y = _mm256_min_epi32(
@@ -319,6 +321,7 @@ unsafe fn kernel_avx2<const PERSPECTIVE: bool>(k: &Kernel<'_>, q: &Receivers, li
             acc = _mm256_add_ps(acc, _mm256_and_ps(pass, one));
         }
     }
+    // SAFETY: `lit` holds exactly one vector of 8 lanes.
     unsafe { _mm256_storeu_ps(lit.as_mut_ptr(), acc) };
 }
 
