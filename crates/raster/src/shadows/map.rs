@@ -20,6 +20,7 @@
 use std::mem::MaybeUninit;
 
 use glam::{DMat4, DVec3, Vec3};
+use rayon::prelude::*;
 
 use super::fit;
 use super::lookup::{self, FaceLanes, Kernel, Points};
@@ -366,21 +367,31 @@ fn render_face(
     perspective: bool,
     texel: f64,
 ) -> Result<Face> {
-    // Initialised (to "nothing drawn"), so reading every sample is sound whatever the pass did.
-    let mut out = vec![MaybeUninit::new(-1.0f32); res * res];
+    // Initialised (to "nothing drawn"), so reading every sample is sound whatever the pass
+    // did; filled and converted in parallel chunks (a 2048² map is 16 MiB each way).
+    const CHUNK: usize = 1 << 16;
+    let mut out: Vec<MaybeUninit<f32>> = Vec::with_capacity(res * res);
+    out.spare_capacity_mut()[..res * res]
+        .par_chunks_mut(CHUNK)
+        .for_each(|c| c.fill(MaybeUninit::new(MaybeUninit::new(-1.0f32))));
+    // SAFETY: the first res² elements were just written.
+    unsafe { out.set_len(res * res) };
     depth_pass(&camera, opts, &mut out)?;
-    let depth = out
-        .into_iter()
-        .map(|z| {
-            // SAFETY: every sample was initialised above (and the pass only writes values).
-            let z = unsafe { z.assume_init() };
-            if z < 0.0 {
+    // SAFETY: every sample was initialised above (and the pass only writes values), and
+    // `MaybeUninit<f32>` has the layout of `f32`.
+    let mut depth: Vec<f32> = unsafe {
+        let mut out = std::mem::ManuallyDrop::new(out);
+        Vec::from_raw_parts(out.as_mut_ptr().cast(), out.len(), out.capacity())
+    };
+    depth.par_chunks_mut(CHUNK).for_each(|c| {
+        for z in c {
+            *z = if *z < 0.0 {
                 f32::INFINITY
             } else {
-                camera.eye_depth_from_z(z)
-            }
-        })
-        .collect();
+                camera.eye_depth_from_z(*z)
+            };
+        }
+    });
     Ok(Face {
         lanes: FaceLanes::new(&camera.view_matrix(), camera.eye(), texel, res, perspective),
         camera,

@@ -171,23 +171,30 @@ impl ShadowEffect {
     ) {
         let pts = Points { n, p, g };
         for (caster, o) in self.casters.iter().zip(out.iter_mut()) {
-            *o = caster.as_ref().map(|c| {
-                let mut vis = [1.0; LANES];
-                match c {
-                    Caster::Exact(toward) => {
-                        let bvh = self.bvh.as_ref().expect("built for exact shadows");
-                        for k in 0..live {
-                            let nk = Vec3::new(n[0][k], n[1][k], n[2][k]);
-                            let pk = Vec3::new(p[0][k], p[1][k], p[2][k]);
-                            let gk = Vec3::new(g[0][k], g[1][k], g[2][k]);
-                            vis[k] = exact::visibility(bvh, *toward, nk, pk, gk, self.offset);
-                        }
-                    }
-                    Caster::Map(m) => map_lanes(m, &pts, live, &mut vis, self.wide),
+            *o = match caster {
+                None => None,
+                Some(Caster::Map(m)) => {
+                    let mut vis = [1.0; LANES];
+                    map_lanes(m, &pts, live, &mut vis, self.wide);
+                    Some(vis)
                 }
-                vis
-            });
+                Some(Caster::Exact(toward)) => Some(self.exact_lanes(*toward, &pts, live)),
+            };
         }
+    }
+
+    /// Exact visibility of the first `live` lanes (1 beyond), a shadow ray each; out of
+    /// line, so the map path above stays a small function.
+    #[inline(never)]
+    fn exact_lanes(&self, toward: Toward, pts: &Points<'_>, live: usize) -> Lanes {
+        let bvh = self.bvh.as_ref().expect("built for exact shadows");
+        let mut vis = [1.0; LANES];
+        let at = |a: &[Lanes; 3], k: usize| Vec3::new(a[0][k], a[1][k], a[2][k]);
+        for (k, v) in vis.iter_mut().enumerate().take(live) {
+            let (n, p, g) = (at(pts.n, k), at(pts.p, k), at(pts.g, k));
+            *v = exact::visibility(bvh, toward, n, p, g, self.offset);
+        }
+        vis
     }
 }
 
