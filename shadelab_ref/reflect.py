@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import reference as ref
+from .ray_triangle import intersect
 
 #: The lectures' indices of refraction.
 IOR = {"air": 1.0, "water": 1.33, "glass": 1.5, "diamond": 2.4}
@@ -256,17 +257,7 @@ class TracedScene:
         e1 = self._tris[:, 1][None] - a
         e2 = self._tris[:, 2][None] - a
         for s in range(0, n, 256):
-            oo, dd = o[s : s + 256, None], d[s : s + 256, None]
-            pv = np.cross(dd, e2)
-            det = np.sum(e1 * pv, axis=-1)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                inv = 1.0 / det
-                tv = oo - a
-                u = np.sum(tv * pv, axis=-1) * inv
-                qv = np.cross(tv, e1)
-                v = np.sum(dd * qv, axis=-1) * inv
-                t = np.sum(e2 * qv, axis=-1) * inv
-                ok = (det != 0) & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
+            t, u, v, ok = intersect(o[s : s + 256, None], d[s : s + 256, None], a, e1, e2)
             t = np.where(ok, t, np.inf)
             k = np.argmin(t, axis=1)
             rows = np.arange(len(k))

@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import reference as ref
+from .ray_triangle import intersect
 
 #: Triangles tested per vectorised step.
 _TRI_CHUNK = 64
@@ -47,18 +48,8 @@ def occluded(origin, direction, t_max, vertices, faces) -> np.ndarray:
         todo = ~hit
         if not todo.any():
             break
-        oo, dd = o[todo][:, None], d[todo][:, None]
-        pv = np.cross(dd, e2)
-        det = np.sum(e1 * pv, axis=-1)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            inv = 1.0 / det
-            tv = oo - a
-            u = np.sum(tv * pv, axis=-1) * inv
-            qv = np.cross(tv, e1)
-            w = np.sum(dd * qv, axis=-1) * inv
-            t = np.sum(e2 * qv, axis=-1) * inv
-            ok = (det != 0) & (u >= 0) & (w >= 0) & (u + w <= 1) & (t > 0)
-            ok &= t < t_max[todo][:, None]
+        t, _, _, ok = intersect(o[todo][:, None], d[todo][:, None], a, e1, e2)
+        ok &= t < t_max[todo][:, None]
         hit[np.nonzero(todo)[0]] = ok.any(axis=1)
     return hit
 

@@ -22,6 +22,19 @@ pub(crate) struct Chunk {
     pub clipped_from: Vec<(u32, [u32; 3])>,
 }
 
+impl Chunk {
+    /// The triangles of this chunk (the `c`-th) touching tile `t`, as (id, triangle), in
+    /// submission order.
+    #[inline(always)]
+    pub fn tile(&self, c: usize, t: usize) -> impl Iterator<Item = (u32, &SetupTri)> + '_ {
+        let tris = &self.tris;
+        self.bins
+            .tile(t)
+            .iter()
+            .map(move |&l| (((c as u32) << LOCAL_BITS) | l, &tris[l as usize]))
+    }
+}
+
 /// All set-up triangles, addressed by id `chunk << LOCAL_BITS | local`.
 #[derive(Debug, Default)]
 pub(crate) struct Binned {
@@ -36,13 +49,10 @@ impl Binned {
 
     /// The triangles touching tile `t`, as (id, triangle), in submission order.
     pub fn tile(&self, t: usize) -> impl Iterator<Item = (u32, &SetupTri)> + '_ {
-        self.chunks.iter().enumerate().flat_map(move |(c, chunk)| {
-            chunk
-                .bins
-                .tile(t)
-                .iter()
-                .map(move |&l| (((c as u32) << LOCAL_BITS) | l, &chunk.tris[l as usize]))
-        })
+        self.chunks
+            .iter()
+            .enumerate()
+            .flat_map(move |(c, chunk)| chunk.tile(c, t))
     }
 
     /// Whether no triangle touches tile `t`.

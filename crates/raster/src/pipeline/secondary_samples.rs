@@ -27,9 +27,9 @@
 
 use glam::Vec3;
 
-use super::raster::{self, Span, SpanSink};
+use super::raster;
 use super::samples::{self, SampleTarget};
-use super::shade::{self, Out, Pixel, ShadeContext};
+use super::shade::{self, Collect, Out, Pixel, ShadeContext};
 use super::tiles::{TileRect, TILE};
 use crate::options::ShadingMode;
 use crate::reflect::Kind;
@@ -57,32 +57,6 @@ pub(crate) struct SecondarySamplesWork {
     frags: Vec<SampleFragment>,
     /// The current pixel's fragment mixes by triangle: (id, adds, lets through).
     mixes: Vec<(u32, Vec3, f32)>,
-}
-
-/// Collects the fragments of blended triangles nearer than one sample position's opaque
-/// surface.
-struct Collect<'a> {
-    opaque: &'a [f32],
-    sample: u32,
-    frags: &'a mut Vec<SampleFragment>,
-}
-
-impl SpanSink for Collect<'_> {
-    fn span(&mut self, s: Span) {
-        for k in 0..s.len {
-            self.pixel(s.start + k, s.z_at(k), s.id);
-        }
-    }
-
-    fn pixel(&mut self, slot: usize, z: f32, id: u32) {
-        if z > self.opaque[slot] {
-            self.frags.push(SampleFragment {
-                key: ((slot as u32) << SAMPLE_BITS) | self.sample,
-                z,
-                id,
-            });
-        }
-    }
 }
 
 /// One tile of a scene with the secondary stage at `N = target.per_pixel() > 1` samples.
@@ -168,10 +142,15 @@ pub(crate) fn shade_secondary_samples<P: Pixel, const AFFINE: bool>(
     if sec.any_blended {
         for (s, offset) in samples::offsets(n).enumerate() {
             let tris = ctx.tris.tile(index).filter(|&(id, _)| blended(id));
+            let sample = s as u32;
             let mut sink = Collect {
                 opaque: &target.sample_buffer(s).depth[..],
-                sample: s as u32,
                 frags,
+                make: |slot, z, id| SampleFragment {
+                    key: ((slot as u32) << SAMPLE_BITS) | sample,
+                    z,
+                    id,
+                },
             };
             raster::for_each_span_at(tris, rect, offset, &mut sink);
         }

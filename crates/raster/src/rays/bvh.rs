@@ -377,34 +377,53 @@ mod tests {
         t
     }
 
+    /// `grid(n)` and `count` small tilted triangles above it, with edges `e1` and `e2` from
+    /// corners `corner(k · step)`.
+    fn grid_and_tilted(
+        n: usize,
+        count: usize,
+        step: f32,
+        corner: impl Fn(f32) -> Vec3,
+        [e1, e2]: [Vec3; 2],
+    ) -> Vec<[Vec3; 3]> {
+        let mut tris = grid(n);
+        for k in 0..count {
+            let c = corner(k as f32 * step);
+            tris.push([c, c + e1, c + e2]);
+        }
+        tris
+    }
+
+    /// Floats in [0, 1) from a linear congruential generator started at `seed`.
+    fn uniform(mut seed: u32) -> impl FnMut() -> f32 {
+        move || {
+            seed = seed.wrapping_mul(1664525).wrapping_add(1013904223);
+            (seed >> 8) as f32 / (1u32 << 24) as f32
+        }
+    }
+
     fn brute(tris: &[[Vec3; 3]], o: Vec3, d: Vec3, t_max: f32) -> bool {
         tris.iter().any(|t| hits(t, o, d, t_max))
     }
 
     #[test]
     fn agrees_with_brute_force() {
-        let mut tris = grid(16);
-        // Some tilted triangles above the grid.
-        for k in 0..50 {
-            let f = k as f32 * 0.37;
-            let c = Vec3::new(
-                8.0 + 6.0 * f.sin(),
-                1.0 + (f * 1.3).cos().abs(),
-                8.0 + 6.0 * f.cos(),
-            );
-            tris.push([
-                c,
-                c + Vec3::new(0.7, 0.2, 0.0),
-                c + Vec3::new(0.0, 0.3, 0.6),
-            ]);
-        }
+        let tris = grid_and_tilted(
+            16,
+            50,
+            0.37,
+            |f| {
+                Vec3::new(
+                    8.0 + 6.0 * f.sin(),
+                    1.0 + (f * 1.3).cos().abs(),
+                    8.0 + 6.0 * f.cos(),
+                )
+            },
+            [Vec3::new(0.7, 0.2, 0.0), Vec3::new(0.0, 0.3, 0.6)],
+        );
         let bvh = Bvh::new(tris.clone());
         assert_eq!(bvh.len(), tris.len());
-        let mut seed = 12345u32;
-        let mut rnd = || {
-            seed = seed.wrapping_mul(1664525).wrapping_add(1013904223);
-            (seed >> 8) as f32 / (1u32 << 24) as f32
-        };
+        let mut rnd = uniform(12345);
         let mut blocked = 0;
         for _ in 0..2000 {
             let o = Vec3::new(rnd() * 16.0, rnd() * 3.0 - 0.5, rnd() * 16.0);
@@ -418,26 +437,21 @@ mod tests {
 
     #[test]
     fn closest_hit_agrees_with_brute_force() {
-        let mut tris = grid(8);
-        for k in 0..40 {
-            let f = k as f32 * 0.53;
-            let c = Vec3::new(
-                4.0 + 3.0 * f.sin(),
-                0.5 + (f * 1.7).cos().abs(),
-                4.0 + 3.0 * f.cos(),
-            );
-            tris.push([
-                c,
-                c + Vec3::new(0.9, 0.1, 0.0),
-                c + Vec3::new(0.0, 0.2, 0.8),
-            ]);
-        }
+        let tris = grid_and_tilted(
+            8,
+            40,
+            0.53,
+            |f| {
+                Vec3::new(
+                    4.0 + 3.0 * f.sin(),
+                    0.5 + (f * 1.7).cos().abs(),
+                    4.0 + 3.0 * f.cos(),
+                )
+            },
+            [Vec3::new(0.9, 0.1, 0.0), Vec3::new(0.0, 0.2, 0.8)],
+        );
         let bvh = Bvh::new(tris.clone());
-        let mut seed = 777u32;
-        let mut rnd = || {
-            seed = seed.wrapping_mul(1664525).wrapping_add(1013904223);
-            (seed >> 8) as f32 / (1u32 << 24) as f32
-        };
+        let mut rnd = uniform(777);
         let mut hit = 0;
         for _ in 0..2000 {
             let o = Vec3::new(rnd() * 8.0, rnd() * 3.0 + 0.01, rnd() * 8.0);

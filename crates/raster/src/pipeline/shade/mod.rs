@@ -20,7 +20,7 @@ mod textured;
 pub(crate) use mixed::{shade_mixed_tile, MixedWork};
 pub(crate) use program::Program;
 pub(crate) use secondary::{
-    composite, fragment_mix, opaque_color, shade_secondary_tile, world as secondary_world,
+    composite, fragment_mix, opaque_color, shade_secondary_tile, world as secondary_world, Collect,
     SecondaryWork,
 };
 pub use store::Pixel;

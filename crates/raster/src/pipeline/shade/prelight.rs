@@ -76,12 +76,18 @@ pub(crate) fn light_vertices(
             &verts.world[first..first + n],
             &verts.normal[first..first + n],
         );
-        let light = |flip: f32| {
+        // Each work item writes its lanes' colours straight into its slice of the output (a
+        // flat-mapped iterator of single colours paid an iterator step per vertex).
+        let light = |flip: f32, out: &mut Vec<Vec3>| {
             let surface = if flip > 0.0 { front } else { back };
-            pos.par_chunks(LANES)
+            let start = out.len();
+            out.resize(start + n, Vec3::ZERO);
+            out[start..]
+                .par_chunks_mut(LANES)
+                .zip(pos.par_chunks(LANES))
                 .zip(normals.par_chunks(LANES))
                 .with_min_len(CHUNK / LANES)
-                .flat_map_iter(move |(p, n)| {
+                .for_each(|((o, p), n)| {
                     let mut nl = [[0.0; LANES]; 3];
                     let mut pl = [[0.0; LANES]; 3];
                     for (k, (p, n)) in p.iter().zip(n).enumerate() {
@@ -92,12 +98,14 @@ pub(crate) fn light_vertices(
                         }
                     }
                     let c = lit(surface, shadows, &nl, &pl, p.len(), eye);
-                    (0..p.len()).map(move |k| Vec3::new(c[0][k], c[1][k], c[2][k]))
-                })
+                    for (k, o) in o.iter_mut().enumerate() {
+                        *o = Vec3::new(c[0][k], c[1][k], c[2][k]);
+                    }
+                });
         };
-        color.par_extend(light(1.0));
+        light(1.0, &mut color);
         if two_sided {
-            color_back.par_extend(light(-1.0));
+            light(-1.0, &mut color_back);
         }
         first += n;
     }

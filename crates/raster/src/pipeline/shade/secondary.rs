@@ -43,13 +43,16 @@ pub(crate) struct SecondaryWork {
     frags: Vec<Fragment>,
 }
 
-/// Collects the fragments of blended triangles nearer than the opaque layer.
-struct Collect<'a> {
-    opaque: &'a [f32],
-    frags: &'a mut Vec<Fragment>,
+/// Collects the fragments of blended triangles nearer than an opaque depth buffer (the
+/// opaque layer, or one sample position's), each made by `make(slot, z, id)`: one sink for
+/// both secondary tiles, which differ only in what a fragment records.
+pub(crate) struct Collect<'a, T, F: Fn(usize, f32, u32) -> T> {
+    pub opaque: &'a [f32],
+    pub frags: &'a mut Vec<T>,
+    pub make: F,
 }
 
-impl SpanSink for Collect<'_> {
+impl<T, F: Fn(usize, f32, u32) -> T> SpanSink for Collect<'_, T, F> {
     fn span(&mut self, s: Span) {
         for k in 0..s.len {
             self.pixel(s.start + k, s.z_at(k), s.id);
@@ -58,11 +61,7 @@ impl SpanSink for Collect<'_> {
 
     fn pixel(&mut self, slot: usize, z: f32, id: u32) {
         if z > self.opaque[slot] {
-            self.frags.push(Fragment {
-                slot: slot as u32,
-                z,
-                id,
-            });
+            self.frags.push((self.make)(slot, z, id));
         }
     }
 }
@@ -118,6 +117,11 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool>(
         let mut sink = Collect {
             opaque: &buf.depth[..],
             frags: &mut work.frags,
+            make: |slot, z, id| Fragment {
+                slot: slot as u32,
+                z,
+                id,
+            },
         };
         raster::for_each_span(blended, rect, &mut sink);
         work.frags.sort_unstable_by(|a, b| {

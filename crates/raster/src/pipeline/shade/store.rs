@@ -97,17 +97,43 @@ impl Pixel for u8 {
 
     #[inline(always)]
     fn store_row(dst: &mut [Out<u8>], c: &RowColors) {
-        // Quantised a channel at a time over whole lanes (SIMD), then interleaved.
-        let n = (dst.len() / 3).div_ceil(LANES) * LANES;
-        let mut q = [[0i32; ROW_LANES]; 3];
-        for (qc, cc) in q.iter_mut().zip(c) {
-            for (qv, &v) in qc[..n].iter_mut().zip(&cc[..n]) {
-                *qv = quantize_i32(v);
+        // Quantised over whole lanes (SIMD, in fixed windows so no scalar tail loop is
+        // made), each pixel's three samples packed into the low bytes of a u32, then
+        // written four bytes a pixel (the fourth is the next pixel's first, rewritten by
+        // it) and the last pixel's three alone, so nothing past `dst` is touched.
+        let px = dst.len() / 3;
+        let n = px.div_ceil(LANES) * LANES;
+        let mut packed = [0u32; ROW_LANES];
+        let [cr, cg, cb] = c;
+        let windows = packed[..n]
+            .chunks_exact_mut(LANES)
+            .zip(cr[..n].chunks_exact(LANES))
+            .zip(cg[..n].chunks_exact(LANES))
+            .zip(cb[..n].chunks_exact(LANES));
+        for (((p, r), g), b) in windows {
+            for k in 0..LANES {
+                p[k] = quantize_i32(r[k]) as u32
+                    | (quantize_i32(g[k]) as u32) << 8
+                    | (quantize_i32(b[k]) as u32) << 16;
             }
         }
-        for (k, px) in dst.chunks_exact_mut(3).enumerate() {
-            put(px, &[q[0][k] as u8, q[1][k] as u8, q[2][k] as u8]);
+        let Some(last) = px.checked_sub(1) else {
+            return;
+        };
+        let out = dst.as_mut_ptr();
+        for (k, p) in packed[..last].iter().enumerate() {
+            // SAFETY: k < last = px − 1, so bytes 3k..3k + 4 lie within
+            // 0..3·(px − 1) + 1 ⊆ 0..dst.len(); `Out<u8>` has u8's layout.
+            unsafe {
+                out.add(3 * k)
+                    .cast::<[u8; 4]>()
+                    .write_unaligned(p.to_le_bytes())
+            };
         }
+        put(
+            &mut dst[3 * last..3 * last + 3],
+            &packed[last].to_le_bytes()[..3],
+        );
     }
 }
 
