@@ -290,7 +290,13 @@ pub fn render_depth_map(
     let n = options.pixel_count();
     let mut depth = reserve::<f32>(n)?;
     let stats = pool::run(options.threads, || {
-        pipeline::depth_pass(scene, camera, options, &mut depth.spare_capacity_mut()[..n])
+        pipeline::depth_pass(
+            scene,
+            camera,
+            options,
+            &mut depth.spare_capacity_mut()[..n],
+            false,
+        )
     })??;
     // SAFETY: the pass succeeded, so it wrote all `n` depths (every tile writes every pixel
     // of its rows); the vector has that capacity.

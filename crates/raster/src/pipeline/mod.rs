@@ -343,7 +343,7 @@ pub(crate) fn prepare(
                 && options.refractions != Some(Technique::Ray))
             .then_some(camera),
             options,
-            &|cam, opts, out| depth_pass(scene, cam, opts, out).map(|_| ()),
+            &|cam, opts, out| depth_pass(scene, cam, opts, out, true).map(|_| ()),
             isa::Isa::detect(options.baseline_isa) != isa::Isa::Baseline,
         )?,
         false => None,

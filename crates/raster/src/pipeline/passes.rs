@@ -9,7 +9,7 @@ use super::lines::{LinePass, LineScratch, TileRows};
 use super::raster::{self, TileBuffers};
 use super::shade::{put, Out, Pixel, Program, ShadeContext, TexturedObject, TexturedScene};
 use super::{isa, prepare, tiles, Needs};
-use crate::camera::Camera;
+use crate::camera::{Camera, Projection};
 use crate::effects::FogEffect;
 use crate::error::{RasterError, Result};
 use crate::frame::RenderStats;
@@ -210,13 +210,16 @@ fn check_secondary(scene: &Scene, options: &RenderOptions) -> Result<()> {
 
 /// Depth-only pass: the visibility of every pixel, written as its window depth (reversed-Z:
 /// 1 at the near plane, 0 at the far plane; −1, below every depth, where no triangle is),
-/// row-major. No material
-/// or light is read and nothing is shaded: this is the pass a shadow map renders from a light.
+/// row-major; or with `eye` as its eye depth ([`Camera::eye_depth_from_z`]; infinite where
+/// no triangle is), converted as each tile's rows are written. Every pixel is written. No
+/// material or light is read and nothing is shaded: this is the pass a shadow map renders
+/// from a light.
 pub(crate) fn depth_pass(
     scene: &Scene,
     camera: &Camera,
     options: &RenderOptions,
     depth: &mut [Out<f32>],
+    eye: bool,
 ) -> Result<RenderStats> {
     let prep = prepare(scene, camera, options, Needs::Geometry, None)?;
     let (w, h) = (options.width as usize, options.height as usize);
@@ -229,12 +232,35 @@ pub(crate) fn depth_pass(
         .for_each_init(TileBuffers::new, |buf, (i, (rect, rows))| {
             raster::rasterize_tile(&prep.tris, i, *rect, buf);
             for (j, row) in rows.iter_mut().enumerate() {
-                put(row, &buf.depth[j * tiles::TILE..j * tiles::TILE + rect.w]);
+                let z = &buf.depth[j * tiles::TILE..j * tiles::TILE + rect.w];
+                if eye {
+                    put_eye_depths(camera, row, z);
+                } else {
+                    put(row, z);
+                }
             }
         });
     let mut stats = prep.stats;
     stats.timings.raster_shade = prep.t_start.elapsed();
     Ok(stats)
+}
+
+/// Writes the eye depths of the window depths `z` into `row` (as `eye_depth_from_z`, the
+/// projection's case chosen once per row).
+fn put_eye_depths(camera: &Camera, row: &mut [Out<f32>], z: &[f32]) {
+    let (n, f) = (camera.near(), camera.far());
+    let perspective = !matches!(camera.projection(), Projection::Orthographic { .. });
+    for (d, &z) in row.iter_mut().zip(z) {
+        let v = if z < 0.0 {
+            f32::INFINITY
+        } else if perspective {
+            (n * f / (z as f64 * (f - n) + n)) as f32
+        } else {
+            (f - z as f64 * (f - n)) as f32
+        };
+        debug_assert!(z < 0.0 || v == camera.eye_depth_from_z(z));
+        d.write(v);
+    }
 }
 
 /// Test hook: how many triangles cover each pixel centre (no depth test), row-major.

@@ -20,7 +20,6 @@
 use std::mem::MaybeUninit;
 
 use glam::{DMat4, DVec3, Vec3};
-use rayon::prelude::*;
 
 use super::fit;
 use super::lookup::{self, FaceLanes, Kernel, Points};
@@ -30,8 +29,9 @@ use crate::lighting::{Geometry, Lanes, Source, LANES};
 use crate::lights::{ShadowFilter, ShadowSettings};
 use crate::options::RenderOptions;
 
-/// The depth-only pass over the render's scene from a camera into a row-major buffer
-/// (`passes::depth_pass`, handed in by the pipeline so this room does not import it).
+/// The depth-only pass over the render's scene from a camera into a row-major buffer of eye
+/// depths, infinite where nothing is drawn, writing every element (`passes::depth_pass`,
+/// handed in by the pipeline so this room does not import it).
 pub(crate) type DepthPass<'a> =
     &'a (dyn Fn(&Camera, &RenderOptions, &mut [MaybeUninit<f32>]) -> Result<()> + Sync);
 
@@ -367,31 +367,12 @@ fn render_face(
     perspective: bool,
     texel: f64,
 ) -> Result<Face> {
-    // Initialised (to "nothing drawn"), so reading every sample is sound whatever the pass
-    // did; filled and converted in parallel chunks (a 2048² map is 16 MiB each way).
-    const CHUNK: usize = 1 << 16;
-    let mut out: Vec<MaybeUninit<f32>> = Vec::with_capacity(res * res);
-    out.spare_capacity_mut()[..res * res]
-        .par_chunks_mut(CHUNK)
-        .for_each(|c| c.fill(MaybeUninit::new(MaybeUninit::new(-1.0f32))));
-    // SAFETY: the first res² elements were just written.
-    unsafe { out.set_len(res * res) };
-    depth_pass(&camera, opts, &mut out)?;
-    // SAFETY: every sample was initialised above (and the pass only writes values), and
-    // `MaybeUninit<f32>` has the layout of `f32`.
-    let mut depth: Vec<f32> = unsafe {
-        let mut out = std::mem::ManuallyDrop::new(out);
-        Vec::from_raw_parts(out.as_mut_ptr().cast(), out.len(), out.capacity())
-    };
-    depth.par_chunks_mut(CHUNK).for_each(|c| {
-        for z in c {
-            *z = if *z < 0.0 {
-                f32::INFINITY
-            } else {
-                camera.eye_depth_from_z(*z)
-            };
-        }
-    });
+    let n = res * res;
+    let mut depth: Vec<f32> = Vec::with_capacity(n);
+    depth_pass(&camera, opts, &mut depth.spare_capacity_mut()[..n])?;
+    // SAFETY: the pass succeeded, so it wrote all `n` eye depths (every tile writes every
+    // pixel of its rows, see `passes::depth_pass`); the vector has that capacity.
+    unsafe { depth.set_len(n) };
     Ok(Face {
         lanes: FaceLanes::new(&camera.view_matrix(), camera.eye(), texel, res, perspective),
         camera,
@@ -524,12 +505,16 @@ mod tests {
         let set = LightSet::new(&lights);
         let bounds = (Vec3::splat(-2.0), Vec3::splat(2.0));
         // A bumpy depth field over the whole NDC depth range.
-        let pass = |_: &Camera, o: &RenderOptions, out: &mut [MaybeUninit<f32>]| {
+        let pass = |cam: &Camera, o: &RenderOptions, out: &mut [MaybeUninit<f32>]| {
             let w = o.width as usize;
             for (i, z) in out.iter_mut().enumerate() {
                 let (x, y) = ((i % w) as f32, (i / w) as f32);
                 let v = 0.5 + 0.45 * (x * 0.031).sin() * (y * 0.017 + 0.3).cos();
-                *z = MaybeUninit::new(if (i * 7919) % 97 == 0 { -1.0 } else { v });
+                *z = MaybeUninit::new(if (i * 7919) % 97 == 0 {
+                    f32::INFINITY
+                } else {
+                    cam.eye_depth_from_z(v)
+                });
             }
             Ok(())
         };
@@ -627,8 +612,8 @@ mod tests {
             .with_shadows(Shadows::Map(ShadowSettings::default()))
             .into();
         let set = LightSet::new(std::slice::from_ref(&light));
-        let pass = |_: &Camera, _: &RenderOptions, out: &mut [MaybeUninit<f32>]| {
-            out.fill(MaybeUninit::new(0.5));
+        let pass = |cam: &Camera, _: &RenderOptions, out: &mut [MaybeUninit<f32>]| {
+            out.fill(MaybeUninit::new(cam.eye_depth_from_z(0.5)));
             Ok(())
         };
         let options = RenderOptions::new(8, 8);
