@@ -225,28 +225,72 @@ pub(crate) fn depth_pass(
     let (w, h) = (options.width as usize, options.height as usize);
     let rects = tiles::tile_rects(w, h);
     let mut rows = tiles::split_rows(depth, w, h, 1);
+    let isa = isa::Isa::detect(options.baseline_isa);
     rects
         .par_iter()
         .zip(rows.par_iter_mut())
         .enumerate()
         .for_each_init(TileBuffers::new, |buf, (i, (rect, rows))| {
-            raster::rasterize_tile(&prep.tris, i, *rect, buf);
-            for (j, row) in rows.iter_mut().enumerate() {
-                let z = &buf.depth[j * tiles::TILE..j * tiles::TILE + rect.w];
-                if eye {
-                    put_eye_depths(camera, row, z);
-                } else {
-                    put(row, z);
-                }
+            let job = DepthTile {
+                index: i,
+                rect: *rect,
+                camera: eye.then_some(camera),
+            };
+            #[cfg(target_arch = "x86_64")]
+            if isa == isa::Isa::Avx2 {
+                // SAFETY: `Isa::Avx2` is only made by `Isa::detect` after the CPU reported
+                // AVX2 and FMA, the features this copy is compiled for.
+                unsafe { depth_tile_avx2(&prep.tris, &job, buf, rows) };
+                return;
             }
+            depth_tile(&prep.tris, &job, buf, rows);
         });
     let mut stats = prep.stats;
     stats.timings.raster_shade = prep.t_start.elapsed();
     Ok(stats)
 }
 
+/// One tile of the depth pass: its index and rectangle, and the camera whose eye depths are
+/// written (`None`: window depths).
+struct DepthTile<'a> {
+    index: usize,
+    rect: tiles::TileRect,
+    camera: Option<&'a Camera>,
+}
+
+/// Rasterizes one tile of the depth pass and writes its rows.
+#[inline(always)]
+fn depth_tile(
+    tris: &super::bin::Binned,
+    job: &DepthTile<'_>,
+    buf: &mut TileBuffers,
+    rows: &mut [&mut [Out<f32>]],
+) {
+    raster::rasterize_tile(tris, job.index, job.rect, buf);
+    for (j, row) in rows.iter_mut().enumerate() {
+        let z = &buf.depth[j * tiles::TILE..j * tiles::TILE + job.rect.w];
+        match job.camera {
+            Some(camera) => put_eye_depths(camera, row, z),
+            None => put(row, z),
+        }
+    }
+}
+
+/// [`depth_tile`] compiled for AVX2 + FMA (the same operations: identical depths).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn depth_tile_avx2(
+    tris: &super::bin::Binned,
+    job: &DepthTile<'_>,
+    buf: &mut TileBuffers,
+    rows: &mut [&mut [Out<f32>]],
+) {
+    depth_tile(tris, job, buf, rows)
+}
+
 /// Writes the eye depths of the window depths `z` into `row` (as `eye_depth_from_z`, the
 /// projection's case chosen once per row).
+#[inline(always)]
 fn put_eye_depths(camera: &Camera, row: &mut [Out<f32>], z: &[f32]) {
     let (n, f) = (camera.near(), camera.far());
     let perspective = !matches!(camera.projection(), Projection::Orthographic { .. });
