@@ -17,13 +17,24 @@ pub(super) struct Spread {
     pub span_d: f64,
     /// Σ over the three edges of the square of how far `θ` moves along each.
     pub edges_d: f64,
+    /// The same for the part of each edge's motion along the diffuse term's gradient (the
+    /// direction in which `θ` changes): what a linear field's deviation depends on.
+    pub along_d: f64,
     /// Angle between the half vector and the centroid's normal.
     pub beta: f64,
     /// How far `β` moves: the normal spread plus half the angles the triangle subtends from
     /// the light and from the eye.
     pub span_s: f64,
-    /// Σ over the three edges of the square of how far `β` moves along each.
-    pub edges_s: f64,
+    /// Σ over the three edges of the square of how far `β` moves along each, split into the
+    /// parts along the lobe's gradient (radially from the highlight's centre) and across it:
+    /// the lobe's curvature differs in the two directions.
+    pub along_s: f64,
+    pub across_s: f64,
+    /// How far (rad) the face normal, which flat shades with, is from the centroid's normal,
+    /// along the diffuse and the lobe's gradients: on a sphere the face normal is the
+    /// circumcentre's, a sixth of the legs off the centroid on a right triangle.
+    pub face_d: f64,
+    pub face_s: f64,
     /// The geometric normal error every mode shares: the rms angle between the normal the
     /// mesh gives a pixel and the true surface's normal where that pixel's ray meets it.
     pub geometric: f64,
@@ -64,32 +75,38 @@ fn lobe(f: f64, beta: f64) -> f64 {
     }
 }
 
-/// The lobe's slope `|dS/dβ| = f cos^(f−1) β sin β` and curvature
-/// `|d²S/dβ²| = |f(f−1) cos^(f−2) β sin² β − f cos^f β|`, from one power.
-fn lobe_derivatives(f: f64, beta: f64) -> (f64, f64) {
+/// The lobe `S = (n·h)^f` as a function of the normal on the unit sphere: its slope
+/// `|dS/dβ| = f cos^(f−1) β sin β` (radial: toward or away from `h`), and its Hessian's
+/// magnitudes radially, `|f(f−1) cos^(f−2) β sin² β − f cos^f β|`, and across, `f cos^f β`
+/// (the Hessian of `c = n·h` on the sphere is `−c·I`, so that of `c^f` is
+/// `f(f−1)c^(f−2)∇c∇cᵀ − f c^f I`, `|∇c| = sin β`), from one power.
+fn lobe_derivatives(f: f64, beta: f64) -> [f64; 3] {
     if beta >= FRAC_PI_2 || f == 0.0 {
-        return (0.0, 0.0);
+        return [0.0; 3];
     }
     let (c, s) = (beta.cos(), beta.sin());
     let p = c.powf(f - 2.0);
-    (
+    [
         f * p * c * s,
         (f * (f - 1.0) * p * s * s - f * p * c * c).abs(),
-    )
+        f * p * c * c,
+    ]
 }
 
-/// Mean of `g` (a pair) over `[lo, hi]` by Simpson's rule on four intervals (one point when
-/// the interval is a small share of the lobe's half width `w`, where `g` is nearly constant).
-fn mean_over(lo: f64, hi: f64, w: f64, g: impl Fn(f64) -> (f64, f64)) -> (f64, f64) {
+/// Mean of `g` over `[lo, hi]` by Simpson's rule on four intervals (one point when the
+/// interval is a small share of the lobe's half width `w`, where `g` is nearly constant).
+fn mean_over(lo: f64, hi: f64, w: f64, g: impl Fn(f64) -> [f64; 3]) -> [f64; 3] {
     if hi - lo <= 0.05 * w {
         return g(0.5 * (lo + hi));
     }
-    let mut acc = (0.0, 0.0);
+    let mut acc = [0.0; 3];
     for (k, wt) in [1.0, 4.0, 2.0, 4.0, 1.0].into_iter().enumerate() {
         let v = g(lo + (hi - lo) * k as f64 / 4.0);
-        acc = (acc.0 + wt * v.0, acc.1 + wt * v.1);
+        for i in 0..3 {
+            acc[i] += wt * v[i];
+        }
     }
-    (acc.0 / 12.0, acc.1 / 12.0)
+    acc.map(|a| a / 12.0)
 }
 
 /// The centroid lies within 2/3 of the longest edge of every point of a triangle (its
@@ -130,8 +147,12 @@ pub(super) fn sensitivity(s: &Spread, lobe_fw: Option<(f64, f64)>) -> (Sensitivi
         lo_d.cos() * s.edges_d * RMS_OVER_MEAN / 24.0
     };
     // Flat: the rms deviation of a field linear over the triangle (gradient g) from its
-    // value at the centroid is at most |g|·√((a² + b² + c²)/36).
-    let flat_d = slope_d * s.edges_d.sqrt() / 6.0;
+    // value at the centroid is √(gᵀMg), M = Σ_k e_k e_kᵀ/36 the triangle's second moment
+    // about its centroid (e_k its edges): |g|·√(Σ_k (ĝ·e_k)²)/6, the edges' components
+    // along the gradient only.
+    // The face normal's offset adds a constant, which a zero-mean linear deviation adds to
+    // in quadrature; the curvature adds at most L''·Σ/72 (the mean of ½|x − c|²L'').
+    let flat_d = slope_d * (s.along_d / 36.0 + s.face_d * s.face_d).sqrt() + s.edges_d / 72.0;
     let geo_d = slope_d * s.geometric;
     let mut out = Sensitivity {
         flat: [flat_d + geo_d, 0.0],
@@ -178,15 +199,20 @@ pub(super) fn sensitivity(s: &Spread, lobe_fw: Option<(f64, f64)>) -> (Sensitivi
     // than the diffuse term's: the interpolation error at a point is a kernel-weighted
     // average of the curvature over the triangle, so its mean over the triangle's range of
     // β stands for L'' (exact for a constant curvature), and likewise the slope for flat.
-    let (slope, curvature) = mean_over(lo, hi, w, |b| lobe_derivatives(f, b));
+    let [slope, radial, across] = mean_over(lo, hi, w, |b| lobe_derivatives(f, b));
     // A highlight narrower than the triangle's spread: the lobe covers a share of about
     // (2w/span)² of it (w its half width at half maximum), so the rms of an error as large
     // as the lobe's whole range over it is that range times min(1, 2w/span).
     let span_range = lobe(f, lo) - lobe(f, hi);
     let missed = span_range * (2.0 * w / s.span_s.max(1e-12)).min(1.0);
     let geo_s = slope * s.geometric;
-    out.flat[1] = (slope * s.edges_s.sqrt() / 6.0).min(missed) + geo_s;
-    out.gouraud[1] = (curvature * s.edges_s * RMS_OVER_MEAN / 24.0).min(missed) + geo_s;
+    // Gouraud: the interpolation error's mean is Σ_k e_kᵀHe_k/24, at most with |H|, whose
+    // radial and across parts weigh the edges' components in those directions.
+    let interp_s = (radial * s.along_s + across * s.across_s) * RMS_OVER_MEAN / 24.0;
+    let flat_s = slope * (s.along_s / 36.0 + s.face_s * s.face_s).sqrt()
+        + (radial * s.along_s + across * s.across_s) / 72.0;
+    out.flat[1] = flat_s.min(missed) + geo_s;
+    out.gouraud[1] = interp_s.min(missed) + geo_s;
     out.phong[1] = geo_s;
     (out, range)
 }
@@ -207,9 +233,13 @@ mod tests {
             theta: 0.3,
             span_d: span,
             edges_d: 2.0 * span * span,
+            along_d: 2.0 * span * span,
             beta,
             span_s: span,
-            edges_s: 2.0 * span * span,
+            along_s: 2.0 * span * span,
+            across_s: 2.0 * span * span,
+            face_d: 0.0,
+            face_s: 0.0,
             geometric: 0.0,
             geometric_max: 0.0,
         }

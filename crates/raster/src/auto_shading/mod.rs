@@ -419,10 +419,15 @@ struct Triangle {
     centroid: DVec3,
     /// Normal at the centroid (the normalised mean of the vertex normals).
     normal: DVec3,
+    /// The face normal's component across `normal` (flat shades with the face normal).
+    face_offset: DVec3,
     /// Largest angle between two vertex normals.
     spread: f64,
     /// The angles between the vertex normals at each edge's ends.
     edge_turns: [f64; 3],
+    /// The normal's turn along each edge as a vector (the difference of the end normals,
+    /// scaled to the angle): its direction splits the turn along and across a gradient.
+    edge_dn: [DVec3; 3],
     /// Each edge's length over the longest's.
     edge_shares: [f64; 3],
     /// Longest edge (world units).
@@ -557,9 +562,24 @@ impl Triangle {
             // Equal vertex normals: the mesh is the surface (a planar region).
             (0.0, 0.0)
         };
+        let edge_dn = [0, 1, 2].map(|k| {
+            let (i, j) = pairs[k];
+            let d = n[j] - n[i];
+            let len = d.length();
+            if len > 0.0 {
+                d * (turns[k] / len)
+            } else {
+                DVec3::ZERO
+            }
+        });
+        // Oriented as the vertex normals, and flipped with them for a back face below.
+        let face_n = if face.dot(normal) < 0.0 { -face } else { face };
+        let face_offset = face_n - normal * face_n.dot(normal);
         Some(Triangle {
             centroid,
+            face_offset: if back { -face_offset } else { face_offset },
             edge_turns: turns,
+            edge_dn,
             edge_shares: len.map(|l| l / longest),
             normal: if back { -normal } else { normal },
             spread,
@@ -662,11 +682,44 @@ impl Triangle {
                 .sum::<f64>()
         };
         let view_extra = 0.5 * (light_span + self.view_span);
+        // The edges' turns split along the unit tangent `r` (the gradient's direction) and
+        // across it; the lights' and eye's own turn, of unknown direction, added to both.
+        let split = |r: DVec3, extra: f64| -> (f64, f64) {
+            let r = (r - self.normal * r.dot(self.normal)).normalize_or_zero();
+            (0..3).fold((0.0, 0.0), |(a, b), k| {
+                let dn = self.edge_dn[k];
+                let along = if r == DVec3::ZERO {
+                    self.edge_turns[k]
+                } else {
+                    dn.dot(r).abs()
+                };
+                let across = (dn.length_squared() - along * along).max(0.0).sqrt();
+                let x = extra * self.edge_shares[k];
+                (
+                    a + (along + x) * (along + x),
+                    b + (across + x) * (across + x),
+                )
+            })
+        };
+        let (along_d, _) = split(l, light_span);
+        let (along_s, across_s) = split(h, view_extra);
+        let offset = |r: DVec3| {
+            let r = (r - self.normal * r.dot(self.normal)).normalize_or_zero();
+            if r == DVec3::ZERO {
+                self.face_offset.length()
+            } else {
+                self.face_offset.dot(r).abs()
+            }
+        };
         Spread {
             theta: angle(l),
             span_d: self.spread + light_span,
             edges_d: edges(light_span),
-            edges_s: edges(view_extra),
+            along_d,
+            along_s,
+            across_s,
+            face_d: offset(l),
+            face_s: offset(h),
             beta: if h == DVec3::ZERO {
                 std::f64::consts::FRAC_PI_2
             } else {
