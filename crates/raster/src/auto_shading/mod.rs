@@ -251,9 +251,8 @@ const MIN_SETTLED: usize = 512;
 /// the chosen one's below 1/`SETTLE_MARGIN` of it (or is Phong, the only one left).
 const SETTLE_MARGIN: f32 = 2.0;
 
-/// How many triangles of an object the estimate samples: its cost (about 0.15 µs per
-/// sampled front triangle and light on this project's 2-core test machine, at the default
-/// threads) is kept to a few percent of the cheapest frame the object can be drawn in,
+/// How many triangles of an object the estimate samples: its cost (about 0.1 to 0.2 µs per
+/// sampled front triangle and light on this project's 2-core test machine) is kept to a few percent of the cheapest frame the object can be drawn in,
 /// whose cost grows with the image's pixels (clearing and resolving, ~0.5 ns each) and the
 /// object's triangles (set-up, ~75 ns each): at most `MAX_SAMPLED`, at least
 /// `MIN_SAMPLED` (or every triangle of a smaller mesh).
@@ -375,10 +374,12 @@ fn object_estimate(
     for (done, &batch) in BATCH_ORDER.iter().enumerate() {
         sums = add(sums, pass(batch, false));
         taken += (batch..n).step_by(BATCHES).len();
-        if done + 1 < BATCHES && taken >= MIN_SETTLED.min(n) && sums[0][0] > 0.0 {
-            if settled(rmse(&sums[0]), tolerance) {
-                break;
-            }
+        if done + 1 < BATCHES
+            && taken >= MIN_SETTLED.min(n)
+            && sums[0][0] > 0.0
+            && settled(rmse(&sums[0]), tolerance)
+        {
+            break;
         }
     }
     // Back faces count only for an object seen from behind everywhere (an open surface):
