@@ -190,8 +190,8 @@ pub(crate) fn shade_tile<P: Pixel, const AFFINE: bool>(
 /// Phong with shadows, kept out of the tile bodies (`isa.rs` inlines the rest): its cost
 /// is the shadow rays and map look-ups, and the shadowless bodies keep their code and
 /// inlining. Compiled for the baseline instruction set.
-/// On a CPU with AVX2 and FMA (the render's [`Isa`]) it runs a copy compiled for them (its
-/// lanes loop; the look-ups of `ShadowEffect::visibility` stay one baseline copy).
+/// On a CPU with AVX2 and FMA (the render's [`Isa`]) it runs a copy compiled for them, as
+/// do the map look-ups of `ShadowEffect::visibility` (picked by the shadow room itself).
 #[inline(never)]
 fn phong_shadowed<P: Pixel, const STAGES_READ_DEPTH: bool, const AFFINE: bool>(
     ctx: &ShadeContext<'_>,
