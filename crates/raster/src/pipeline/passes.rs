@@ -107,6 +107,7 @@ pub(crate) fn color_pass<P: Pixel>(
                     material: [*o.material(), *o.material_for(true, scene.two_sided())],
                     maps: o.maps().map(|m| &**m),
                     colors: o.mesh().colors().is_some(),
+                    footprint: o.maps().is_some_and(|m| m.reads_footprint()),
                 })
                 .collect(),
             perturb: options.shading == crate::options::ShadingMode::Phong

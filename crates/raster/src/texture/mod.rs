@@ -195,6 +195,15 @@ impl Texture {
         }
     }
 
+    /// Whether [`Texture::sample`] reads its footprint argument (mipmapped or anisotropic
+    /// image textures); for the others the caller may skip computing the derivatives.
+    pub fn reads_footprint(&self) -> bool {
+        match &self.source {
+            Source::Image { filter, aniso, .. } => Footprint::read_by(*filter, *aniso),
+            Source::Procedural(_) => false,
+        }
+    }
+
     /// The linear RGB colour at `(u, v)` with the footprint `fp` (the exact derivatives of
     /// u and v along the screen's x and y). Non-finite coordinates read as 0.
     #[inline]
@@ -305,6 +314,22 @@ impl Maps {
             }
         }
         Ok(())
+    }
+
+    /// Whether any map reads the footprint it is sampled with ([`Texture::reads_footprint`]).
+    pub fn reads_footprint(&self) -> bool {
+        [
+            &self.diffuse,
+            &self.ambient,
+            &self.specular,
+            &self.emission,
+            &self.shininess,
+            &self.normal,
+            &self.bump,
+        ]
+        .into_iter()
+        .flatten()
+        .any(|t| t.reads_footprint())
     }
 
     /// Whether a map perturbs the shading normal (normal or bump map).

@@ -5,6 +5,7 @@
 
 use glam::Vec3;
 
+use super::sample::floor;
 use crate::error::{RasterError, Result};
 
 /// Most octaves a noise texture may sum.
@@ -130,7 +131,7 @@ impl Procedural {
     pub fn eval(&self, u: f64, v: f64) -> Vec3 {
         match *self {
             Procedural::Checker { scale, a, b } => {
-                let k = (u * scale).floor() + (v * scale).floor();
+                let k = floor(u * scale) + floor(v * scale);
                 if odd(k) {
                     b
                 } else {
@@ -138,7 +139,7 @@ impl Procedural {
                 }
             }
             Procedural::Stripes { scale, a, b } => {
-                if odd((u * scale).floor()) {
+                if odd(floor(u * scale)) {
                     b
                 } else {
                     a
@@ -146,7 +147,7 @@ impl Procedural {
             }
             Procedural::Grid { scale, width, a, b } => {
                 let near_line = |t: f64| {
-                    let f = t - t.floor();
+                    let f = t - floor(t);
                     f < 0.5 * width || f > 1.0 - 0.5 * width
                 };
                 if near_line(u * scale) || near_line(v * scale) {
@@ -185,7 +186,7 @@ fn odd(k: f64) -> bool {
 /// Value noise in [0, 1]: random values at the integer lattice points, blended with the
 /// smoothstep of the fractions. Lattice indices beyond i64 saturate (finite, no overflow).
 fn value_noise(x: f64, y: f64, seed: u32) -> f64 {
-    let (x0, y0) = (x.floor(), y.floor());
+    let (x0, y0) = (floor(x), floor(y));
     let (fx, fy) = (smooth(x - x0), smooth(y - y0));
     let (i, j) = (x0 as i64, y0 as i64);
     let r = |di: i64, dj: i64| lattice(i.wrapping_add(di), j.wrapping_add(dj), seed);

@@ -61,14 +61,48 @@ impl Footprint {
     /// measured is read as large rather than as sharp).
     pub fn lod(&self, w: usize, h: usize) -> f64 {
         let (w, h) = (w as f64, h as f64);
-        let rx = (self.du_dx * w).hypot(self.dv_dx * h);
-        let ry = (self.du_dy * w).hypot(self.dv_dy * h);
+        let rx = norm(self.du_dx * w, self.dv_dx * h);
+        let ry = norm(self.du_dy * w, self.dv_dy * h);
         // `max` would drop a NaN: test both.
         if rx.is_nan() || ry.is_nan() {
             f64::INFINITY
         } else {
             rx.max(ry).log2()
         }
+    }
+
+    /// Whether `filter` with `aniso` probes reads the footprint at all: only the mipmapped
+    /// filter (its λ) and anisotropic probing do, so the caller may pass a default one to
+    /// the others.
+    pub fn read_by(filter: Filter, aniso: u32) -> bool {
+        filter == Filter::Trilinear || aniso > 1
+    }
+}
+
+/// ‖(a, b)‖₂: √(a² + b²), which is within an ulp of `hypot` and several times cheaper
+/// (libm's `hypot` was a fifth of a textured frame), with `hypot` where the squares would
+/// overflow or underflow.
+#[inline]
+fn norm(a: f64, b: f64) -> f64 {
+    let s = a * a + b * b;
+    if s < 1e300 && s > 1e-300 {
+        s.sqrt()
+    } else {
+        a.hypot(b)
+    }
+}
+
+/// ⌊x⌋, exactly as `f64::floor` (except that −0 gives +0), without the libm call that the
+/// baseline x86-64 target makes for it (no `roundsd` before SSE4.1): |x| < 2⁵² truncates
+/// through an integer and steps down for negative fractions; larger magnitudes are already
+/// integers; NaN stays NaN.
+#[inline(always)]
+pub(super) fn floor(x: f64) -> f64 {
+    if x.abs() < 4_503_599_627_370_496.0 {
+        let t = x as i64 as f64;
+        t - (t > x) as u8 as f64
+    } else {
+        x
     }
 }
 
@@ -92,12 +126,16 @@ pub(super) fn sample(
     fp: &Footprint,
 ) -> Vec3 {
     if aniso <= 1 {
-        let lambda = fp.lod(image.width(), image.height());
+        // λ is read by the mipmapped filter only (a log2 and two norms per sample).
+        let lambda = match filter {
+            Filter::Trilinear => fp.lod(image.width(), image.height()),
+            Filter::Nearest | Filter::Bilinear => 0.0,
+        };
         return sample_at(image, filter, wrap, u, v, lambda);
     }
     let (w, h) = (image.width() as f64, image.height() as f64);
-    let px = (fp.du_dx * w).hypot(fp.dv_dx * h);
-    let py = (fp.du_dy * w).hypot(fp.dv_dy * h);
+    let px = norm(fp.du_dx * w, fp.dv_dx * h);
+    let py = norm(fp.du_dy * w, fp.dv_dy * h);
     if px.is_nan() || py.is_nan() {
         return sample_at(image, filter, wrap, u, v, f64::INFINITY);
     }
@@ -138,7 +176,7 @@ fn sample_at(image: &Image, filter: Filter, wrap: [Wrap; 2], u: f64, v: f64, lam
             if lambda >= q {
                 return bilinear(&levels[levels.len() - 1], wrap, u, v);
             }
-            let d1 = lambda.floor();
+            let d1 = floor(lambda);
             let f = (lambda - d1) as f32;
             let a = bilinear(&levels[d1 as usize], wrap, u, v);
             let b = bilinear(&levels[d1 as usize + 1], wrap, u, v);
@@ -150,8 +188,8 @@ fn sample_at(image: &Image, filter: Filter, wrap: [Wrap; 2], u: f64, v: f64, lam
 /// `GL_NEAREST` on one level: the texel (⌊u·w⌋, ⌊v·h⌋), wrapped.
 #[inline]
 pub(super) fn nearest(l: &Level, wrap: [Wrap; 2], u: f64, v: f64) -> Vec3 {
-    let i = wrap[0].index((u * l.width as f64).floor(), l.width);
-    let j = wrap[1].index((v * l.height as f64).floor(), l.height);
+    let i = wrap[0].index(floor(u * l.width as f64), l.width);
+    let j = wrap[1].index(floor(v * l.height as f64), l.height);
     Vec3::from_array(l.texel(i, j))
 }
 
@@ -161,7 +199,7 @@ pub(super) fn nearest(l: &Level, wrap: [Wrap; 2], u: f64, v: f64) -> Vec3 {
 pub(super) fn bilinear(l: &Level, wrap: [Wrap; 2], u: f64, v: f64) -> Vec3 {
     let x = u * l.width as f64 - 0.5;
     let y = v * l.height as f64 - 0.5;
-    let (x0, y0) = (x.floor(), y.floor());
+    let (x0, y0) = (floor(x), floor(y));
     let (a, b) = ((x - x0) as f32, (y - y0) as f32);
     let (i0, i1) = (wrap[0].index(x0, l.width), wrap[0].index(x0 + 1.0, l.width));
     let (j0, j1) = (

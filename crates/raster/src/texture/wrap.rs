@@ -37,6 +37,10 @@ impl Wrap {
     #[inline(always)]
     pub fn index(self, i: f64, size: usize) -> usize {
         let s = size as f64;
+        // Inside the image every mode reads texel i (`rem_euclid` is a libm `fmod`).
+        if i >= 0.0 && i < s {
+            return i as usize;
+        }
         let k = match self {
             Wrap::Repeat => i.rem_euclid(s),
             Wrap::Clamp => i.clamp(0.0, s - 1.0),

@@ -51,6 +51,9 @@ pub(crate) struct TexturedObject<'a> {
     pub maps: Option<&'a Maps>,
     /// Whether the mesh has vertex colours.
     pub colors: bool,
+    /// Whether a map reads the screen-space derivatives ([`Maps::reads_footprint`]):
+    /// without one, the pixel loop skips them.
+    pub footprint: bool,
 }
 
 /// The texture stage's share of the shade context.
@@ -87,6 +90,9 @@ struct Current {
     tangent: [Vec4; 3],
     /// (object, back side) of the material.
     key: (u32, bool),
+    /// The object's [`TexturedObject::colors`] and [`TexturedObject::footprint`].
+    colors: bool,
+    footprint: bool,
 }
 
 /// The split terms of up to three points lit by `unit` (lanes 0..n), each shadow-casting
@@ -160,6 +166,8 @@ impl Current {
             face: Vec3::ZERO,
             tangent: [Vec4::ZERO; 3],
             key: (t.object, back),
+            colors: tex.objects[t.object as usize].colors,
+            footprint: tex.objects[t.object as usize].footprint,
         };
         match mode {
             ShadingMode::Flat => {
@@ -438,15 +446,19 @@ pub(super) fn shade_textured<P: Pixel, const AFFINE: bool, const PERTURB: bool>(
                 let k = batch.len;
                 batch.at[k] = (j, s);
                 batch.uv[k] = (u, v);
-                batch.fp[k] = Footprint {
-                    du_dx: d(us, u, 0),
-                    dv_dx: d(vs, v, 0),
-                    du_dy: d(us, u, 1),
-                    dv_dy: d(vs, v, 1),
-                };
+                if c.footprint {
+                    batch.fp[k] = Footprint {
+                        du_dx: d(us, u, 0),
+                        dv_dx: d(vs, v, 0),
+                        du_dy: d(us, u, 1),
+                        dv_dy: d(vs, v, 1),
+                    };
+                }
                 let bf = b.map(|x| x as f32);
                 let blend3 = |a: &[Vec3; 3]| a[0] * bf[0] + a[1] * bf[1] + a[2] * bf[2];
-                batch.vcolor[k] = blend3(&c.vcolor);
+                if c.colors {
+                    batch.vcolor[k] = blend3(&c.vcolor);
+                }
                 match mode {
                     ShadingMode::Flat => batch.terms[k] = c.terms[0],
                     ShadingMode::Gouraud => {
