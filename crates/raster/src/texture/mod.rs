@@ -234,6 +234,48 @@ impl Texture {
     }
 }
 
+impl Texture {
+    /// [`Texture::sample`] at several points (`uv[k]` seen with `fp[k]`, into `out[k]`),
+    /// the same values: the source and filter are dispatched once for all of them, and the
+    /// filters that read neither λ nor probes loop straight over the texel reads.
+    pub fn sample_many(&self, uv: &[(f64, f64)], fp: &[Footprint], out: &mut [Vec3]) {
+        let (s, o) = (self.uv_scale, self.uv_offset);
+        let at =
+            |(u, v): (f64, f64)| (finite_or_zero(u * s.x + o.x), finite_or_zero(v * s.y + o.y));
+        match &self.source {
+            Source::Image {
+                image,
+                filter: Filter::Nearest,
+                wrap,
+                aniso: 0 | 1,
+            } => {
+                let l0 = &image.levels()[0];
+                for (c, &p) in out.iter_mut().zip(uv) {
+                    let (u, v) = at(p);
+                    *c = sample::nearest(l0, *wrap, u, v);
+                }
+            }
+            Source::Image {
+                image,
+                filter: Filter::Bilinear,
+                wrap,
+                aniso: 0 | 1,
+            } => {
+                let l0 = &image.levels()[0];
+                for (c, &p) in out.iter_mut().zip(uv) {
+                    let (u, v) = at(p);
+                    *c = sample::bilinear(l0, *wrap, u, v);
+                }
+            }
+            _ => {
+                for ((c, &(u, v)), fp) in out.iter_mut().zip(uv).zip(fp) {
+                    *c = self.sample(u, v, fp);
+                }
+            }
+        }
+    }
+}
+
 #[inline(always)]
 fn finite_or_zero(x: f64) -> f64 {
     if x.is_finite() {

@@ -37,9 +37,23 @@ impl Wrap {
     #[inline(always)]
     pub fn index(self, i: f64, size: usize) -> usize {
         let s = size as f64;
-        // Inside the image every mode reads texel i (`rem_euclid` is a libm `fmod`).
+        // Inside the image every mode reads texel i.
         if i >= 0.0 && i < s {
             return i as usize;
+        }
+        // Integer remainders where i fits an i64 (all but absurd coordinates): the f64
+        // `rem_euclid` below is a software `fmod`, a tenth of a repeating floor's frame.
+        if i.abs() < 9.2e18 {
+            let (i, n) = (i as i64, size as i64);
+            let k = match self {
+                Wrap::Repeat => i.rem_euclid(n),
+                Wrap::Clamp => i.clamp(0, n - 1),
+                Wrap::Mirror => {
+                    let a = i.rem_euclid(2 * n) - n;
+                    (n - 1) - if a >= 0 { a } else { -(1 + a) }
+                }
+            };
+            return k as usize;
         }
         let k = match self {
             Wrap::Repeat => i.rem_euclid(s),

@@ -326,33 +326,42 @@ impl Batch {
                 self.terms[k] = split_at(&t, k);
             }
         }
+        // Each map read for all lanes at once (one dispatch per map); 1 without a map.
+        let n = self.len;
+        let (uv, fp) = (&self.uv[..n], &self.fp[..n]);
+        let read = |t: &Option<std::sync::Arc<Texture>>, out: &mut [Vec3; LANES]| {
+            if let Some(t) = t {
+                t.sample_many(uv, fp, &mut out[..n]);
+            }
+        };
+        let mut td = [Vec3::ONE; LANES];
+        let mut ts = [Vec3::ONE; LANES];
+        let mut te = [Vec3::ONE; LANES];
+        let mut ta = [Vec3::ONE; LANES];
+        let mut own_ambient = false;
+        if let Some(maps) = obj.maps {
+            read(&maps.diffuse, &mut td);
+            read(&maps.specular, &mut ts);
+            if m.emission != Vec3::ZERO {
+                read(&maps.emission, &mut te);
+            }
+            if maps.ambient.is_some() {
+                read(&maps.ambient, &mut ta);
+                own_ambient = true;
+            }
+        }
+        let ta = if own_ambient { &ta } else { &td };
         let mut c = [[0.0; LANES]; 3];
         #[allow(clippy::needless_range_loop)] // lane k of several arrays
-        for k in 0..self.len {
-            let (u, v) = self.uv[k];
-            let fp = &self.fp[k];
-            let read =
-                |t: Option<&std::sync::Arc<Texture>>| t.map_or(Vec3::ONE, |t| t.sample(u, v, fp));
+        for k in 0..n {
             let (ka, kd) = if obj.colors {
                 (self.vcolor[k], self.vcolor[k])
             } else {
                 (m.ambient, m.diffuse)
             };
-            let mut ke = m.emission;
-            let (mut ta, mut td, mut ts) = (Vec3::ONE, Vec3::ONE, Vec3::ONE);
-            if let Some(maps) = obj.maps {
-                td = read(maps.diffuse.as_ref());
-                ta = match &maps.ambient {
-                    Some(a) => read(Some(a)),
-                    None => td,
-                };
-                ts = read(maps.specular.as_ref());
-                if ke != Vec3::ZERO {
-                    ke *= read(maps.emission.as_ref());
-                }
-            }
             let t = &self.terms[k];
-            let out = ke + ka * ta * t.a + kd * td * t.d + m.specular * ts * t.s;
+            let out =
+                m.emission * te[k] + ka * ta[k] * t.a + kd * td[k] * t.d + m.specular * ts[k] * t.s;
             (c[0][k], c[1][k], c[2][k]) = (out.x, out.y, out.z);
         }
         finish_batch(ctx, c, &self.at[..self.len], &self.depth, rect, color);
