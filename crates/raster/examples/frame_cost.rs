@@ -11,11 +11,13 @@
 //! of `lights=none|sun|point|spot|area` (comma-separated), `fog`, `two-sided`, `depth`,
 //! `f32`, `frames=N`, `plane` (a ground plane under the sphere, for shadows to fall on),
 //! `shadows=map|plain|exact` (every light casts shadows: a default map, a map with
-//! `filter="none"`, or rays). Prints a checksum of the last frame so the work cannot be optimised away.
+//! `filter="none"`, or rays), `texture=nearest|bilinear|trilinear` (every object gets planar
+//! UVs, u = 4x, v = 4z, and a 64 × 64 checkerboard diffuse map with that filter) and
+//! `aniso=N` (its anisotropy). Prints a checksum of the last frame so the work cannot be optimised away.
 
 use std::sync::Arc;
 
-use glam::{DVec3, Mat4, Vec3};
+use glam::{DVec3, Mat4, Vec2, Vec3};
 use shadelab_raster::*;
 
 fn main() -> std::result::Result<(), Box<dyn std::error::Error>> {
@@ -38,18 +40,61 @@ fn main() -> std::result::Result<(), Box<dyn std::error::Error>> {
         Some(other) => return Err(format!("unknown shadows {other}").into()),
     };
 
+    let maps = match value("texture=") {
+        None => None,
+        Some(name) => {
+            let filter = Filter::from_name(&name).ok_or(format!("unknown filter {name}"))?;
+            let aniso: u32 = value("aniso=").map_or(Ok(1), |s| s.parse())?;
+            let texels: Vec<f32> = (0..64 * 64)
+                .flat_map(|k| {
+                    let c = if (k % 64 / 8 + k / 64 / 8) % 2 == 0 {
+                        0.9
+                    } else {
+                        0.1
+                    };
+                    [c; 3]
+                })
+                .collect();
+            let image = texture::Image::from_top_rows(64, 64, 3, &texels, false)?;
+            let tex = Texture::from_image(Arc::new(image), filter, [Wrap::Repeat; 2])
+                .with_anisotropy(aniso)?;
+            Some(Arc::new(Maps {
+                diffuse: Some(Arc::new(tex)),
+                ..Maps::default()
+            }))
+        }
+    };
+    // With a texture: the same mesh with planar UVs (u = 4x, v = 4z).
+    let place = |mesh: Mesh, material: &str, transform: Mat4| -> Result<Object> {
+        let mesh = match &maps {
+            None => mesh,
+            Some(_) => {
+                let uvs = mesh
+                    .positions()
+                    .iter()
+                    .map(|p| Vec2::new(4.0 * p.x, 4.0 * p.z));
+                Mesh::new(
+                    mesh.positions().to_vec(),
+                    mesh.indices().to_vec(),
+                    mesh.given_normals().map(<[Vec3]>::to_vec),
+                    Some(uvs.collect()),
+                )?
+            }
+        };
+        Object::new(Arc::new(mesh), Material::preset(material)?, transform)?.with_maps(maps.clone())
+    };
     let mut scene = Scene::new(Vec3::splat(0.2))?;
-    scene.add(
-        Arc::new(primitives::uv_sphere(rings, 2 * rings)),
-        Material::preset("gold")?,
+    scene.add_object(place(
+        primitives::uv_sphere(rings, 2 * rings),
+        "gold",
         Mat4::IDENTITY,
-    )?;
+    )?);
     if flag("plane") {
-        scene.add(
-            Arc::new(primitives::plane()),
-            Material::preset("white plastic")?,
+        scene.add_object(place(
+            primitives::plane(),
+            "white plastic",
             Mat4::from_translation(Vec3::new(0.0, -1.2, 0.0)) * Mat4::from_scale(Vec3::splat(6.0)),
-        )?;
+        )?);
     }
     for kind in lights.split(',') {
         match kind {

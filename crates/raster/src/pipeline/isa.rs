@@ -126,7 +126,12 @@ pub(crate) fn run_tile<P: Pixel>(
     if ctx.textured.is_some() {
         // Maps or vertex colours: a tile body of its own, so the untextured ones below stay
         // as they were (their code, and their instruction counts, unchanged).
-        tile_textured(ctx, mode, screen, buf, job);
+        match isa {
+            Isa::Baseline => tile_textured(ctx, mode, screen, buf, job),
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: as for `tile_avx2` below.
+            Isa::Avx2 => unsafe { tile_textured_avx2(ctx, mode, screen, buf, job) },
+        }
         return;
     }
     if let Some(modes) = ctx.modes {
@@ -273,9 +278,39 @@ fn tile_secondary_samples<P: Pixel>(
     }
 }
 
-/// The tile body of textured scenes (baseline instructions: its sampling is scalar).
+/// The tile body of textured scenes for the baseline instruction set, kept out of line so
+/// the default bodies compile as without it.
 #[inline(never)]
 fn tile_textured<P: Pixel>(
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    screen: bool,
+    buf: &mut TileBuffers,
+    job: TileJob<'_, '_, P>,
+) {
+    textured_body::<P, false>(ctx, mode, screen, buf, job);
+}
+
+/// The same for AVX2 + FMA: the rasteriser and the lane loops of the lighting widen (the
+/// sampling stays scalar).
+///
+/// # Safety
+/// The CPU must support AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn tile_textured_avx2<P: Pixel>(
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    screen: bool,
+    buf: &mut TileBuffers,
+    job: TileJob<'_, '_, P>,
+) {
+    textured_body::<P, true>(ctx, mode, screen, buf, job);
+}
+
+/// `WIDE`: on AVX2 + FMA (the caller checked).
+#[inline(always)]
+fn textured_body<P: Pixel, const WIDE: bool>(
     ctx: &ShadeContext<'_>,
     mode: ShadingMode,
     screen: bool,
@@ -289,9 +324,11 @@ fn tile_textured<P: Pixel>(
     raster::rasterize_tile(ctx.tris, job.index, job.rect, buf);
     // Flat interpolates nothing, so screen-space weights matter only for the others.
     if screen && mode != ShadingMode::Flat {
-        shade::shade_textured_tile::<P, true>(ctx, mode, job.rect, buf, job.color, job.depth);
+        shade::shade_textured_tile::<P, true, WIDE>(ctx, mode, job.rect, buf, job.color, job.depth);
     } else {
-        shade::shade_textured_tile::<P, false>(ctx, mode, job.rect, buf, job.color, job.depth);
+        shade::shade_textured_tile::<P, false, WIDE>(
+            ctx, mode, job.rect, buf, job.color, job.depth,
+        );
     }
 }
 

@@ -243,7 +243,7 @@ pub(crate) fn sample_tile<P: Pixel, const AFFINE: bool>(
         // depth output: each depth sample once.
         let layer_depth = if k == 0 { depth.take() } else { None };
         if ctx.textured.is_some() {
-            shade::shade_textured_tile::<f32, AFFINE>(
+            shade::shade_textured_tile::<f32, AFFINE, false>(
                 ctx,
                 mode,
                 rect,

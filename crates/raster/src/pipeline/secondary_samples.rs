@@ -111,7 +111,14 @@ pub(crate) fn shade_secondary_samples<P: Pixel, const AFFINE: bool>(
         // depth output, the opaque majority surface's, as without the secondary stage.
         let layer_depth = if k == 0 { depth.take() } else { None };
         if ctx.textured.is_some() {
-            shade::shade_textured_tile::<f32, AFFINE>(ctx, mode, rect, buf, &mut rows, layer_depth);
+            shade::shade_textured_tile::<f32, AFFINE, false>(
+                ctx,
+                mode,
+                rect,
+                buf,
+                &mut rows,
+                layer_depth,
+            );
         } else {
             shade::shade_tile::<f32, AFFINE>(ctx, mode, rect, buf, &mut rows, layer_depth);
         }

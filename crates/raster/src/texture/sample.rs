@@ -99,7 +99,8 @@ fn norm(a: f64, b: f64) -> f64 {
 #[inline(always)]
 pub(super) fn floor(x: f64) -> f64 {
     if x.abs() < 4_503_599_627_370_496.0 {
-        let t = x as i64 as f64;
+        // SAFETY: |x| < 2⁵² (so not NaN) fits an i64.
+        let t = unsafe { x.to_int_unchecked::<i64>() } as f64;
         t - (t > x) as u8 as f64
     } else {
         x
@@ -201,11 +202,8 @@ pub(super) fn bilinear(l: &Level, wrap: [Wrap; 2], u: f64, v: f64) -> Vec3 {
     let y = v * l.height as f64 - 0.5;
     let (x0, y0) = (floor(x), floor(y));
     let (a, b) = ((x - x0) as f32, (y - y0) as f32);
-    let (i0, i1) = (wrap[0].index(x0, l.width), wrap[0].index(x0 + 1.0, l.width));
-    let (j0, j1) = (
-        wrap[1].index(y0, l.height),
-        wrap[1].index(y0 + 1.0, l.height),
-    );
+    let (i0, i1) = wrap[0].pair(x0, l.width);
+    let (j0, j1) = wrap[1].pair(y0, l.height);
     let t = |i, j| Vec3::from_array(l.texel(i, j));
     t(i0, j0) * ((1.0 - a) * (1.0 - b))
         + t(i1, j0) * (a * (1.0 - b))

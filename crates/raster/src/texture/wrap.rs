@@ -33,23 +33,52 @@ impl Wrap {
         }
     }
 
+    /// The texel indices that integer coordinates `i` and `i + 1` read (a bilinear
+    /// footprint), as two [`Wrap::index`] calls would give them: with `i + 1` still inside
+    /// the image, or any `i` under `Repeat`, the second follows from the first.
+    #[inline(always)]
+    pub fn pair(self, i: f64, size: usize) -> (usize, usize) {
+        let k = self.index(i, size);
+        if i >= 0.0 && i + 1.0 < size as f64 {
+            return (k, k + 1);
+        }
+        if self == Wrap::Repeat && i.abs() < 4_503_599_627_370_496.0 {
+            // (i + 1) mod size = (i mod size) + 1, or 0 past the last column (below 2⁵²,
+            // where i + 1 is exact).
+            return (k, if k + 1 == size { 0 } else { k + 1 });
+        }
+        (k, self.index(i + 1.0, size))
+    }
+
     /// The texel index in `0..size` that integer coordinate `i` reads.
     #[inline(always)]
     pub fn index(self, i: f64, size: usize) -> usize {
         let s = size as f64;
         // Inside the image every mode reads texel i.
         if i >= 0.0 && i < s {
-            return i as usize;
+            // SAFETY: i is an integer in [0, size), so it converts exactly (the checked
+            // `as` would add NaN and overflow handling to every texel read).
+            return unsafe { i.to_int_unchecked::<usize>() };
         }
         // Integer remainders where i fits an i64 (all but absurd coordinates): the f64
         // `rem_euclid` below is a software `fmod`, a tenth of a repeating floor's frame.
         if i.abs() < 9.2e18 {
-            let (i, n) = (i as i64, size as i64);
+            // SAFETY: |i| < 9.2e18 < 2⁶³ and i is not NaN (NaN fails the comparison).
+            let (i, n) = (unsafe { i.to_int_unchecked::<i64>() }, size as i64);
+            // A power-of-two size (most textures) takes a mask, which is the Euclidean
+            // remainder in two's complement; others an integer division.
+            let rem = |i: i64, m: i64| {
+                if m & (m - 1) == 0 {
+                    i & (m - 1)
+                } else {
+                    i.rem_euclid(m)
+                }
+            };
             let k = match self {
-                Wrap::Repeat => i.rem_euclid(n),
+                Wrap::Repeat => rem(i, n),
                 Wrap::Clamp => i.clamp(0, n - 1),
                 Wrap::Mirror => {
-                    let a = i.rem_euclid(2 * n) - n;
+                    let a = rem(i, 2 * n) - n;
                     (n - 1) - if a >= 0 { a } else { -(1 + a) }
                 }
             };
@@ -90,6 +119,26 @@ mod tests {
             got(Wrap::Mirror),
             [0, 0, 1, 2, 2, 1, 0, 0, 1, 2, 2, 1, 0, 0, 1]
         );
+    }
+
+    #[test]
+    fn pairs_are_two_indices() {
+        for w in [Wrap::Repeat, Wrap::Clamp, Wrap::Mirror] {
+            for size in [1, 2, 3, 8] {
+                for i in -40..40 {
+                    let i = i as f64;
+                    let want = (w.index(i, size), w.index(i + 1.0, size));
+                    assert_eq!(w.pair(i, size), want, "{w:?} {size} {i}");
+                }
+            }
+            for i in [1e30, -1e30, 9.3e18, -9.3e18, 2f64.powi(60)] {
+                assert_eq!(
+                    w.pair(i, 7),
+                    (w.index(i, 7), w.index(i + 1.0, 7)),
+                    "{w:?} {i}"
+                );
+            }
+        }
     }
 
     #[test]

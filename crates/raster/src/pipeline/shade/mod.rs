@@ -225,8 +225,9 @@ unsafe fn phong_shadowed_avx2<P: Pixel, const STAGES_READ_DEPTH: bool, const AFF
 }
 
 /// Shades one tile of a textured scene (maps or vertex colours: [`ShadeContext::textured`]),
-/// any mode. `AFFINE` as for [`shade_tile`].
-pub(crate) fn shade_textured_tile<P: Pixel, const AFFINE: bool>(
+/// any mode. `AFFINE` as for [`shade_tile`]; `WIDE`: lit with AVX2 + FMA, which the caller
+/// must have checked the CPU has.
+pub(crate) fn shade_textured_tile<P: Pixel, const AFFINE: bool, const WIDE: bool>(
     ctx: &ShadeContext<'_>,
     mode: ShadingMode,
     rect: TileRect,
@@ -237,8 +238,8 @@ pub(crate) fn shade_textured_tile<P: Pixel, const AFFINE: bool>(
     let tex = ctx.textured.as_ref().expect("a textured scene");
     // Normal and bump maps: a body of its own (chosen per render), so the others keep theirs.
     if tex.perturb {
-        textured::shade_textured::<P, AFFINE, true>(ctx, tex, mode, rect, buf, color, depth);
+        textured::shade_textured::<P, AFFINE, true, WIDE>(ctx, tex, mode, rect, buf, color, depth);
     } else {
-        textured::shade_textured::<P, AFFINE, false>(ctx, tex, mode, rect, buf, color, depth);
+        textured::shade_textured::<P, AFFINE, false, WIDE>(ctx, tex, mode, rect, buf, color, depth);
     }
 }

@@ -103,7 +103,7 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool>(
         .map(|r| &mut r[..rect.w * 3])
         .collect();
     if ctx.textured.is_some() {
-        shade_textured_tile::<f32, AFFINE>(ctx, mode, rect, buf, &mut rows, depth);
+        shade_textured_tile::<f32, AFFINE, false>(ctx, mode, rect, buf, &mut rows, depth);
     } else {
         shade_tile::<f32, AFFINE>(ctx, mode, rect, buf, &mut rows, depth);
     }

@@ -274,6 +274,55 @@ impl Batch {
         }
     }
 
+    /// [`Batch::flush`] compiled for AVX2 + FMA when `WIDE` (the lighting's lane loops
+    /// widen), for the baseline otherwise: one out-of-line copy per instruction set.
+    #[inline(always)]
+    fn flush_on<P: Pixel, const PERTURB: bool, const WIDE: bool>(
+        &mut self,
+        ctx: &ShadeContext<'_>,
+        tex: &TexturedScene<'_>,
+        mode: ShadingMode,
+        rect: TileRect,
+        color: &mut [&mut [Out<P>]],
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        if WIDE {
+            // SAFETY: `WIDE` is set only by the AVX2 tile body (`isa.rs`), which runs only
+            // after the CPU reported AVX2 and FMA.
+            unsafe { self.flush_avx2::<P, PERTURB>(ctx, tex, mode, rect, color) };
+            return;
+        }
+        self.flush_baseline::<P, PERTURB>(ctx, tex, mode, rect, color);
+    }
+
+    #[inline(never)]
+    fn flush_baseline<P: Pixel, const PERTURB: bool>(
+        &mut self,
+        ctx: &ShadeContext<'_>,
+        tex: &TexturedScene<'_>,
+        mode: ShadingMode,
+        rect: TileRect,
+        color: &mut [&mut [Out<P>]],
+    ) {
+        self.flush::<P, PERTURB>(ctx, tex, mode, rect, color);
+    }
+
+    /// # Safety
+    /// The CPU must support AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn flush_avx2<P: Pixel, const PERTURB: bool>(
+        &mut self,
+        ctx: &ShadeContext<'_>,
+        tex: &TexturedScene<'_>,
+        mode: ShadingMode,
+        rect: TileRect,
+        color: &mut [&mut [Out<P>]],
+    ) {
+        self.flush::<P, PERTURB>(ctx, tex, mode, rect, color);
+    }
+
+    #[inline(always)]
     fn flush<P: Pixel, const PERTURB: bool>(
         &mut self,
         ctx: &ShadeContext<'_>,
@@ -369,10 +418,19 @@ impl Batch {
     }
 }
 
-/// Shades one tile of a textured scene (any mode). Never inlined: the untextured tile
-/// bodies that branch past it keep their own code layout.
+/// How many loaded triangles [`shade_textured`] keeps (direct-mapped by id).
+const LOADED: usize = 16;
+
+/// Shades one tile of a textured scene (any mode); `WIDE`: its batches are lit with AVX2
+/// ([`Batch::flush_on`]). Never inlined: the untextured tile bodies that branch past it
+/// keep their own code layout.
 #[inline(never)]
-pub(super) fn shade_textured<P: Pixel, const AFFINE: bool, const PERTURB: bool>(
+pub(super) fn shade_textured<
+    P: Pixel,
+    const AFFINE: bool,
+    const PERTURB: bool,
+    const WIDE: bool,
+>(
     ctx: &ShadeContext<'_>,
     tex: &TexturedScene<'_>,
     mode: ShadingMode,
@@ -384,7 +442,10 @@ pub(super) fn shade_textured<P: Pixel, const AFFINE: bool, const PERTURB: bool>(
     let want_depth = depth.is_some() || ctx.program.reads_depth();
     let background = background_row::<P>(ctx);
     let mut planes = PlaneCache::new();
-    let mut cur: Option<Current> = None;
+    // The last triangles loaded, by id: rows of a tile cross the same few triangles again
+    // and again, and loading one lights it (flat and Gouraud), which cost more than the
+    // texturing of a small triangle's pixels when only the last one was kept.
+    let mut loaded: [Option<Current>; LOADED] = std::array::from_fn(|_| None);
     let mut batch = Batch {
         len: 0,
         at: [(0, 0); LANES],
@@ -420,8 +481,9 @@ pub(super) fn shade_textured<P: Pixel, const AFFINE: bool, const PERTURB: bool>(
                 continue;
             }
             let t = ctx.tris.get(id);
-            if cur.as_ref().map_or(true, |c| c.id != id) {
-                cur = Some(Current::load::<AFFINE, PERTURB>(
+            let slot = &mut loaded[id as usize % LOADED];
+            if slot.as_ref().map_or(true, |c| c.id != id) {
+                *slot = Some(Current::load::<AFFINE, PERTURB>(
                     ctx,
                     tex,
                     mode,
@@ -430,9 +492,9 @@ pub(super) fn shade_textured<P: Pixel, const AFFINE: bool, const PERTURB: bool>(
                     &mut planes,
                 ));
             }
-            let c = cur.as_ref().expect("loaded");
+            let c = slot.as_ref().expect("loaded");
             if batch.len > 0 && batch.key != c.key {
-                batch.flush::<P, PERTURB>(ctx, tex, mode, rect, color);
+                batch.flush_on::<P, PERTURB, WIDE>(ctx, tex, mode, rect, color);
             }
             batch.key = c.key;
             for s in i..end {
@@ -506,11 +568,11 @@ pub(super) fn shade_textured<P: Pixel, const AFFINE: bool, const PERTURB: bool>(
                 }
                 batch.len += 1;
                 if batch.len == LANES {
-                    batch.flush::<P, PERTURB>(ctx, tex, mode, rect, color);
+                    batch.flush_on::<P, PERTURB, WIDE>(ctx, tex, mode, rect, color);
                 }
             }
             i = end;
         }
     }
-    batch.flush::<P, PERTURB>(ctx, tex, mode, rect, color);
+    batch.flush_on::<P, PERTURB, WIDE>(ctx, tex, mode, rect, color);
 }
