@@ -192,16 +192,23 @@ def main(argv: list[str] | None = None) -> int:
         + ".",
         "",
         "| filter | anisotropy | supersample | RMSE ours (levels) | ms ours | RMSE llvmpipe "
-        "| ms llvmpipe |",
-        "|---|---:|---:|---:|---:|---:|---:|",
+        "| ms llvmpipe | ours / llvmpipe |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|",
         *(
             f"| {f} | {a} | {s}×{s} | {e:.2f} | {t:.1f} | "
             + ("–" if ge is None else f"{ge:.2f}")
             + " | "
             + ("–" if gt is None else f"{gt:.1f}")
+            + " | "
+            + ("–" if gt is None else f"{t / gt:.2f}")
             + " |"
             for f, a, s, e, t, ge, gt in rows
         ),
+        "",
+        "Time ratio below 1: ours is faster. The texture stage samples one pixel at a time "
+        "(scalar f64 coordinates, exact derivatives); llvmpipe's generated fragment code "
+        "samples a block of pixels per SIMD instruction (256-bit registers here), which is "
+        "where the remaining gap on the plain filters is.",
         "",
     ]
     report(args.write, "\n".join(lines), MARKER)
