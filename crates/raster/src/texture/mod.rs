@@ -242,6 +242,18 @@ impl Texture {
         let (s, o) = (self.uv_scale, self.uv_offset);
         let at =
             |(u, v): (f64, f64)| (finite_or_zero(u * s.x + o.x), finite_or_zero(v * s.y + o.y));
+        // Level 0 read at each point by `read` (generic: inlined in each copy).
+        fn each(
+            uv: &[(f64, f64)],
+            at: impl Fn((f64, f64)) -> (f64, f64),
+            out: &mut [Vec3],
+            read: impl Fn(f64, f64) -> Vec3,
+        ) {
+            for (c, &p) in out.iter_mut().zip(uv) {
+                let (u, v) = at(p);
+                *c = read(u, v);
+            }
+        }
         match &self.source {
             Source::Image {
                 image,
@@ -250,10 +262,7 @@ impl Texture {
                 aniso: 0 | 1,
             } => {
                 let l0 = &image.levels()[0];
-                for (c, &p) in out.iter_mut().zip(uv) {
-                    let (u, v) = at(p);
-                    *c = sample::nearest(l0, *wrap, u, v);
-                }
+                each(uv, at, out, |u, v| sample::nearest(l0, *wrap, u, v));
             }
             Source::Image {
                 image,
@@ -262,10 +271,7 @@ impl Texture {
                 aniso: 0 | 1,
             } => {
                 let l0 = &image.levels()[0];
-                for (c, &p) in out.iter_mut().zip(uv) {
-                    let (u, v) = at(p);
-                    *c = sample::bilinear(l0, *wrap, u, v);
-                }
+                each(uv, at, out, |u, v| sample::bilinear(l0, *wrap, u, v));
             }
             _ => {
                 for ((c, &(u, v)), fp) in out.iter_mut().zip(uv).zip(fp) {

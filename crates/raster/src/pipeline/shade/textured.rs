@@ -202,6 +202,14 @@ impl Current {
     }
 }
 
+/// What a batch is shaded with: the render, the textured scene, the mode and the tile.
+struct Tile<'a, 'b> {
+    ctx: &'a ShadeContext<'b>,
+    tex: &'a TexturedScene<'b>,
+    mode: ShadingMode,
+    rect: TileRect,
+}
+
 /// Pixels waiting to be lit and textured together, all of one material.
 struct Batch {
     len: usize,
@@ -279,32 +287,26 @@ impl Batch {
     #[inline(always)]
     fn flush_on<P: Pixel, const PERTURB: bool, const WIDE: bool>(
         &mut self,
-        ctx: &ShadeContext<'_>,
-        tex: &TexturedScene<'_>,
-        mode: ShadingMode,
-        rect: TileRect,
+        on: &Tile<'_, '_>,
         color: &mut [&mut [Out<P>]],
     ) {
         #[cfg(target_arch = "x86_64")]
         if WIDE {
             // SAFETY: `WIDE` is set only by the AVX2 tile body (`isa.rs`), which runs only
             // after the CPU reported AVX2 and FMA.
-            unsafe { self.flush_avx2::<P, PERTURB>(ctx, tex, mode, rect, color) };
+            unsafe { self.flush_avx2::<P, PERTURB>(on, color) };
             return;
         }
-        self.flush_baseline::<P, PERTURB>(ctx, tex, mode, rect, color);
+        self.flush_baseline::<P, PERTURB>(on, color);
     }
 
     #[inline(never)]
     fn flush_baseline<P: Pixel, const PERTURB: bool>(
         &mut self,
-        ctx: &ShadeContext<'_>,
-        tex: &TexturedScene<'_>,
-        mode: ShadingMode,
-        rect: TileRect,
+        on: &Tile<'_, '_>,
         color: &mut [&mut [Out<P>]],
     ) {
-        self.flush::<P, PERTURB>(ctx, tex, mode, rect, color);
+        self.flush::<P, PERTURB>(on.ctx, on.tex, on.mode, on.rect, color);
     }
 
     /// # Safety
@@ -313,13 +315,10 @@ impl Batch {
     #[target_feature(enable = "avx2,fma")]
     unsafe fn flush_avx2<P: Pixel, const PERTURB: bool>(
         &mut self,
-        ctx: &ShadeContext<'_>,
-        tex: &TexturedScene<'_>,
-        mode: ShadingMode,
-        rect: TileRect,
+        on: &Tile<'_, '_>,
         color: &mut [&mut [Out<P>]],
     ) {
-        self.flush::<P, PERTURB>(ctx, tex, mode, rect, color);
+        self.flush::<P, PERTURB>(on.ctx, on.tex, on.mode, on.rect, color);
     }
 
     #[inline(always)]
@@ -439,6 +438,12 @@ pub(super) fn shade_textured<
     color: &mut [&mut [Out<P>]],
     mut depth: Option<&mut [&mut [Out<f32>]]>,
 ) {
+    let on = Tile {
+        ctx,
+        tex,
+        mode,
+        rect,
+    };
     let want_depth = depth.is_some() || ctx.program.reads_depth();
     let background = background_row::<P>(ctx);
     let mut planes = PlaneCache::new();
@@ -494,7 +499,7 @@ pub(super) fn shade_textured<
             }
             let c = slot.as_ref().expect("loaded");
             if batch.len > 0 && batch.key != c.key {
-                batch.flush_on::<P, PERTURB, WIDE>(ctx, tex, mode, rect, color);
+                batch.flush_on::<P, PERTURB, WIDE>(&on, color);
             }
             batch.key = c.key;
             for s in i..end {
@@ -568,11 +573,11 @@ pub(super) fn shade_textured<
                 }
                 batch.len += 1;
                 if batch.len == LANES {
-                    batch.flush_on::<P, PERTURB, WIDE>(ctx, tex, mode, rect, color);
+                    batch.flush_on::<P, PERTURB, WIDE>(&on, color);
                 }
             }
             i = end;
         }
     }
-    batch.flush_on::<P, PERTURB, WIDE>(ctx, tex, mode, rect, color);
+    batch.flush_on::<P, PERTURB, WIDE>(&on, color);
 }
