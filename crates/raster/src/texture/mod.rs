@@ -210,18 +210,8 @@ impl Texture {
     pub fn sample(&self, u: f64, v: f64, fp: &Footprint) -> Vec3 {
         let (s, o) = (self.uv_scale, self.uv_offset);
         let (u, v) = (finite_or_zero(u * s.x + o.x), finite_or_zero(v * s.y + o.y));
-        let scaled;
-        let fp = if s == DVec2::ONE {
-            fp
-        } else {
-            scaled = Footprint {
-                du_dx: fp.du_dx * s.x,
-                dv_dx: fp.dv_dx * s.y,
-                du_dy: fp.du_dy * s.x,
-                dv_dy: fp.dv_dy * s.y,
-            };
-            &scaled
-        };
+        let scaled = scale_footprint(fp, s);
+        let fp = &scaled;
         match &self.source {
             Source::Image {
                 image,
@@ -273,12 +263,40 @@ impl Texture {
                 let l0 = &image.levels()[0];
                 each(uv, at, out, |u, v| sample::bilinear(l0, *wrap, u, v));
             }
+            Source::Image {
+                image,
+                filter: Filter::Trilinear,
+                wrap,
+                aniso: 0 | 1,
+            } => {
+                // As `sample`: the footprint scaled with the coordinates, then λ.
+                let (w, h) = (image.width(), image.height());
+                for ((c, &p), fp) in out.iter_mut().zip(uv).zip(fp) {
+                    let (u, v) = at(p);
+                    let lambda = scale_footprint(fp, s).lod(w, h);
+                    *c = sample::trilinear(image.levels(), *wrap, u, v, lambda);
+                }
+            }
             _ => {
                 for ((c, &(u, v)), fp) in out.iter_mut().zip(uv).zip(fp) {
                     *c = self.sample(u, v, fp);
                 }
             }
         }
+    }
+}
+
+/// The footprint of coordinates scaled by `s` (itself when `s` is 1, bit for bit).
+#[inline(always)]
+fn scale_footprint(fp: &Footprint, s: DVec2) -> Footprint {
+    if s == DVec2::ONE {
+        return *fp;
+    }
+    Footprint {
+        du_dx: fp.du_dx * s.x,
+        dv_dx: fp.dv_dx * s.y,
+        du_dy: fp.du_dy * s.x,
+        dv_dy: fp.dv_dy * s.y,
     }
 }
 

@@ -169,21 +169,26 @@ fn sample_at(image: &Image, filter: Filter, wrap: [Wrap; 2], u: f64, v: f64, lam
     match filter {
         Filter::Nearest => nearest(&levels[0], wrap, u, v),
         Filter::Bilinear => bilinear(&levels[0], wrap, u, v),
-        Filter::Trilinear => {
-            if lambda.is_nan() || lambda <= 0.0 {
-                return bilinear(&levels[0], wrap, u, v);
-            }
-            let q = (levels.len() - 1) as f64;
-            if lambda >= q {
-                return bilinear(&levels[levels.len() - 1], wrap, u, v);
-            }
-            let d1 = floor(lambda);
-            let f = (lambda - d1) as f32;
-            let a = bilinear(&levels[d1 as usize], wrap, u, v);
-            let b = bilinear(&levels[d1 as usize + 1], wrap, u, v);
-            a * (1.0 - f) + b * f
-        }
+        Filter::Trilinear => trilinear(levels, wrap, u, v, lambda),
     }
+}
+
+/// `GL_LINEAR_MIPMAP_LINEAR` at level of detail `lambda` (`GL_LINEAR` on level 0 when
+/// magnified or NaN, on the last level beyond it).
+#[inline]
+pub(super) fn trilinear(levels: &[Level], wrap: [Wrap; 2], u: f64, v: f64, lambda: f64) -> Vec3 {
+    if lambda.is_nan() || lambda <= 0.0 {
+        return bilinear(&levels[0], wrap, u, v);
+    }
+    let q = (levels.len() - 1) as f64;
+    if lambda >= q {
+        return bilinear(&levels[levels.len() - 1], wrap, u, v);
+    }
+    let d1 = floor(lambda);
+    let f = (lambda - d1) as f32;
+    let a = bilinear(&levels[d1 as usize], wrap, u, v);
+    let b = bilinear(&levels[d1 as usize + 1], wrap, u, v);
+    a * (1.0 - f) + b * f
 }
 
 /// `GL_NEAREST` on one level: the texel (⌊u·w⌋, ⌊v·h⌋), wrapped.
