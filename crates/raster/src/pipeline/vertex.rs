@@ -165,8 +165,6 @@ pub(crate) fn transform(
         .map(|o| o.mesh().positions().len())
         .sum();
     out.clip.reserve_exact(total);
-    out.outcode.reserve_exact(total);
-    out.screen.reserve_exact(total);
     out.world.reserve_exact(total);
     if attrs.normal {
         out.normal.reserve_exact(total);
@@ -179,32 +177,29 @@ pub(crate) fn transform(
         // apart at distance 100 with near = 0.001) survive into the snapped z and 1/w. The f32
         // copy only serves the (rare) clipping path.
         let mvp = view_proj * model.as_dmat4();
-        // Written straight into the output arrays (unzipping into new vectors and copying
-        // them over touched every page of 33 bytes a vertex twice).
-        let mut columns = (
-            std::mem::take(&mut out.clip),
-            (
-                std::mem::take(&mut out.outcode),
-                std::mem::take(&mut out.screen),
-            ),
-        );
-        columns.par_extend(pos.par_iter().with_min_len(CHUNK).map(|p| {
-            let c = mvp * p.as_dvec3().extend(1.0);
-            let c32 = c.as_vec4();
-            let code = if c32.is_finite() {
-                planes.outcode_finite(c32)
-            } else {
-                INVALID
-            };
-            if code != 0 {
-                return (c32, (code, Snapped::default()));
-            }
-            match snap(c, size.0, size.1) {
-                Some(s) => (c32, (0, s)),
-                None => (c32, (INVALID, Snapped::default())),
-            }
-        }));
-        (out.clip, (out.outcode, out.screen)) = columns;
+        let (clip, (codes, screen)): (Vec<Vec4>, (Vec<u8>, Vec<Snapped>)) = pos
+            .par_iter()
+            .with_min_len(CHUNK)
+            .map(|p| {
+                let c = mvp * p.as_dvec3().extend(1.0);
+                let c32 = c.as_vec4();
+                let code = if c32.is_finite() {
+                    planes.outcode_finite(c32)
+                } else {
+                    INVALID
+                };
+                if code != 0 {
+                    return (c32, (code, Snapped::default()));
+                }
+                match snap(c, size.0, size.1) {
+                    Some(s) => (c32, (0, s)),
+                    None => (c32, (INVALID, Snapped::default())),
+                }
+            })
+            .unzip();
+        out.clip.extend_from_slice(&clip);
+        out.outcode.extend_from_slice(&codes);
+        out.screen.extend_from_slice(&screen);
         out.world.par_extend(
             pos.par_iter()
                 .with_min_len(CHUNK)
