@@ -14,6 +14,8 @@ pub(crate) const GUARD_PX: f64 = 16384.0;
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct ClipPlanes {
     planes: [DVec4; 6],
+    /// The guard band's x and y extents in units of w (the planes' w coefficients).
+    guard: (f64, f64),
 }
 
 impl ClipPlanes {
@@ -29,11 +31,31 @@ impl ClipPlanes {
                 DVec4::new(0.0, -1.0, 0.0, gy),  // y <= gy w
                 DVec4::new(0.0, 1.0, 0.0, gy),   // y >= -gy w
             ],
+            guard: (gx, gy),
         }
     }
 
-    /// Bit `i` set when `p` is outside plane `i`.
-    #[inline]
+    /// [`ClipPlanes::outcode`] of a finite `p`, with the planes' zero coefficients left
+    /// out: the vertex stage classifies every vertex (six four-term dot products were about
+    /// a fifth of its instructions). Bit-identical for finite `p`: `0·v` is ±0, adding ±0
+    /// changes no other value, `±1·v` is exact, so each dot product is the one rounded sum
+    /// below, and the sign of a zero does not change `< 0`.
+    #[inline(always)]
+    pub fn outcode_finite(&self, p: Vec4) -> u8 {
+        let (x, y, z, w) = (p.x as f64, p.y as f64, p.z as f64, p.w as f64);
+        let (gx, gy) = self.guard;
+        let (gxw, gyw) = (gx * w, gy * w);
+        (-z + w < 0.0) as u8
+            | ((z < 0.0) as u8) << 1
+            | ((-x + gxw < 0.0) as u8) << 2
+            | ((x + gxw < 0.0) as u8) << 3
+            | ((-y + gyw < 0.0) as u8) << 4
+            | ((y + gyw < 0.0) as u8) << 5
+    }
+
+    /// Bit `i` set when `p` is outside plane `i`: the reference form of
+    /// [`ClipPlanes::outcode_finite`] (tests).
+    #[cfg(test)]
     pub fn outcode(&self, p: Vec4) -> u8 {
         let p = p.as_dvec4();
         let mut code = 0;
@@ -139,6 +161,32 @@ mod tests {
         assert_eq!(p, a);
         assert!((q.z - q.w).abs() < 1e-12);
         assert!(planes.clip_segment(b, b * 1.1).is_none());
+    }
+
+    /// The shortened classification equals the six dot products on finite points,
+    /// including points on and near every plane and signed zeros.
+    #[test]
+    fn finite_outcode_matches_the_dot_products() {
+        let planes = ClipPlanes::new(640, 480);
+        let (gx, gy) = planes.guard;
+        let vals = [
+            0.0f32, -0.0, 1.0, -1.0, 0.5, 2.0, -3.0, 1e-30, -1e-30, 7.5e6, -7.5e6, 1e30,
+        ];
+        let mut n = 0;
+        for &w in &vals {
+            let edges = [w, -w, (gx * w as f64) as f32, -(gx * w as f64) as f32];
+            let yedges = [(gy * w as f64) as f32, -(gy * w as f64) as f32];
+            for &x in vals.iter().chain(&edges) {
+                for &y in vals.iter().chain(&yedges) {
+                    for &z in vals.iter().chain(&[w, w * 0.999_999_9]) {
+                        let p = Vec4::new(x, y, z, w);
+                        assert_eq!(planes.outcode_finite(p), planes.outcode(p), "{p:?}");
+                        n += 1;
+                    }
+                }
+            }
+        }
+        assert!(n > 10_000);
     }
 
     #[test]

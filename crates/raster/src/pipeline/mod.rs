@@ -80,25 +80,13 @@ impl PrimitiveContext<'_> {
             culled: 0,
             dropped: 0,
         };
-        let cull = self.options.cull_backfaces;
-        let margin = samples::margin(self.options.samples);
-        // Sets up one triangle; a piece of a clipped triangle (`clipped_from` is the original's
-        // vertices) is marked and remembers its original.
-        let push =
-            |s: [Snapped; 3], vv: [u32; 3], clipped_from: Option<[u32; 3]>, out: &mut ChunkOut| {
-                match setup::setup(s, vv, object, (w, h), cull, margin) {
-                    Setup::Draw(mut t) => {
-                        if let Some(v) = clipped_from {
-                            t.clipped = true;
-                            let i = out.chunk.tris.len() as u32;
-                            out.chunk.clipped_from.push((i, v));
-                        }
-                        out.chunk.tris.push(t);
-                    }
-                    Setup::Culled => out.culled += 1,
-                    Setup::Skip => {}
-                }
-            };
+        let mut bins = bin::BinBuilder::new(self.tiles.0, self.tiles.1, indices.len());
+        let params = SetupParams {
+            object,
+            size: (w, h),
+            cull: self.options.cull_backfaces,
+            margin: samples::margin(self.options.samples),
+        };
         for idx in indices {
             let v = idx.map(|i| i + first_vertex);
             let codes = v.map(|i| self.verts.outcode[i as usize]);
@@ -112,7 +100,7 @@ impl PrimitiveContext<'_> {
             let mask = codes[0] | codes[1] | codes[2];
             if mask == 0 {
                 let s = v.map(|i| self.verts.screen[i as usize]);
-                push(s, v, None, &mut out);
+                push_setup(params, s, v, None, &mut out, &mut bins);
                 continue;
             }
             let c: [Vec4; 3] = v.map(|i| self.verts.clip[i as usize]);
@@ -142,11 +130,55 @@ impl PrimitiveContext<'_> {
             };
             for k in 1..poly.len() - 1 {
                 let vv = [ids[0], ids[k], ids[k + 1]];
-                push([s[0], s[k], s[k + 1]], vv, Some(v), &mut out);
+                push_setup(
+                    params,
+                    [s[0], s[k], s[k + 1]],
+                    vv,
+                    Some(v),
+                    &mut out,
+                    &mut bins,
+                );
             }
         }
-        out.chunk.bins = bin::bin(&out.chunk.tris, self.tiles.0, self.tiles.1);
+        out.chunk.bins = bins.finish();
         out
+    }
+}
+
+/// What setup reads of the render, the same for every triangle of a chunk.
+#[derive(Clone, Copy)]
+struct SetupParams {
+    object: u32,
+    size: (u32, u32),
+    cull: bool,
+    margin: i64,
+}
+
+/// Sets up one triangle and bins it; a piece of a clipped triangle (`clipped_from` is the
+/// original's vertices) is marked and remembers its original. Inlined into the assembly loop
+/// (as a closure called from two places it was an out-of-line call per triangle that
+/// reloaded its captures and spilled every register).
+#[inline(always)]
+fn push_setup(
+    p: SetupParams,
+    s: [Snapped; 3],
+    vv: [u32; 3],
+    clipped_from: Option<[u32; 3]>,
+    out: &mut ChunkOut,
+    bins: &mut bin::BinBuilder,
+) {
+    match setup::setup(s, vv, p.object, p.size, p.cull, p.margin) {
+        Setup::Draw(mut t) => {
+            if let Some(v) = clipped_from {
+                t.clipped = true;
+                let i = out.chunk.tris.len() as u32;
+                out.chunk.clipped_from.push((i, v));
+            }
+            bins.push(&t);
+            out.chunk.tris.push(t);
+        }
+        Setup::Culled => out.culled += 1,
+        Setup::Skip => {}
     }
 }
 

@@ -45,26 +45,69 @@ pub(crate) struct Edges {
 
 impl SetupTri {
     pub fn edges(&self) -> Edges {
-        let mut e = Edges {
-            a: [0; 3],
-            b: [0; 3],
-            c: [0; 3],
-            bias: [0; 3],
-        };
-        for k in 0..3 {
-            let (i, j) = ((k + 1) % 3, (k + 2) % 3);
-            let (ax, ay) = (self.x[i] as i64, self.y[i] as i64);
-            let (bx, by) = (self.x[j] as i64, self.y[j] as i64);
-            let (dx, dy) = (bx - ax, by - ay);
-            e.a[k] = -dy;
-            e.b[k] = dx;
-            e.c[k] = dy * ax - dx * ay;
-            // Positive area in y-down space: a top edge runs in +x, a left edge runs up.
-            let top_left = (dy == 0 && dx > 0) || dy < 0;
-            e.bias[k] = if top_left { 0 } else { -1 };
-        }
-        e
+        edges_of(self.x.map(i64::from), self.y.map(i64::from))
     }
+}
+
+/// [`SetupTri::edges`] of vertices `(x[k], y[k])` (positive doubled area).
+#[inline(always)]
+fn edges_of(x: [i64; 3], y: [i64; 3]) -> Edges {
+    let mut e = Edges {
+        a: [0; 3],
+        b: [0; 3],
+        c: [0; 3],
+        bias: [0; 3],
+    };
+    for k in 0..3 {
+        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+        let (ax, ay) = (x[i], y[i]);
+        let (bx, by) = (x[j], y[j]);
+        let (dx, dy) = (bx - ax, by - ay);
+        e.a[k] = -dy;
+        e.b[k] = dx;
+        e.c[k] = dy * ax - dx * ay;
+        e.bias[k] = fill_bias(dx, dy);
+    }
+    e
+}
+
+/// The top-left fill rule's bias of an edge running `(dx, dy)`: 0 on top and left edges,
+/// −1 elsewhere (one function for the rasterizer and setup's early coverage test).
+#[inline(always)]
+fn fill_bias(dx: i64, dy: i64) -> i64 {
+    // Positive area in y-down space: a top edge runs in +x, a left edge runs up.
+    let top_left = (dy == 0 && dx > 0) || dy < 0;
+    if top_left {
+        0
+    } else {
+        -1
+    }
+}
+
+/// Whether any pixel centre of the (at most 2 × 2) pixel box `x0..=x1`, `y0..=y1` passes
+/// the rasterizer's coverage test, `E_k + bias_k ≥ 0` for the three edges at `x·ONE + HALF`
+/// ([`edges_of`]). With the vertices taken relative to the first centre `P`, the edge
+/// function of edge `i → j` there, `a·Px + b·Py + c`, is the same integer as
+/// `X_i·Y_j − X_j·Y_i`; the other corners add exact integer steps (`a·ONE`, `b·ONE`), as the
+/// rasterizer steps them. A value is non-negative iff its sign bit is clear, so "all three
+/// edges pass at some corner" is an OR per corner and an AND over the corners.
+#[inline(always)]
+fn covers_a_centre(x: [i64; 3], y: [i64; 3], (x0, y0, x1, y1): (i64, i64, i64, i64)) -> bool {
+    let (cx, cy) = (x0 * ONE + HALF, y0 * ONE + HALF);
+    let (sx, sy) = ((x1 - x0) * ONE, (y1 - y0) * ONE);
+    let (rx, ry) = (x.map(|v| v - cx), y.map(|v| v - cy));
+    let (mut m00, mut m10, mut m01, mut m11) = (0i64, 0i64, 0i64, 0i64);
+    for k in 0..3 {
+        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+        let (dx, dy) = (x[j] - x[i], y[j] - y[i]);
+        let v = rx[i] * ry[j] - rx[j] * ry[i] + fill_bias(dx, dy);
+        let (ax, by) = (-dy * sx, dx * sy);
+        m00 |= v;
+        m10 |= v + ax;
+        m01 |= v + by;
+        m11 |= v + ax + by;
+    }
+    (m00 & m10 & m01 & m11) >= 0
 }
 
 /// Round to nearest, ties to even, for |x| < 2^51 (larger or non-finite values are rejected
@@ -98,7 +141,7 @@ pub(crate) fn snap(clip: DVec4, width: f64, height: f64) -> Option<Snapped> {
 /// What setup decided about a triangle.
 pub(crate) enum Setup {
     Draw(SetupTri),
-    /// Zero area after snapping, entirely outside the image, or culled.
+    /// Zero area after snapping, entirely outside the image, or covering no pixel centre.
     Skip,
     /// Back facing and culling is on.
     Culled,
@@ -107,6 +150,7 @@ pub(crate) enum Setup {
 /// Sets up one (already clipped) triangle of snapped vertices. `margin` (fixed-point units)
 /// is how far a pixel's sample points reach from its centre (0 with one sample): the pixel
 /// bounds include every pixel one of whose samples the triangle's box contains.
+#[inline(always)]
 pub(crate) fn setup(
     s: [Snapped; 3],
     v: [u32; 3],
@@ -143,6 +187,18 @@ pub(crate) fn setup(
     let px1 = last(*xs.iter().max().unwrap()).min(width as i64 - 1);
     let py1 = last(*ys.iter().max().unwrap()).min(height as i64 - 1);
     if px0 > px1 || py0 > py1 {
+        return Setup::Skip;
+    }
+    // Exact early cull: at a million triangles most are smaller than a pixel, and a box of
+    // at most 2 × 2 pixel centres is tested here with the rasterizer's edge functions and
+    // fill rule (`covers_a_centre`), so a triangle that covers none of them is never
+    // stored, binned or rasterized; every pixel stays the same. Only with one sample at the
+    // centre (with several, `margin` widens the box and the sample points move).
+    if margin == 0
+        && px1 - px0 <= 1
+        && py1 - py0 <= 1
+        && !covers_a_centre(xs, ys, (px0, py0, px1, py1))
+    {
         return Setup::Skip;
     }
     Setup::Draw(SetupTri {
@@ -204,6 +260,53 @@ mod tests {
             assert_eq!(round_even(x), want, "{x}");
         }
         assert_eq!(round_even(8_388_607.7), 8_388_608.0);
+    }
+
+    /// The early cull drops exactly the triangles whose pixel box holds no covered centre:
+    /// on a grid of small triangles at every sub-pixel offset, a triangle is kept iff some
+    /// pixel centre passes its edge functions with the fill rule.
+    #[test]
+    fn early_cull_keeps_exactly_the_triangles_covering_a_centre() {
+        let mut kept = 0;
+        let mut culled = 0;
+        for shape in [[(0, 0), (90, 20), (30, 100)], [(0, 0), (300, 10), (10, 40)]] {
+            for ox in (0..512).step_by(37) {
+                for oy in (0..512).step_by(41) {
+                    for flip in [false, true] {
+                        let mut p = shape.map(|(x, y)| (x + ox + 1024, y + oy + 1024));
+                        if flip {
+                            p.swap(1, 2);
+                        }
+                        let s = p.map(|(x, y)| (x, y, 0.5, 1.0));
+                        // The same triangle, ordered as setup orders it, covers a centre?
+                        let (x, y) = (p.map(|q| q.0 as i64), p.map(|q| q.1 as i64));
+                        let area = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
+                        let o = if area < 0 { [0, 2, 1] } else { [0, 1, 2] };
+                        let e = edges_of(o.map(|k| x[k]), o.map(|k| y[k]));
+                        let covers = (0..20i64).any(|py| {
+                            (0..20i64).any(|px| {
+                                let (cx, cy) = (px * ONE + HALF, py * ONE + HALF);
+                                (0..3).all(|k| e.a[k] * cx + e.b[k] * cy + e.c[k] + e.bias[k] >= 0)
+                            })
+                        });
+                        let drawn =
+                            matches!(setup(s, [0, 1, 2], 0, (100, 100), false, 0), Setup::Draw(_));
+                        let small = matches!(
+                            setup(s, [0, 1, 2], 0, (100, 100), false, 0),
+                            Setup::Draw(t) if t.bbox[2] - t.bbox[0] > 1 || t.bbox[3] - t.bbox[1] > 1
+                        );
+                        // Boxes wider than 2 × 2 centres are not tested (drawn regardless).
+                        assert!(covers == drawn || small, "{p:?}");
+                        if drawn {
+                            kept += 1;
+                        } else {
+                            culled += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert!(kept > 50 && culled > 50, "{kept} {culled}");
     }
 
     #[test]

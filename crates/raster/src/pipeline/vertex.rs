@@ -184,7 +184,7 @@ pub(crate) fn transform(
                 let c = mvp * p.as_dvec3().extend(1.0);
                 let c32 = c.as_vec4();
                 let code = if c32.is_finite() {
-                    planes.outcode(c32)
+                    planes.outcode_finite(c32)
                 } else {
                     INVALID
                 };
