@@ -173,7 +173,8 @@ def _frame(
     )
     stats = frame["stats"]
     # No triangle reached the rasterizer though some survived culling: every one was
-    # behind the eye, beyond the near/far planes or outside the frame.
+    # behind the eye, beyond the near/far planes, outside the frame, or so small that it
+    # covers no pixel centre (set-up skips those too).
     if stats["triangles_setup"] == 0 and stats["triangles_culled"] < stats["triangles_in"]:
         cam = camera.fitted(s)
         lo, hi = s.bounds() or ((0.0,) * 3, (0.0,) * 3)
@@ -181,7 +182,8 @@ def _frame(
             f"render drew no triangle: all {s.n_triangles} triangles of the scene are "
             f"outside the camera's view (behind the eye, beyond the near/far planes or "
             f"outside the frame; eye {_fmt(cam.eye)}, looking at {_fmt(cam.target)}, "
-            f"near {cam.near:g}, far {cam.far:g}; the scene spans {_fmt(lo)} to {_fmt(hi)})",
+            f"near {cam.near:g}, far {cam.far:g}; the scene spans {_fmt(lo)} to {_fmt(hi)}), "
+            f"or too small to cover any pixel centre at this image size",
             EmptyRenderWarning,
             stacklevel=stacklevel,
         )

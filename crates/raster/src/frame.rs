@@ -21,7 +21,8 @@ pub struct StageTimings {
 pub struct RenderStats {
     /// Triangles submitted.
     pub triangles_in: usize,
-    /// Triangles (after clipping) handed to the rasterizer.
+    /// Triangles (after clipping) handed to the rasterizer: not those of zero area, off
+    /// screen, or (one sample per pixel) covering no pixel centre.
     pub triangles_setup: usize,
     /// Triangles that crossed a clip plane and were clipped.
     pub triangles_clipped: usize,
