@@ -19,6 +19,7 @@ median time of a frame; llvmpipe draws the same floor with OpenGL's filters
 from __future__ import annotations
 
 import argparse
+import functools
 import math
 import os
 import statistics
@@ -108,7 +109,7 @@ def main(argv: list[str] | None = None) -> int:
         peer = Textured(LlvmpipeRenderer(args.threads))  # first GL context of the process
     t0, load0 = time.perf_counter(), os.getloadavg()[0]
     w, h = (96, 72) if args.quick else (480, 360)
-    frames = 3 if args.quick else 9
+    frames = 3 if args.quick else 21
     ref, whole = truth(w, h)
     cam = camera()
     if peer is not None:
@@ -142,15 +143,27 @@ def main(argv: list[str] | None = None) -> int:
         if gl:
             peer.set_filter(filt, aniso)
             gl_err = (peer.render_linear(w, h)[..., 0] - ref)[whole] * 255
-        times, gl_times = [], []
-        for _ in range(frames):  # alternating with llvmpipe when it draws this setting too
+        times: list[float] = []
+        gl_times: list[float] = []
+
+        def timed(draw, into: list[float]) -> None:
             t1 = time.perf_counter()
-            sl.render(sc, cam, **kw)
-            times.append((time.perf_counter() - t1) * 1e3)
-            if gl:
-                t1 = time.perf_counter()
-                peer.render(w, h)
-                gl_times.append((time.perf_counter() - t1) * 1e3)
+            draw()
+            into.append((time.perf_counter() - t1) * 1e3)
+
+        draw_ours = functools.partial(sl.render, sc, cam, **kw)
+        draw_gl = functools.partial(peer.render, w, h) if gl else None
+        # One untimed frame each first (llvmpipe compiles its shader variant on first use,
+        # on its own threads, which slowed our first frames when timed right after it).
+        draw_ours()
+        if draw_gl is not None:
+            draw_gl()
+        for k in range(frames):  # alternating with llvmpipe, who goes first swapping
+            runs = [(draw_ours, times)]
+            if draw_gl is not None:
+                runs.insert(k % 2, (draw_gl, gl_times))
+            for draw, into in runs:
+                timed(draw, into)
         rows.append(
             (
                 filt,
