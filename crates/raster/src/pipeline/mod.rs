@@ -456,9 +456,15 @@ pub(crate) fn prepare(
         let keep =
             phong_too || options.edges != EdgeMode::None || SecondaryEffect::wanted(scene, options);
         match options.gouraud {
-            GouraudMethod::Normals => {
-                prelight::light_vertices(scene, &mut verts, &materials, eye, shadows.as_ref(), keep)
-            }
+            GouraudMethod::Normals => prelight::light_vertices(
+                scene,
+                &mut verts,
+                &materials,
+                eye,
+                shadows.as_ref(),
+                keep,
+                isa::Isa::detect(options.baseline_isa) != isa::Isa::Baseline,
+            ),
             GouraudMethod::FaceIntensities => prelight::light_vertices_by_faces(
                 scene,
                 &mut verts,

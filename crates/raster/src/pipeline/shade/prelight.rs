@@ -53,11 +53,52 @@ fn lit_shadowed(
 /// Vertices lit per parallel work item.
 const CHUNK: usize = 4096;
 
+/// How [`light_vertices`] lights one batch of up to [`LANES`] vertices.
+struct VertexLanes<'a> {
+    surface: &'a Surface,
+    shadows: Option<&'a ShadowEffect>,
+    /// 1, or −1 for the back side's colours (flipped normals).
+    flip: f32,
+    eye: Vec3,
+}
+
+impl VertexLanes<'_> {
+    /// The colours `o` of the vertices at `p` with normals `n` (all of the same length).
+    #[inline(always)]
+    fn light(&self, p: &[Vec3], n: &[Vec3], o: &mut [Vec3]) {
+        let mut nl = [[0.0; LANES]; 3];
+        let mut pl = [[0.0; LANES]; 3];
+        for (k, (p, n)) in p.iter().zip(n).enumerate() {
+            let n = *n * self.flip;
+            for ax in 0..3 {
+                nl[ax][k] = n[ax];
+                pl[ax][k] = p[ax];
+            }
+        }
+        let c = lit(self.surface, self.shadows, &nl, &pl, p.len(), self.eye);
+        for (k, o) in o.iter_mut().enumerate() {
+            *o = Vec3::new(c[0][k], c[1][k], c[2][k]);
+        }
+    }
+
+    /// [`VertexLanes::light`] compiled for AVX2 + FMA: the lighting's lane loops widen, with
+    /// the same bits (no fused multiply-adds are formed; see `isa.rs`).
+    ///
+    /// # Safety
+    /// The CPU must support AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn light_avx2(&self, p: &[Vec3], n: &[Vec3], o: &mut [Vec3]) {
+        self.light(p, n, o);
+    }
+}
+
 /// Gouraud (by vertex normals, the default): the lit colour of every vertex (`verts.color`) and, under two-sided lighting,
 /// the colour lit with the flipped normal and the back material (`verts.color_back`). Reads
 /// the world positions and normals of the transformed vertices and drops them afterwards
 /// (the tile stage interpolates colours only) unless `keep_geometry` (a later stage reads
-/// them: lines, reflections and transparency).
+/// them: lines, reflections and transparency). `wide`: the CPU has AVX2 and FMA (the
+/// lighting runs in their lanes, with the same bits).
 pub(crate) fn light_vertices(
     scene: &Scene,
     verts: &mut Vertices,
@@ -65,7 +106,10 @@ pub(crate) fn light_vertices(
     eye: Vec3,
     shadows: Option<&ShadowEffect>,
     keep_geometry: bool,
+    wide: bool,
 ) {
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = wide;
     let two_sided = scene.two_sided();
     let mut first = 0;
     let mut color = Vec::with_capacity(verts.clip.len());
@@ -88,19 +132,20 @@ pub(crate) fn light_vertices(
                 .zip(normals.par_chunks(LANES))
                 .with_min_len(CHUNK / LANES)
                 .for_each(|((o, p), n)| {
-                    let mut nl = [[0.0; LANES]; 3];
-                    let mut pl = [[0.0; LANES]; 3];
-                    for (k, (p, n)) in p.iter().zip(n).enumerate() {
-                        let n = *n * flip;
-                        for ax in 0..3 {
-                            nl[ax][k] = n[ax];
-                            pl[ax][k] = p[ax];
-                        }
+                    let lanes = VertexLanes {
+                        surface,
+                        shadows,
+                        flip,
+                        eye,
+                    };
+                    #[cfg(target_arch = "x86_64")]
+                    if wide {
+                        // SAFETY: `wide` is true only when the CPU reported AVX2 and FMA
+                        // (`Isa::detect`, by the caller).
+                        unsafe { lanes.light_avx2(p, n, o) };
+                        return;
                     }
-                    let c = lit(surface, shadows, &nl, &pl, p.len(), eye);
-                    for (k, o) in o.iter_mut().enumerate() {
-                        *o = Vec3::new(c[0][k], c[1][k], c[2][k]);
-                    }
+                    lanes.light(p, n, o);
                 });
         };
         light(1.0, &mut color);
