@@ -361,6 +361,8 @@ pub(crate) fn prepare(
         (w as f64, h as f64),
     );
     // Shadows: the BVH or the maps, before flat and Gouraud light (they read them).
+    // Whether this render's lane loops may use AVX2 + FMA (shadow look-ups, vertex lighting).
+    let wide = isa::Isa::detect(options.baseline_isa) != isa::Isa::Baseline;
     let shadows = match lit && scene.lights().iter().any(|l| l.shadows().on()) {
         true => ShadowEffect::new(
             scene,
@@ -376,7 +378,7 @@ pub(crate) fn prepare(
             .then_some(camera),
             options,
             &|cam, opts, out| depth_pass(scene, cam, opts, out, true).map(|_| ()),
-            isa::Isa::detect(options.baseline_isa) != isa::Isa::Baseline,
+            wide,
         )?,
         false => None,
     };
@@ -463,7 +465,7 @@ pub(crate) fn prepare(
                 eye,
                 shadows.as_ref(),
                 keep,
-                isa::Isa::detect(options.baseline_isa) != isa::Isa::Baseline,
+                wide,
             ),
             GouraudMethod::FaceIntensities => prelight::light_vertices_by_faces(
                 scene,

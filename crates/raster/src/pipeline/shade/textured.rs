@@ -203,6 +203,7 @@ impl Current {
 }
 
 /// What a batch is shaded with: the render, the textured scene, the mode and the tile.
+#[derive(Clone, Copy)]
 struct Tile<'a, 'b> {
     ctx: &'a ShadeContext<'b>,
     tex: &'a TexturedScene<'b>,
@@ -306,7 +307,7 @@ impl Batch {
         on: &Tile<'_, '_>,
         color: &mut [&mut [Out<P>]],
     ) {
-        self.flush::<P, PERTURB>(on.ctx, on.tex, on.mode, on.rect, color);
+        self.flush::<P, PERTURB>(on, color);
     }
 
     /// # Safety
@@ -318,18 +319,21 @@ impl Batch {
         on: &Tile<'_, '_>,
         color: &mut [&mut [Out<P>]],
     ) {
-        self.flush::<P, PERTURB>(on.ctx, on.tex, on.mode, on.rect, color);
+        self.flush::<P, PERTURB>(on, color);
     }
 
     #[inline(always)]
     fn flush<P: Pixel, const PERTURB: bool>(
         &mut self,
-        ctx: &ShadeContext<'_>,
-        tex: &TexturedScene<'_>,
-        mode: ShadingMode,
-        rect: TileRect,
+        on: &Tile<'_, '_>,
         color: &mut [&mut [Out<P>]],
     ) {
+        let Tile {
+            ctx,
+            tex,
+            mode,
+            rect,
+        } = *on;
         if self.len == 0 {
             return;
         }
