@@ -217,6 +217,10 @@ def measure(case: Case, tolerance: float, frames: int) -> dict:
         **{f"{m}_error": err[m] for m in MODES},
         **{f"{m}_estimate": est[m] for m in MODES},
         **{f"{m}_ms": med[m] for m in MODES},
+        # What the modes' costs scale with: auto's estimate of the covered pixels, the
+        # vertices Gouraud lights.
+        "pixels": est["pixels"],
+        "vertices": case.scene.objects[0].mesh.n_vertices,
     }
 
 

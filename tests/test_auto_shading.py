@@ -136,17 +136,39 @@ def test_auto_meets_the_tolerance_on_spheres(rings, names, sizes):
 
 def test_auto_uses_cheaper_modes_where_they_meet_the_tolerance():
     """Not only Phong: a fine sphere at a loose tolerance is shaded flat or Gouraud, and a
-    coarse one in Phong."""
+    coarse one in Phong. (The 99,224-triangle sphere is drawn large enough that Gouraud's
+    vertices are far fewer than Phong's pixels: at 320 x 240 the two cost about the same.)"""
     mat = material("matte")
     cam = sphere_camera(0.95)
     modes = {}
-    for rings, tol in ((500, 2.0), (158, 1.0), (5, 1.0)):
+    for rings, tol, (w, h) in (
+        (500, 2.0, (320, 240)),
+        (158, 1.0, (1280, 960)),
+        (5, 1.0, (320, 240)),
+    ):
         v, f = ref.uv_sphere(rings, 2 * rings)
         scene = lit_scene(sl.Mesh(v, f, normals=v), mat)
-        modes[rings] = sl.explain(scene, sl_camera(cam), 320, 240, tolerance=tol)["shading"][0]
+        modes[rings] = sl.explain(scene, sl_camera(cam), w, h, tolerance=tol)["shading"][0]
     assert modes[500] == "flat"
     assert modes[158] in ("flat", "gouraud")
     assert modes[5] == "phong"
+
+
+def test_auto_takes_the_fastest_mode_not_the_first_in_the_order():
+    """A dense sphere seen small: Gouraud lights its 49,614 vertices, Phong about 11,600
+    pixels, so where both meet the tolerance (and flat does not) auto takes Phong; the same
+    mesh filling the frame takes Gouraud (the modes' costs in auto_shading/cost.rs). Both
+    choices are also the faster by measurement (docs/AUTO_SHADING.md)."""
+    v, f = ref.uv_sphere(222, 444)
+    scene = lit_scene(sl.Mesh(v, f, normals=v), material("gold"))
+    small = sl.explain(scene, sl_camera(sphere_camera(0.25)), 512, 512, tolerance=0.5)
+    (est,) = small["shading_estimates"]
+    assert est["flat"] > 0.5 >= max(est["gouraud"], est["phong"]), est
+    assert small["shading"] == ["phong"]
+    big = sl.explain(scene, sl_camera(sphere_camera(0.95)), 1920, 1080, tolerance=0.5)
+    (est,) = big["shading_estimates"]
+    assert est["flat"] > 0.5 >= max(est["gouraud"], est["phong"]), est
+    assert big["shading"] == ["gouraud"]
 
 
 @pytest.mark.parametrize("name", ["matte", "gold", "shiny128"])

@@ -1123,7 +1123,7 @@ class RenderOptions:
     them. Checked when built (a ``ValueError`` names the argument in ``field``).
 
     ``width``, ``height``: 1 to :data:`MAX_IMAGE_SIZE`. ``shading``: "flat", "gouraud",
-    "phong", or "auto": each object shaded with the cheapest mode whose estimated error
+    "phong", or "auto": each object shaded with the fastest mode whose estimated error
     (RMSE in 8-bit levels against the exact surface) is within ``tolerance`` (finite,
     > 0; default :data:`DEFAULT_TOLERANCE`; only with "auto"), Phong where none is
     (see :func:`explain`); ``specular``: "blinn" (Blinn-Phong), "phong" or "blinn-normalized"

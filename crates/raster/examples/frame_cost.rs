@@ -13,7 +13,8 @@
 //! `shadows=map|plain|exact` (every light casts shadows: a default map, a map with
 //! `filter="none"`, or rays), `texture=nearest|bilinear|trilinear` (every object gets planar
 //! UVs, u = 4x, v = 4z, and a 64 × 64 checkerboard diffuse map with that filter) and
-//! `aniso=N` (its anisotropy). Prints a checksum of the last frame so the work cannot be optimised away.
+//! `aniso=N` (its anisotropy); `explain=TOL` runs only `shading="auto"`'s estimate (at that
+//! tolerance) `frames` times. Prints a checksum of the last frame so the work cannot be optimised away.
 
 use std::sync::Arc;
 
@@ -154,6 +155,18 @@ fn main() -> std::result::Result<(), Box<dyn std::error::Error>> {
         ColorFormat::U8
     };
     let mut sum = 0.0f64;
+    if let Some(tol) = value("explain=") {
+        // `shading="auto"`'s estimate alone, `frames` times.
+        for _ in 0..frames {
+            let e = explain_shading(&scene, &camera, &options, tol.parse()?)?;
+            sum += e
+                .iter()
+                .map(|e| e.estimates.iter().sum::<f32>() as f64)
+                .sum::<f64>();
+        }
+        println!("checksum {sum}");
+        return Ok(());
+    }
     for _ in 0..frames {
         let frame = render(&scene, &camera, &options, format, flag("depth"))?;
         sum = match &frame.color {

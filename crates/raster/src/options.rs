@@ -22,8 +22,8 @@ pub struct RenderOptions {
     /// cannot be mixed: see there).
     pub shading: ShadingMode,
     /// `shading="auto"`: the largest RMSE (8-bit levels, against the exact surface) the
-    /// shading may cost. Each object is shaded with the cheapest mode (flat < Gouraud <
-    /// Phong) whose estimated error is within it, Phong where none is
+    /// shading may cost. Each object is shaded with the fastest mode (by a model of each
+    /// mode's work on it) whose estimated error is within it, Phong where none is
     /// ([`crate::explain_shading`]); `None` shades every object with
     /// [`RenderOptions::shading`]. Finite and > 0.
     pub tolerance: Option<f32>,

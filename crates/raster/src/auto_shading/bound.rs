@@ -58,6 +58,11 @@ pub(super) struct Sensitivity {
 pub(super) struct Range {
     pub diffuse: [f64; 2],
     pub specular: [f64; 2],
+    /// Whether the lighting is smooth on the triangle's scale: no terminator inside it (the
+    /// kink of `max(cos θ, 0)` and the lobe's step there), and a lobe absent, negligible or
+    /// at least as wide (half width at half maximum) as the triangle's turn in `β`. Only
+    /// then does [`super::nodal`]'s seven-point interpolant stand for the error.
+    pub smooth: bool,
 }
 
 /// The lobe's half width at half maximum, `acos(2^(−1/f))`: once per object (an `acos` and a
@@ -109,6 +114,24 @@ fn mean_over(lo: f64, hi: f64, w: f64, g: impl Fn(f64) -> [f64; 3]) -> [f64; 3] 
     acc.map(|a| a / 12.0)
 }
 
+/// The mean of the lobe's slope `|dS/dβ|` over `[lo, hi]`: `(S(lo) − S(hi))/(hi − lo)`
+/// exactly (the lobe falls monotonically on `[0, π/2]`), the slope at the middle where the
+/// interval is a small share of the half width `w` (the difference would cancel).
+fn mean_slope(f: f64, lo: f64, hi: f64, w: f64) -> f64 {
+    if hi - lo <= 0.05 * w {
+        lobe_derivatives(f, 0.5 * (lo + hi))[0]
+    } else {
+        (lobe(f, lo) - lobe(f, hi)) / (hi - lo)
+    }
+}
+
+/// How many lobe half widths (at half maximum) a triangle's turn in `β` may span for the
+/// lobe to count as smooth on it ([`Range::smooth`]). Checked numerically over random
+/// triangles and highlight positions (docs/LIGHTING.md): within 1.5 half widths the
+/// seven-point interpolant's rms error summed over triangles is 1.0 to 1.05 times the true
+/// one; a single triangle can be as low as 0.5, which the sampling margin covers.
+const SMOOTH_SPAN: f64 = 1.5;
+
 /// The centroid lies within 2/3 of the longest edge of every point of a triangle (its
 /// medians are at most as long as... the longest edge times √3/2, and it sits at 2/3 of
 /// each), so an argument that moves by `span` across the triangle stays within this of its
@@ -125,10 +148,20 @@ pub(super) const RMS_OVER_MEAN: f64 = 1.0955;
 /// The rms error of flat, Gouraud and Phong over a triangle with spread `s` under a light
 /// whose specular lobe has exponent `f` and half width `w` (`None`: no specular term), per
 /// unit amplitude; and the range of the lighting factors over the triangle.
-pub(super) fn sensitivity(s: &Spread, lobe_fw: Option<(f64, f64)>) -> (Sensitivity, Range) {
+/// `interp`: also the flat and Gouraud interpolation terms (otherwise zero: the caller has
+/// them from [`super::nodal`]).
+pub(super) fn sensitivity(
+    s: &Spread,
+    lobe_fw: Option<(f64, f64)>,
+    interp: bool,
+) -> (Sensitivity, Range) {
     // Unlit over the whole triangle: no diffuse or specular anywhere, no error.
     if s.theta - REACH * s.span_d - s.geometric_max >= FRAC_PI_2 {
-        return (Sensitivity::default(), Range::default());
+        let range = Range {
+            smooth: true,
+            ..Range::default()
+        };
+        return (Sensitivity::default(), range);
     }
     // Diffuse `max(cos θ, 0)`: slope `sin θ ≤ 1`, curvature `cos θ ≤ 1`.
     let (lo_d, hi_d) = (
@@ -167,6 +200,7 @@ pub(super) fn sensitivity(s: &Spread, lobe_fw: Option<(f64, f64)>) -> (Sensitivi
             (lo_d - s.geometric_max).max(0.0).cos(),
         ],
         specular: [0.0, 0.0],
+        smooth: hi_d + s.geometric_max < FRAC_PI_2,
     };
     let Some((f, w)) = lobe_fw.filter(|(f, _)| f.is_finite() && *f > 0.0) else {
         return (out, range);
@@ -187,6 +221,7 @@ pub(super) fn sensitivity(s: &Spread, lobe_fw: Option<(f64, f64)>) -> (Sensitivi
         0.0
     };
     range.specular = [bottom, top];
+    range.smooth &= top < 1e-6 || s.span_s <= SMOOTH_SPAN * w;
     // Every mode's colour and the truth's lie in [bottom, top]: a lobe that small over the
     // whole triangle errs by at most its height, and its derivatives need not be evaluated.
     if top < 1e-6 {
@@ -199,7 +234,17 @@ pub(super) fn sensitivity(s: &Spread, lobe_fw: Option<(f64, f64)>) -> (Sensitivi
     // than the diffuse term's: the interpolation error at a point is a kernel-weighted
     // average of the curvature over the triangle, so its mean over the triangle's range of
     // β stands for L'' (exact for a constant curvature), and likewise the slope for flat.
-    let [slope, radial, across] = mean_over(lo, hi, w, |b| lobe_derivatives(f, b));
+    if !interp {
+        // The slope's mean over [lo, hi] is exact from the lobe's ends (it is monotonic).
+        let slope = mean_slope(f, lo, hi, w);
+        let geo_s = slope * s.geometric;
+        out.flat[1] = geo_s;
+        out.gouraud[1] = geo_s;
+        out.phong[1] = geo_s;
+        return (out, range);
+    }
+    let [_, radial, across] = mean_over(lo, hi, w, |b| lobe_derivatives(f, b));
+    let slope = mean_slope(f, lo, hi, w);
     // A highlight narrower than the triangle's spread: the lobe covers a share of about
     // (2w/span)² of it (w its half width at half maximum), so the rms of an error as large
     // as the lobe's whole range over it is that range times min(1, 2w/span).
@@ -247,7 +292,7 @@ mod tests {
 
     #[test]
     fn a_flat_triangle_under_a_directional_light_has_no_error() {
-        let (s, _) = sensitivity(&spread(0.0, 0.2), Some((50.0, lobe_half_width(50.0))));
+        let (s, _) = sensitivity(&spread(0.0, 0.2), Some((50.0, lobe_half_width(50.0))), true);
         assert_eq!(s, Sensitivity::default());
     }
 
@@ -255,7 +300,11 @@ mod tests {
     fn modes_are_ordered_and_shrink_with_the_spread() {
         let mut last = f64::INFINITY;
         for span in [0.4, 0.2, 0.1, 0.05, 0.01] {
-            let (s, _) = sensitivity(&spread(span, 0.3), Some((30.0, lobe_half_width(30.0))));
+            let (s, _) = sensitivity(
+                &spread(span, 0.3),
+                Some((30.0, lobe_half_width(30.0))),
+                true,
+            );
             for k in 0..2 {
                 assert!(
                     s.phong[k] <= s.gouraud[k] && s.phong[k] <= s.flat[k],
@@ -273,7 +322,7 @@ mod tests {
         // f = 10^4: the lobe is ~0.012 rad wide; a 0.5 rad triangle holding the peak can miss
         // it, and the bound is the lobe's range times its share, not the curvature's f·span².
         let w = lobe_half_width(1e4);
-        let (s, _) = sensitivity(&spread(0.5, 0.0), Some((1e4, w)));
+        let (s, _) = sensitivity(&spread(0.5, 0.0), Some((1e4, w)), true);
         assert!((s.gouraud[1] - 2.0 * w / 0.5).abs() < 1e-9, "{s:?}");
     }
 

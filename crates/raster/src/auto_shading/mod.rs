@@ -8,6 +8,8 @@
 //! docs/LIGHTING.md.
 
 mod bound;
+mod cost;
+mod nodal;
 
 use glam::{DVec3, DVec4};
 use rayon::prelude::*;
@@ -16,9 +18,14 @@ use crate::camera::{Camera, Projection};
 use crate::error::Result;
 use crate::lighting::{Geometry, LightSet};
 use crate::lights::Shadows;
-use crate::options::{check_tolerance, EdgeMode, RenderOptions, ShadingMode, SpecularModel};
+use crate::options::{
+    check_tolerance, EdgeMode, GouraudMethod, Interpolation, RenderOptions, ShadingMode,
+    SpecularModel,
+};
 use crate::scene::{Object, Scene};
 use bound::{quantized_square, sensitivity, Spread};
+use cost::Work;
+use nodal::Nodal;
 
 /// The tolerance `shading="auto"` uses when none is given: RMSE of 1 level of 255.
 pub const DEFAULT_TOLERANCE: f32 = 1.0;
@@ -133,16 +140,13 @@ pub(crate) fn estimate(
         .objects()
         .iter()
         .map(|o| {
-            let (estimates, pixels) =
-                object_estimate(o, scene, &view, &lights, options.specular, tolerance);
-            let pick = MODES
-                .into_iter()
-                .find(|m| estimates[mode_index(*m)] <= tolerance);
+            let (estimates, work) = object_estimate(o, scene, &view, &lights, options, tolerance);
+            let pick = cost::pick(estimates, cost::mode_costs(&work), tolerance);
             ShadingEstimate {
-                mode: pick.unwrap_or(ShadingMode::Phong),
+                mode: pick.map_or(ShadingMode::Phong, |k| MODES[k]),
                 estimates,
                 meets: pick.is_some(),
-                pixels,
+                pixels: work.pixels,
             }
         })
         .collect()
@@ -227,12 +231,15 @@ struct Shading<'a> {
 const F32_RELATIVE: f64 = 1.0 / (1u64 << 20) as f64;
 const POW_RELATIVE: f64 = 2e-5;
 
-/// Per sampled triangle: `[front, back] × (area, Σ area·squared error per mode)`.
-type Sums = [[f64; 4]; 2];
+/// Per sampled triangle: `[front, back] ×` the slots: `Σa` (`a` its screen area), `Σa·x_m`
+/// (`x_m` its mean squared error in mode `m`), the count of triangles on screen, `Σa²`,
+/// `Σa²·x_m` and `Σa²·x_m²` (the last three for the sampling error, see [`upper_rmse`]).
+type Sums = [[f64; SLOTS]; 2];
+const SLOTS: usize = 12;
 
 fn add(mut s: Sums, b: Sums) -> Sums {
     for side in 0..2 {
-        for k in 0..4 {
+        for k in 0..SLOTS {
             s[side][k] += b[side][k];
         }
     }
@@ -266,15 +273,17 @@ fn sample_budget(triangles: usize, lights: usize, pixels: f64) -> usize {
 /// The fewest triangles sampled on a mesh that has more (see [`sample_budget`]).
 const MIN_SAMPLED: usize = 1024;
 
-/// Area-weighted rms estimate of each mode over an object, and its projected pixels.
+/// Area-weighted rms estimate of each mode over an object, and what its modes' costs scale
+/// with (its projected pixels among them).
 fn object_estimate(
     object: &Object,
     scene: &Scene,
     view: &View,
     lights: &LightSet,
-    model: SpecularModel,
+    options: &RenderOptions,
     tolerance: f32,
-) -> ([f32; 3], f64) {
+) -> ([f32; 3], Work) {
+    let model = options.specular;
     let mesh = object.mesh();
     let m = object.material();
     let to_world = object.transform().as_dmat4();
@@ -324,10 +333,30 @@ fn object_estimate(
             && m.reflectivity == glam::Vec3::ZERO
             && m.transparency == 0.0,
     };
+    // The lighting itself at seven points of each front triangle where it is smooth there
+    // (nodal.rs); Gouraud's only for its vertex-normal method and perspective-correct
+    // interpolation, which blends the vertex colours linearly over the world triangle.
+    let nodal = Nodal::new(
+        scene,
+        m,
+        view.eye,
+        view.infinite,
+        model,
+        shading.clamps,
+        options.gouraud == GouraudMethod::Normals
+            && options.interpolation == Interpolation::Perspective,
+    );
     let indices = mesh.indices();
     let n_tri = indices.len();
+    let mut work = Work {
+        pixels: 0.0,
+        front_triangles: 0.0,
+        vertices: positions.len() as f64,
+        lights: sources.len(),
+        specular: specular_on,
+    };
     if n_tri == 0 {
-        return ([0.0; 3], 0.0);
+        return ([0.0; 3], work);
     }
     let n = sample_budget(n_tri, sources.len(), view.size.0 * view.size.1);
     let world = |k: u32| to_world.transform_point3(positions[k as usize].as_dvec3());
@@ -335,21 +364,39 @@ fn object_estimate(
     // Sample j of n is triangle ⌊j·T/n⌋: evenly strided over the index order.
     let triangle_of = |j: usize| &indices[(j as u128 * n_tri as u128 / n as u128) as usize];
     let one = |j: usize, back_wanted: bool| -> Sums {
-        let mut acc = [[0.0f64; 4]; 2];
+        let mut acc = [[0.0f64; SLOTS]; 2];
         let t = triangle_of(j);
-        let Some(tri) = Triangle::new(t.map(world), t.map(normal), view) else {
-            return acc;
-        };
-        let side = tri.back as usize;
-        acc[side][0] = tri.area;
-        // The lighting only where it counts: on screen, and front faces unless the object
-        // shows only back faces (a second pass then).
-        if tri.area <= 0.0 || tri.back != back_wanted {
+        let p = t.map(world);
+        let cross = (p[1] - p[0]).cross(p[2] - p[0]);
+        let len = cross.length();
+        if len <= 0.0 || !len.is_finite() {
             return acc;
         }
-        let sq = tri.squared_errors(&shading);
+        let face = cross / len;
+        let foot = Footprint::new(p, face, view);
+        let side = foot.back as usize;
+        acc[side][0] = foot.area;
+        acc[side][4] = (foot.area > 0.0) as u8 as f64;
+        // The lighting only where it counts: on screen, and front faces unless the object
+        // shows only back faces (a second pass then).
+        if foot.area <= 0.0 || foot.back != back_wanted {
+            return acc;
+        }
+        let nv = t.map(normal);
+        let Some(tri) = Triangle::new(p, nv, view, foot) else {
+            return acc;
+        };
+        acc[side][5] = tri.area * tri.area;
+        let sq = tri.squared_errors(
+            &shading,
+            (nodal.covers_gouraud() && !tri.back && nv.iter().all(|v| *v != DVec3::ZERO))
+                .then_some(|| nodal.errors(p, nv, face)),
+        );
         for k in 0..3 {
-            acc[side][k + 1] = tri.area * sq[k];
+            let a = tri.area;
+            acc[side][k + 1] = a * sq[k];
+            acc[side][k + 6] = a * a * sq[k];
+            acc[side][k + 9] = a * a * sq[k] * sq[k];
         }
         acc
     };
@@ -358,18 +405,26 @@ fn object_estimate(
     let pass = |batch: usize, back: bool| -> Sums {
         let js: Vec<usize> = (batch..n).step_by(BATCHES).collect();
         js.par_chunks(64)
-            .map(|c| c.iter().map(|&j| one(j, back)).fold([[0.0; 4]; 2], add))
+            .map(|c| c.iter().map(|&j| one(j, back)).fold([[0.0; SLOTS]; 2], add))
             .collect::<Vec<_>>()
             .into_iter()
-            .fold([[0.0; 4]; 2], add)
+            .fold([[0.0; SLOTS]; 2], add)
     };
-    let rmse = |acc: &[f64; 4]| -> [f32; 3] {
-        if acc[0] <= 0.0 {
-            return [0.0; 3];
+    // The share of the mesh not sampled scales the sampling variance (none when every
+    // triangle was seen).
+    let rmse = |acc: &[f64; SLOTS], taken: usize| {
+        upper_rmse(acc, 1.0 - (taken as f64 / n_tri as f64).min(1.0))
+    };
+    // The counts scaled from the samples taken to the whole mesh.
+    let scaled = |acc: &[f64; SLOTS], taken: usize| {
+        let scale = n_tri as f64 / taken.max(1) as f64;
+        Work {
+            pixels: acc[0] * scale,
+            front_triangles: acc[4] * scale,
+            ..work
         }
-        [1, 2, 3].map(|k| (acc[k] / acc[0]).sqrt() as f32)
     };
-    let mut sums = [[0.0; 4]; 2];
+    let mut sums = [[0.0; SLOTS]; 2];
     let mut taken = 0;
     for (done, &batch) in BATCH_ORDER.iter().enumerate() {
         sums = add(sums, pass(batch, false));
@@ -377,7 +432,11 @@ fn object_estimate(
         if done + 1 < BATCHES
             && taken >= MIN_SETTLED.min(n)
             && sums[0][0] > 0.0
-            && settled(rmse(&sums[0]), tolerance)
+            && settled(
+                rmse(&sums[0], taken),
+                cost::mode_costs(&scaled(&sums[0], taken)),
+                tolerance,
+            )
         {
             break;
         }
@@ -388,31 +447,57 @@ fn object_estimate(
         sums[0]
     } else if sums[1][0] > 0.0 {
         // The back faces' area was summed over the batches taken; their lighting now.
-        let mut back = [[0.0; 4]; 2];
+        let mut back = [[0.0; SLOTS]; 2];
         for &batch in &BATCH_ORDER[..] {
             back = add(back, pass(batch, true));
         }
         taken = n;
         back[1]
     } else {
-        return ([0.0; 3], 0.0);
+        return ([0.0; 3], work);
     };
-    (rmse(&acc), acc[0] * n_tri as f64 / taken as f64)
+    work = scaled(&acc, taken);
+    (rmse(&acc, taken), work)
 }
 
-/// Whether more samples can no longer change the choice: every mode cheaper than the one
-/// chosen is estimated well above the tolerance, and the chosen one well below it (or is
-/// Phong, used whatever its estimate).
-fn settled(estimates: [f32; 3], tolerance: f32) -> bool {
-    let Some(pick) = estimates.iter().position(|e| *e <= tolerance) else {
-        return estimates[..2]
-            .iter()
-            .all(|e| *e >= SETTLE_MARGIN * tolerance);
+/// Per mode, the rms estimate from the sampled triangles' area-weighted mean squared error
+/// `R = Σa·x/Σa`, raised by two standard errors of that ratio, `√(Σa²(x − R)²)/Σa` (the
+/// usual variance of a ratio estimator): a triangle's error is estimated closely where its
+/// lighting is smooth ([`nodal`]), so what is left is that only a sample of the triangles
+/// was seen, and a highlight on a few of them may fall between the samples. `unseen`: the
+/// share of the mesh's triangles not sampled (the finite-population correction).
+fn upper_rmse(acc: &[f64; SLOTS], unseen: f64) -> [f32; 3] {
+    if acc[0] <= 0.0 {
+        return [0.0; 3];
+    }
+    [0, 1, 2].map(|m| {
+        let r = acc[m + 1] / acc[0];
+        let spread = acc[m + 9] - 2.0 * r * acc[m + 6] + r * r * acc[5];
+        let se = (spread.max(0.0) * unseen).sqrt() / acc[0];
+        (r + 2.0 * se).sqrt() as f32
+    })
+}
+
+/// Whether more samples can no longer change the choice: every mode cheaper (by `costs`)
+/// than the one chosen is estimated well above the tolerance, and the chosen one well below
+/// it (or is Phong, used whatever its estimate).
+fn settled(estimates: [f32; 3], costs: [f64; 3], tolerance: f32) -> bool {
+    let far = |m: &usize| estimates[*m] >= SETTLE_MARGIN * tolerance;
+    let Some(pick) = cost::pick(estimates, costs, tolerance) else {
+        return [0, 1].iter().all(far);
     };
-    estimates[..pick]
-        .iter()
-        .all(|e| *e >= SETTLE_MARGIN * tolerance)
-        && (pick == 2 || estimates[pick] * SETTLE_MARGIN <= tolerance)
+    let order = cost::by_cost(costs);
+    let rank = order.iter().position(|&m| m == pick).unwrap_or(0);
+    order[..rank].iter().all(far) && (pick == 2 || estimates[pick] * SETTLE_MARGIN <= tolerance)
+}
+
+/// What [`Triangle::light_terms`] sums over the lights.
+struct LightTerms {
+    e: [[f64; 3]; 3],
+    low: DVec3,
+    high: DVec3,
+    pow_err: DVec3,
+    smooth: bool,
 }
 
 /// One triangle in world space, as the bound reads it.
@@ -445,6 +530,55 @@ struct Triangle {
     area: f64,
     /// Facing away from the viewer.
     back: bool,
+}
+
+/// Where a triangle lands on screen: what every sampled triangle needs (its area counts
+/// toward the front or back side), before the lighting only front faces on screen need.
+struct Footprint {
+    /// Unit vector along the pixels' rays toward the eye (the axis for an orthographic
+    /// camera).
+    ray: DVec3,
+    /// Cosine between the face normal and `ray` (negative: a back face).
+    cos_a: f64,
+    back: bool,
+    /// Screen area in pixels (0 off screen or crossing the eye plane).
+    area: f64,
+}
+
+impl Footprint {
+    /// `face`: the unit face normal of the world triangle `p` (from its winding).
+    fn new(p: [DVec3; 3], face: DVec3, view: &View) -> Self {
+        let centroid = (p[0] + p[1] + p[2]) / 3.0;
+        let ray = if view.ortho {
+            view.axis
+        } else {
+            (view.eye - centroid).normalize_or_zero()
+        };
+        let cos_a = face.dot(ray);
+        let sp = p.map(|q| view.screen(q));
+        let area = match sp {
+            [Some(a), Some(b), Some(c)] => {
+                let inside = |lo: f64, hi: f64, v: [f64; 3]| {
+                    v.iter().any(|&x| x >= lo) && v.iter().any(|&x| x <= hi)
+                };
+                if inside(0.0, view.size.0, [a.0, b.0, c.0])
+                    && inside(0.0, view.size.1, [a.1, b.1, c.1])
+                {
+                    0.5 * ((b.0 - a.0) * (c.1 - a.1) - (c.0 - a.0) * (b.1 - a.1)).abs()
+                } else {
+                    0.0
+                }
+            }
+            // Crossing the eye plane: left out (the near plane clips it anyway).
+            _ => 0.0,
+        };
+        Footprint {
+            ray,
+            cos_a,
+            back: cos_a < 0.0,
+            area,
+        }
+    }
 }
 
 /// The surface's second fundamental form over a triangle, from its vertex normals: the
@@ -507,7 +641,8 @@ impl Shape {
 }
 
 impl Triangle {
-    fn new(p: [DVec3; 3], n: [DVec3; 3], view: &View) -> Option<Self> {
+    /// `foot`: the triangle's [`Footprint`] (computed first, for every sample).
+    fn new(p: [DVec3; 3], n: [DVec3; 3], view: &View, foot: Footprint) -> Option<Self> {
         let cross = (p[1] - p[0]).cross(p[2] - p[0]);
         let world_area2 = cross.length();
         if world_area2 <= 0.0 || !world_area2.is_finite() {
@@ -532,31 +667,12 @@ impl Triangle {
             Some(v) => (v, f64::INFINITY),
             None => (to_eye.normalize_or_zero(), to_eye.length()),
         };
-        // The pixels' rays: parallel to the axis for an orthographic camera.
-        let ray = if view.ortho {
-            view.axis
-        } else {
-            to_eye.normalize_or_zero()
-        };
-        let cos_a = face.dot(ray);
-        let back = cos_a < 0.0;
-        let sp = p.map(|q| view.screen(q));
-        let area = match sp {
-            [Some(a), Some(b), Some(c)] => {
-                let inside = |lo: f64, hi: f64, v: [f64; 3]| {
-                    v.iter().any(|&x| x >= lo) && v.iter().any(|&x| x <= hi)
-                };
-                if inside(0.0, view.size.0, [a.0, b.0, c.0])
-                    && inside(0.0, view.size.1, [a.1, b.1, c.1])
-                {
-                    0.5 * ((b.0 - a.0) * (c.1 - a.1) - (c.0 - a.0) * (b.1 - a.1)).abs()
-                } else {
-                    0.0
-                }
-            }
-            // Crossing the eye plane: left out (the near plane clips it anyway).
-            _ => 0.0,
-        };
+        let Footprint {
+            ray,
+            cos_a,
+            back,
+            area,
+        } = foot;
         let (geometric, geometric_max) = if spread > 0.0 {
             geometric_error(&edge, &len, &n, face, ray, cos_a, world_area2, spread)
         } else {
@@ -600,49 +716,37 @@ impl Triangle {
 
     /// Per mode, the squared error in 8-bit levels summed over the channels over 3 (the
     /// triangle's mean square error), all lights together.
-    fn squared_errors(&self, sh: &Shading) -> [f64; 3] {
-        let mut e = [[0.0f64; 3]; 3]; // [mode][channel], linear rms
-        let (mut low, mut high) = (sh.base[0], sh.base[1]);
-        let mut pow_err = DVec3::ZERO;
-        for light in sh.sources {
-            let (l, dist) = match light.geometry {
-                Place::Direction(d) => (d, f64::INFINITY),
-                Place::Position(pos) => {
-                    let d = pos - self.centroid;
-                    (d.normalize_or_zero(), d.length())
-                }
-            };
-            // The attenuation at the centroid, and its range over the triangle.
-            let att_at = |r: f64| {
-                light.attenuation.map_or(1.0, |[kc, kl, kq]| {
-                    1.0 / (kc + kl * r + kq * r * r).max(1e-12)
-                })
-            };
-            let att = att_at(dist);
-            let (att_lo, att_hi) = if dist.is_finite() {
-                (
-                    att_at(dist + self.longest),
-                    att_at((dist - self.longest).max(0.0)),
-                )
-            } else {
-                (att, att)
-            };
-            let spread = self.spread(l, dist);
-            let (sens, range) = sensitivity(&spread, sh.lobe);
-            let d = sh.kd * light.diffuse;
-            let s = sh.ks * light.specular;
-            for (mode, k) in [sens.flat, sens.gouraud, sens.phong].iter().zip(0..) {
-                let c = (d * mode[0] + s * mode[1]) * att;
+    /// `nodal`: flat's and Gouraud's errors from the lighting at seven points
+    /// ([`Nodal::errors`]), used in place of the bound's where every light is smooth over the
+    /// triangle (`None`: the bound everywhere).
+    fn squared_errors(
+        &self,
+        sh: &Shading,
+        nodal: Option<impl FnOnce() -> ([f64; 3], [f64; 3])>,
+    ) -> [f64; 3] {
+        // The seven-point errors replace the bound's flat and Gouraud terms where every
+        // light is smooth over the triangle; the bound's are then not evaluated at all (a
+        // triangle found not smooth takes a second, detailed pass). The geometric error
+        // (Phong's whole estimate) is still added to them in magnitude.
+        let mut t = self.light_terms(sh, nodal.is_none());
+        match nodal {
+            Some(errors) if t.smooth => {
+                let (flat, gouraud) = errors();
                 for ch in 0..3 {
-                    e[k][ch] += c[ch];
+                    t.e[0][ch] = flat[ch] + t.e[2][ch];
+                    t.e[1][ch] = gouraud[ch] + t.e[2][ch];
                 }
             }
-            if light.sure {
-                low += (d * range.diffuse[0] + s * range.specular[0]) * att_lo;
-            }
-            high += (d * range.diffuse[1] + s * range.specular[1]) * att_hi;
-            pow_err += s * range.specular[1] * att_hi;
+            Some(_) => t = self.light_terms(sh, true),
+            None => {}
         }
+        let LightTerms {
+            e,
+            low,
+            high,
+            pow_err,
+            ..
+        } = t;
         let rounding = high * F32_RELATIVE + pow_err * POW_RELATIVE;
         let mut out = [0.0; 3];
         for (k, o) in out.iter_mut().enumerate() {
@@ -663,9 +767,75 @@ impl Triangle {
         out
     }
 
+    /// The lights' terms: each mode's error per channel (linear rms, added over the
+    /// lights), the colour's range and the lobe's largest value for the rounding, and
+    /// whether every light is smooth over the triangle. `detailed`: with the bound's flat
+    /// and Gouraud interpolation terms (zero otherwise).
+    fn light_terms(&self, sh: &Shading, detailed: bool) -> LightTerms {
+        let mut e = [[0.0f64; 3]; 3]; // [mode][channel], linear rms
+        let mut smooth = true;
+        let (mut low, mut high) = (sh.base[0], sh.base[1]);
+        let mut pow_err = DVec3::ZERO;
+        for light in sh.sources {
+            let (l, dist) = self.toward(light);
+            // The attenuation at the centroid, and its range over the triangle.
+            let att_at = |r: f64| {
+                light.attenuation.map_or(1.0, |[kc, kl, kq]| {
+                    1.0 / (kc + kl * r + kq * r * r).max(1e-12)
+                })
+            };
+            let att = att_at(dist);
+            let (att_lo, att_hi) = if dist.is_finite() {
+                (
+                    att_at(dist + self.longest),
+                    att_at((dist - self.longest).max(0.0)),
+                )
+            } else {
+                (att, att)
+            };
+            let spread = self.spread(l, dist, detailed);
+            let (sens, range) = sensitivity(&spread, sh.lobe, detailed);
+            smooth &= range.smooth;
+            let d = sh.kd * light.diffuse;
+            let s = sh.ks * light.specular;
+            for (mode, k) in [sens.flat, sens.gouraud, sens.phong].iter().zip(0..) {
+                let c = (d * mode[0] + s * mode[1]) * att;
+                for ch in 0..3 {
+                    e[k][ch] += c[ch];
+                }
+            }
+            if light.sure {
+                low += (d * range.diffuse[0] + s * range.specular[0]) * att_lo;
+            }
+            high += (d * range.diffuse[1] + s * range.specular[1]) * att_hi;
+            pow_err += s * range.specular[1] * att_hi;
+        }
+        LightTerms {
+            e,
+            low,
+            high,
+            pow_err,
+            smooth,
+        }
+    }
+
+    /// Unit vector from the centroid toward `light`, and its distance (infinite for a
+    /// directional light).
+    fn toward(&self, light: &Light) -> (DVec3, f64) {
+        match light.geometry {
+            Place::Direction(d) => (d, f64::INFINITY),
+            Place::Position(pos) => {
+                let d = pos - self.centroid;
+                (d.normalize_or_zero(), d.length())
+            }
+        }
+    }
+
     /// The spread of the lighting's arguments under a light in direction `l` (unit, toward
-    /// it) at distance `dist` (infinite for a directional light).
-    fn spread(&self, l: DVec3, dist: f64) -> Spread {
+    /// it) at distance `dist` (infinite for a directional light). `detailed`: also the
+    /// edges' parts along and across the gradients and the face normal's offset, which only
+    /// the bound's flat and Gouraud terms read (zero otherwise).
+    fn spread(&self, l: DVec3, dist: f64, detailed: bool) -> Spread {
         let light_span = if dist.is_finite() && dist > 0.0 {
             (self.longest / dist).min(std::f64::consts::PI)
         } else {
@@ -702,8 +872,11 @@ impl Triangle {
                 )
             })
         };
-        let (along_d, _) = split(l, light_span);
-        let (along_s, across_s) = split(h, view_extra);
+        let ((along_d, _), (along_s, across_s)) = if detailed {
+            (split(l, light_span), split(h, view_extra))
+        } else {
+            ((0.0, 0.0), (0.0, 0.0))
+        };
         let offset = |r: DVec3| {
             let r = (r - self.normal * r.dot(self.normal)).normalize_or_zero();
             if r == DVec3::ZERO {
@@ -715,12 +888,12 @@ impl Triangle {
         Spread {
             theta: angle(l),
             span_d: self.spread + light_span,
-            edges_d: edges(light_span),
+            edges_d: if detailed { edges(light_span) } else { 0.0 },
             along_d,
             along_s,
             across_s,
-            face_d: offset(l),
-            face_s: offset(h),
+            face_d: if detailed { offset(l) } else { 0.0 },
+            face_s: if detailed { offset(h) } else { 0.0 },
             beta: if h == DVec3::ZERO {
                 std::f64::consts::FRAC_PI_2
             } else {
@@ -858,20 +1031,47 @@ mod tests {
             axis: DVec3::Z,
         };
         let p = [DVec3::ZERO, DVec3::X, DVec3::Y];
-        let t = Triangle::new(p, [DVec3::Z; 3], &view).unwrap();
+        let foot = Footprint::new(p, DVec3::Z, &view);
+        let t = Triangle::new(p, [DVec3::Z; 3], &view, foot).unwrap();
         assert_eq!((t.geometric, t.geometric_max), (0.0, 0.0));
     }
 
     #[test]
+    fn the_sampling_margin_vanishes_when_every_triangle_was_seen() {
+        // Two triangles of area 1 and 3 with mean squared errors 4 and 0 in every mode.
+        let mut acc = [0.0; SLOTS];
+        for (a, x) in [(1.0f64, 4.0f64), (3.0, 0.0)] {
+            acc[0] += a;
+            acc[5] += a * a;
+            for m in 0..3 {
+                acc[m + 1] += a * x;
+                acc[m + 6] += a * a * x;
+                acc[m + 9] += a * a * x * x;
+            }
+        }
+        // R = 1: the plain rms when nothing is unseen, more when half the mesh is.
+        assert_eq!(upper_rmse(&acc, 0.0), [1.0; 3]);
+        // Σa²(x − R)² = 1·9 + 9·1 = 18; SE = √(18·0.5)/4 = 0.75; √(1 + 1.5).
+        let half = upper_rmse(&acc, 0.5);
+        assert!((half[0] - 2.5f32.sqrt()).abs() < 1e-6, "{half:?}");
+    }
+
+    #[test]
     fn the_choice_settles_only_with_a_margin() {
-        // Flat far below: settled on flat.
-        assert!(settled([0.2, 0.1, 0.05], 1.0));
+        let usual = [1.0, 2.0, 3.0]; // flat < Gouraud < Phong
+                                     // Flat far below: settled on flat.
+        assert!(settled([0.2, 0.1, 0.05], usual, 1.0));
         // Flat near the tolerance: not settled.
-        assert!(!settled([0.8, 0.1, 0.05], 1.0));
+        assert!(!settled([0.8, 0.1, 0.05], usual, 1.0));
         // Flat and Gouraud far above: Phong whatever its estimate.
-        assert!(settled([9.0, 3.0, 1.2], 1.0));
+        assert!(settled([9.0, 3.0, 1.2], usual, 1.0));
         // Gouraud chosen but flat only just above: not settled.
-        assert!(!settled([1.5, 0.3, 0.1], 1.0));
-        assert!(settled([2.5, 0.3, 0.1], 1.0));
+        assert!(!settled([1.5, 0.3, 0.1], usual, 1.0));
+        assert!(settled([2.5, 0.3, 0.1], usual, 1.0));
+        // Phong cheaper than Gouraud: Phong within the tolerance settles it whatever
+        // Gouraud's estimate.
+        let dense = [1.0, 3.0, 2.0];
+        assert!(settled([2.5, 0.9, 0.1], dense, 1.0));
+        assert!(!settled([1.5, 0.9, 0.1], dense, 1.0));
     }
 }
