@@ -390,7 +390,7 @@ fn object_estimate(
         let sq = tri.squared_errors(
             &shading,
             (nodal.covers_gouraud() && !tri.back && nv.iter().all(|v| *v != DVec3::ZERO))
-                .then_some(|| nodal.errors(p, nv, face)),
+                .then_some(|| nodal.errors(p, nv, face, tri.offset.as_ref())),
         );
         for k in 0..3 {
             let a = tri.area;
@@ -530,6 +530,9 @@ struct Triangle {
     area: f64,
     /// Facing away from the viewer.
     back: bool,
+    /// Where the true surface is, with signs (`None`: a planar region, a degenerate fit, or
+    /// normals facing away from the eye).
+    offset: Option<Offset>,
 }
 
 /// Where a triangle lands on screen: what every sampled triangle needs (its area counts
@@ -591,6 +594,8 @@ struct Shape {
     edges: f64,
     /// `|H|·t` for the unit tangent `t` (2-D, in the plane's basis).
     abs: [[f64; 2]; 2],
+    /// `H` itself (symmetric, signed), in the plane's basis.
+    signed: [[f64; 2]; 2],
 }
 
 impl Shape {
@@ -630,6 +635,7 @@ impl Shape {
             norm: l1.abs().max(l2.abs()),
             edges: quad(e[0]) + quad(e[1]) + quad(e[2]),
             abs,
+            signed: [[h11, h12], [h12, h22]],
         })
     }
 
@@ -673,11 +679,11 @@ impl Triangle {
             back,
             area,
         } = foot;
-        let (geometric, geometric_max) = if spread > 0.0 {
+        let (geometric, geometric_max, offset) = if spread > 0.0 {
             geometric_error(&edge, &len, &n, face, ray, cos_a, world_area2, spread)
         } else {
             // Equal vertex normals: the mesh is the surface (a planar region).
-            (0.0, 0.0)
+            (0.0, 0.0, None)
         };
         let edge_dn = [0, 1, 2].map(|k| {
             let (i, j) = pairs[k];
@@ -711,6 +717,7 @@ impl Triangle {
             },
             area,
             back,
+            offset,
         })
     }
 
@@ -722,7 +729,7 @@ impl Triangle {
     fn squared_errors(
         &self,
         sh: &Shading,
-        nodal: Option<impl FnOnce() -> ([f64; 3], [f64; 3])>,
+        nodal: Option<impl FnOnce() -> nodal::Errors>,
     ) -> [f64; 3] {
         // The seven-point errors replace the bound's flat and Gouraud terms where every
         // light is smooth over the triangle; the bound's are then not evaluated at all (a
@@ -731,10 +738,16 @@ impl Triangle {
         let mut t = self.light_terms(sh, nodal.is_none());
         match nodal {
             Some(errors) if t.smooth => {
-                let (flat, gouraud) = errors();
+                let nodal::Errors {
+                    flat,
+                    gouraud,
+                    against_truth,
+                } = errors();
+                // Against Phong only: the geometric error (Phong's estimate) added.
+                let geo = if against_truth { [0.0; 3] } else { t.e[2] };
                 for ch in 0..3 {
-                    t.e[0][ch] = flat[ch] + t.e[2][ch];
-                    t.e[1][ch] = gouraud[ch] + t.e[2][ch];
+                    t.e[0][ch] = flat[ch] + geo[ch];
+                    t.e[1][ch] = gouraud[ch] + geo[ch];
                 }
             }
             Some(_) => t = self.light_terms(sh, true),
@@ -919,14 +932,14 @@ fn geometric_error(
     cos_a: f64,
     world_area2: f64,
     spread: f64,
-) -> (f64, f64) {
+) -> (f64, f64, Option<Offset>) {
     // An orthonormal basis of the triangle's plane.
     let u = edge[0] / len[0];
     let w = face.cross(u);
     let flat = |v: DVec3| [v.dot(u), v.dot(w)];
     let dn = [n[1] - n[0], n[2] - n[1], n[0] - n[2]];
     let Some(shape) = Shape::fit(edge.map(flat), dn.map(flat)) else {
-        return (spread, spread);
+        return (spread, spread, None);
     };
     // The mesh lies off the surface by the linear interpolation error of the surface's
     // height over the triangle, ½Σλ_i(v_i − x)ᵀH(v_i − x): at most the same with |H|, of
@@ -957,7 +970,67 @@ fn geometric_error(
         shape.turn_rate(flat(t))
     };
     let cap = (shape.norm * rho).min(spread);
-    ((rate * depth_rms * tan_a).min(cap), cap)
+    // The same with signs, for the seven-point errors: "up" is the side the vertex normals
+    // point to, where the surface lies `δ(x)` above the mesh.
+    let up = if face.dot(n[0] + n[1] + n[2]) < 0.0 {
+        -face
+    } else {
+        face
+    };
+    let cos_up = up.dot(ray);
+    let offset = (cos_up > 1e-3).then(|| Offset {
+        axes: [u, w],
+        h: shape.signed,
+        shift: (ray - up * cos_up) / cos_up,
+        cap,
+    });
+    ((rate * depth_rms * tan_a).min(cap), cap, offset)
+}
+
+/// Where the true surface is over a triangle, with signs (the quadratic surface its vertex
+/// normals describe): `δ(x) = ½Σλ_i(v_i − x)ᵀH(v_i − x)` above the mesh point `x`, and the
+/// pixel's ray through `x` meets it `δ(x)·shift` away along the plane, where its normal has
+/// turned by `H` times that (at most `cap`).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Offset {
+    /// An orthonormal basis of the triangle's plane.
+    axes: [DVec3; 2],
+    /// The shape operator in that basis.
+    h: [[f64; 2]; 2],
+    /// The ray's offset along the plane per unit height (toward the eye's side).
+    shift: DVec3,
+    /// The largest turn of the normal (see [`geometric_error`]).
+    cap: f64,
+}
+
+impl Offset {
+    /// The surface's unit normal where the pixel's ray through the mesh point `x` (with the
+    /// mesh's interpolated unit normal `n`) meets it; `v`: the triangle's vertices.
+    pub(super) fn true_normal(
+        &self,
+        x: DVec3,
+        lambda: [f64; 3],
+        v: &[DVec3; 3],
+        n: DVec3,
+    ) -> DVec3 {
+        let [a, b] = self.axes;
+        let hq = |d: DVec3| {
+            let (p, q) = (d.dot(a), d.dot(b));
+            p * (self.h[0][0] * p + self.h[0][1] * q) + q * (self.h[1][0] * p + self.h[1][1] * q)
+        };
+        let delta = 0.5 * (0..3).map(|i| lambda[i] * hq(v[i] - x)).sum::<f64>();
+        let u = self.shift * delta;
+        let (p, q) = (u.dot(a), u.dot(b));
+        let dn =
+            a * (self.h[0][0] * p + self.h[0][1] * q) + b * (self.h[1][0] * p + self.h[1][1] * q);
+        let len = dn.length();
+        let dn = if len > self.cap {
+            dn * (self.cap / len)
+        } else {
+            dn
+        };
+        (n + dn).normalize_or_zero()
+    }
 }
 
 #[cfg(test)]
@@ -1034,6 +1107,52 @@ mod tests {
         let foot = Footprint::new(p, DVec3::Z, &view);
         let t = Triangle::new(p, [DVec3::Z; 3], &view, foot).unwrap();
         assert_eq!((t.geometric, t.geometric_max), (0.0, 0.0));
+    }
+
+    #[test]
+    fn the_signed_offset_finds_the_sphere_where_the_ray_meets_it() {
+        // A triangle on the unit sphere seen obliquely from a nearby eye: at each interior
+        // node the normal the offset gives is the sphere's where the eye's ray through the
+        // mesh point meets the sphere, to well within the mesh's own normal error there.
+        let dirs = [
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::new(0.05, 0.0, 1.0).normalize(),
+            DVec3::new(0.0, 0.05, 1.0).normalize(),
+        ];
+        let p = dirs;
+        let eye = DVec3::new(2.0, 1.0, 3.0);
+        let edge = [p[1] - p[0], p[2] - p[1], p[0] - p[2]];
+        let len = edge.map(|e| e.length());
+        let cross = (p[1] - p[0]).cross(p[2] - p[0]);
+        let face = cross.normalize();
+        let centroid = (p[0] + p[1] + p[2]) / 3.0;
+        let ray = (eye - centroid).normalize();
+        let spread = dirs[1].angle_between(dirs[2]);
+        let (_, _, offset) = geometric_error(
+            &edge,
+            &len,
+            &dirs,
+            face,
+            ray,
+            face.dot(ray),
+            cross.length(),
+            spread,
+        );
+        let offset = offset.expect("a front face on a curved surface");
+        for l in [[0.5, 0.5, 0.0], [0.0, 0.5, 0.5], [1.0 / 3.0; 3]] {
+            let x = p[0] * l[0] + p[1] * l[1] + p[2] * l[2];
+            let mesh_n = (dirs[0] * l[0] + dirs[1] * l[1] + dirs[2] * l[2]).normalize();
+            // The eye's ray through x meets the unit sphere at the nearer root.
+            let d = (x - eye).normalize();
+            let b = eye.dot(d);
+            let t = -b - (b * b - (eye.length_squared() - 1.0)).sqrt();
+            let exact = (eye + d * t).normalize();
+            let got = offset.true_normal(x, l, &p, mesh_n);
+            let before = mesh_n.angle_between(exact);
+            let after = got.angle_between(exact);
+            assert!(before > 1e-4, "{before}");
+            assert!(after < 0.1 * before, "{l:?}: {after} against {before}");
+        }
     }
 
     #[test]

@@ -14,6 +14,7 @@
 
 use glam::{DVec3, Vec3};
 
+use super::Offset;
 use crate::lighting::{Geometry, LightSet, Surface, LANES};
 use crate::options::SpecularModel;
 use crate::scene::Scene;
@@ -82,46 +83,67 @@ impl Nodal {
         self.gouraud
     }
 
-    /// Per channel, the rms error over the triangle of flat and of Gouraud against Phong at
-    /// the same mesh points, in linear colour. `p`: world positions; `n`: unit vertex normals; `face`: the unit face
-    /// normal flat lights with.
-    pub(super) fn errors(&self, p: [DVec3; 3], n: [DVec3; 3], face: DVec3) -> ([f64; 3], [f64; 3]) {
+    /// Per channel, the rms error over the triangle of flat and of Gouraud, in linear
+    /// colour: against the true surface where `offset` says where it is (the normal at each
+    /// interior node taken where the pixel's ray meets the surface, so the geometric error is
+    /// in the result with its sign), otherwise against Phong at the same mesh points. `p`:
+    /// world positions; `n`: unit vertex normals; `face`: the unit face normal flat lights
+    /// with.
+    pub(super) fn errors(
+        &self,
+        p: [DVec3; 3],
+        n: [DVec3; 3],
+        face: DVec3,
+        offset: Option<&Offset>,
+    ) -> Errors {
         let centroid = (p[0] + p[1] + p[2]) / 3.0;
-        let mid = |i: usize, j: usize| ((p[i] + p[j]) * 0.5, (n[i] + n[j]).normalize_or_zero());
-        let (m01, m12, m20) = (mid(0, 1), mid(1, 2), mid(2, 0));
-        // Lanes: the vertices, the midpoints, the centroid (Phong's normal), the centroid
-        // with the face normal (flat's colour).
+        let third = 1.0 / 3.0;
+        // The interior nodes: edge midpoints and the centroid, with their barycentrics.
+        let inner = [
+            ((p[0] + p[1]) * 0.5, n[0] + n[1], [0.5, 0.5, 0.0]),
+            ((p[1] + p[2]) * 0.5, n[1] + n[2], [0.0, 0.5, 0.5]),
+            ((p[2] + p[0]) * 0.5, n[2] + n[0], [0.5, 0.0, 0.5]),
+            (centroid, n[0] + n[1] + n[2], [third; 3]),
+        ]
+        .map(|(x, m, l)| (x, m.normalize_or_zero(), l));
+        // Lanes: the vertices, the midpoints and the centroid (Phong's colour: the mesh's
+        // interpolated normal), the centroid with the face normal (flat's colour).
         let points = [
             (p[0], n[0]),
             (p[1], n[1]),
             (p[2], n[2]),
-            m01,
-            m12,
-            m20,
-            (centroid, (n[0] + n[1] + n[2]).normalize_or_zero()),
+            (inner[0].0, inner[0].1),
+            (inner[1].0, inner[1].1),
+            (inner[2].0, inner[2].1),
+            (inner[3].0, inner[3].1),
             (centroid, face),
         ];
-        debug_assert_eq!(points.len(), LANES);
-        let mut pos = [[0.0f32; LANES]; 3];
-        let mut nrm = [[0.0f32; LANES]; 3];
-        for (k, (q, m)) in points.iter().enumerate() {
-            for ax in 0..3 {
-                pos[ax][k] = q[ax] as f32;
-                nrm[ax][k] = m[ax] as f32;
-            }
-        }
-        let c = self.surface.shade_lanes(&nrm, &pos, self.eye);
+        let c = self.shade(&points);
+        // The truth at the interior nodes (at the vertices the mesh is on the surface and its
+        // normals are the surface's: Phong's colours there).
+        let truth = offset.map(|o| {
+            let t = inner.map(|(x, m, l)| (x, o.true_normal(x, l, &p, m)));
+            self.shade(&[t[0], t[1], t[2], t[3], t[3], t[3], t[3], t[3]])
+        });
         let clamp = |v: f64| if self.clamps { v.clamp(0.0, 1.0) } else { v };
         let mut flat = [0.0; 3];
         let mut gouraud = [0.0; 3];
         for ch in 0..3 {
             let v = c[ch].map(|x| clamp(x as f64));
             let raw = c[ch].map(|x| x as f64);
-            // Flat: one colour against Phong's at every node.
+            // The reference at the six P2 nodes and the centroid.
+            let r: [f64; 7] = match &truth {
+                Some(t) => {
+                    let t = t[ch].map(|x| clamp(x as f64));
+                    [v[0], v[1], v[2], t[0], t[1], t[2], t[3]]
+                }
+                None => [v[0], v[1], v[2], v[3], v[4], v[5], v[6]],
+            };
+            // Flat: one colour against the reference at every node.
             let f = v[7];
             flat[ch] = rms(
-                [f - v[0], f - v[1], f - v[2], f - v[3], f - v[4], f - v[5]],
-                f - v[6],
+                [f - r[0], f - r[1], f - r[2], f - r[3], f - r[4], f - r[5]],
+                f - r[6],
             );
             // Gouraud: the vertex colours (unclamped, as interpolated) blended linearly.
             let g = |a: f64, b: f64| clamp(0.5 * (a + b));
@@ -130,15 +152,41 @@ impl Nodal {
                     0.0,
                     0.0,
                     0.0,
-                    g(raw[0], raw[1]) - v[3],
-                    g(raw[1], raw[2]) - v[4],
-                    g(raw[2], raw[0]) - v[5],
+                    g(raw[0], raw[1]) - r[3],
+                    g(raw[1], raw[2]) - r[4],
+                    g(raw[2], raw[0]) - r[5],
                 ],
-                clamp((raw[0] + raw[1] + raw[2]) / 3.0) - v[6],
+                clamp((raw[0] + raw[1] + raw[2]) / 3.0) - r[6],
             );
         }
-        (flat, gouraud)
+        Errors {
+            flat,
+            gouraud,
+            against_truth: truth.is_some(),
+        }
     }
+
+    /// The renderer's colours at eight points (position, unit normal).
+    fn shade(&self, points: &[(DVec3, DVec3); LANES]) -> [[f32; LANES]; 3] {
+        let mut pos = [[0.0f32; LANES]; 3];
+        let mut nrm = [[0.0f32; LANES]; 3];
+        for (k, (q, m)) in points.iter().enumerate() {
+            for ax in 0..3 {
+                pos[ax][k] = q[ax] as f32;
+                nrm[ax][k] = m[ax] as f32;
+            }
+        }
+        self.surface.shade_lanes(&nrm, &pos, self.eye)
+    }
+}
+
+/// Flat's and Gouraud's rms error per channel over one triangle ([`Nodal::errors`]).
+pub(super) struct Errors {
+    pub flat: [f64; 3],
+    pub gouraud: [f64; 3],
+    /// Against the true surface (the geometric error included, with its sign); otherwise
+    /// against Phong at the same mesh points.
+    pub against_truth: bool,
 }
 
 /// The rms over the triangle of the field with values `d` at the six P2 nodes and `dc` at
