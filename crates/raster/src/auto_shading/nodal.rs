@@ -3,14 +3,16 @@
 //! scale this replaces [`super::bound`]'s worst-case terms (curvatures taken in magnitude,
 //! lights added in magnitude, clamping ignored) by the error itself.
 //!
-//! The error field of a mode against Phong at the same mesh point (`d = mode − Phong`) is
-//! taken as its quadratic interpolant through the three vertices and the three edge
-//! midpoints, whose mean square over the triangle is exact (the P2 mass matrix), plus the
-//! cubic bubble `27λ₀λ₁λ₂ρ` through the centroid's residual `ρ` (its value there minus the
-//! quadratic's), added in magnitude. For lighting that is quadratic over the triangle the
-//! result is exact; the caller uses it only where the lobe and the diffuse term are smooth
-//! on the triangle (no terminator inside it, a highlight at least as wide as the triangle's
-//! turn), and keeps the bound elsewhere. The derivation is in docs/LIGHTING.md.
+//! The error field of a mode against the truth (`d = mode − truth`: the surface the vertex
+//! normals describe, lit where each pixel's ray meets it, see [`Offset`]; against Phong at
+//! the same mesh point where that is unknown) is taken as its quadratic interpolant through
+//! the three vertices and the three edge midpoints, whose mean square over the triangle is
+//! exact (the P2 mass matrix), plus the cubic bubble `27λ₀λ₁λ₂ρ` through the centroid's
+//! residual `ρ` (its value there minus the quadratic's), added in magnitude. For lighting
+//! that is quadratic over the triangle the result is exact; the caller uses it only where
+//! the lobe and the diffuse term are smooth on the triangle (no terminator inside it, a
+//! highlight at least two thirds as wide as the triangle's turn), and keeps the bound
+//! elsewhere. The derivation is in docs/LIGHTING.md.
 
 use glam::{DVec3, Vec3};
 
@@ -49,6 +51,8 @@ pub(super) struct Nodal {
 }
 
 impl Nodal {
+    /// One object's lighting: `material` under the scene's lights and ambient, seen from
+    /// `eye` (or from the direction `toward` for an infinite viewer).
     pub(super) fn new(
         scene: &Scene,
         material: &crate::material::Material,
