@@ -7,6 +7,8 @@
 
 use std::f64::consts::FRAC_PI_2;
 
+use crate::lighting::pow01;
+
 /// How the lighting's arguments vary over one triangle (radians).
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Spread {
@@ -76,7 +78,18 @@ fn lobe(f: f64, beta: f64) -> f64 {
     if beta >= FRAC_PI_2 {
         0.0
     } else {
-        beta.cos().powf(f)
+        power(beta.cos(), f)
+    }
+}
+
+/// `c^e` for `c` in [0, 1]: the renderer's own `pow01` for `e ≥ 0` (relative error below
+/// 2·10⁻⁵ for the exponents of real materials, absolute below 10⁻⁶ at any: far below what
+/// moves an estimate, at a third of `powf`'s cost), `powf` for a negative one.
+fn power(c: f64, e: f64) -> f64 {
+    if e >= 0.0 {
+        pow01(c as f32, e as f32) as f64
+    } else {
+        c.powf(e)
     }
 }
 
@@ -89,8 +102,8 @@ fn lobe_derivatives(f: f64, beta: f64) -> [f64; 3] {
     if beta >= FRAC_PI_2 || f == 0.0 {
         return [0.0; 3];
     }
-    let (c, s) = (beta.cos(), beta.sin());
-    let p = c.powf(f - 2.0);
+    let (s, c) = beta.sin_cos();
+    let p = power(c, f - 2.0);
     [
         f * p * c * s,
         (f * (f - 1.0) * p * s * s - f * p * c * c).abs(),

@@ -23,6 +23,7 @@ mod visible;
 pub(crate) use equation::{Folded, Split, Terms};
 pub(crate) use lanes::{normalize_lanes, Lanes, LANES};
 pub(crate) use light_set::{Geometry, LightSet, Source};
+pub(crate) use pow::pow01;
 pub(crate) use surface::{check_mirror, Surface};
 
 #[cfg(test)]
