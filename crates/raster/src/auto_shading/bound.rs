@@ -7,6 +7,7 @@
 
 use std::f64::consts::FRAC_PI_2;
 
+use super::trig;
 use crate::lighting::pow01;
 
 /// How the lighting's arguments vary over one triangle (radians).
@@ -78,13 +79,14 @@ fn lobe(f: f64, beta: f64) -> f64 {
     if beta >= FRAC_PI_2 {
         0.0
     } else {
-        power(beta.cos(), f)
+        power(trig::cos(beta), f)
     }
 }
 
 /// `c^e` for `c` in [0, 1]: the renderer's own `pow01` for `e ≥ 0` (relative error below
 /// 2·10⁻⁵ for the exponents of real materials, absolute below 10⁻⁶ at any: far below what
 /// moves an estimate, at a third of `powf`'s cost), `powf` for a negative one.
+#[inline]
 fn power(c: f64, e: f64) -> f64 {
     if e >= 0.0 {
         pow01(c as f32, e as f32) as f64
@@ -102,7 +104,7 @@ fn lobe_derivatives(f: f64, beta: f64) -> [f64; 3] {
     if beta >= FRAC_PI_2 || f == 0.0 {
         return [0.0; 3];
     }
-    let (s, c) = beta.sin_cos();
+    let (s, c) = (trig::sin(beta), trig::cos(beta));
     let p = power(c, f - 2.0);
     [
         f * p * c * s,
@@ -181,7 +183,7 @@ pub(super) fn sensitivity(
         (s.theta - REACH * s.span_d).max(0.0),
         s.theta + REACH * s.span_d,
     );
-    let slope_d = hi_d.min(FRAC_PI_2).sin();
+    let slope_d = trig::sin(hi_d.min(FRAC_PI_2));
     // Linear interpolation of a quadratic with curvature L'' over a triangle with edges
     // a, b, c errs by ½L''(ρ² − |x − o|²) (o, ρ: circumcentre and radius), whose mean is
     // L''(a² + b² + c²)/24; its rms is at most RMS_OVER_MEAN times that. Across the terminator
@@ -190,7 +192,7 @@ pub(super) fn sensitivity(
     let interp_d = if hi_d > FRAC_PI_2 {
         s.span_d / 7.0
     } else {
-        lo_d.cos() * s.edges_d * RMS_OVER_MEAN / 24.0
+        trig::cos(lo_d) * s.edges_d * RMS_OVER_MEAN / 24.0
     };
     // Flat: the rms deviation of a field linear over the triangle (gradient g) from its
     // value at the centroid is √(gᵀMg), M = Σ_k e_k e_kᵀ/36 the triangle's second moment
@@ -209,8 +211,8 @@ pub(super) fn sensitivity(
     // geometric normal error.
     let mut range = Range {
         diffuse: [
-            (hi_d + s.geometric_max).min(FRAC_PI_2).cos(),
-            (lo_d - s.geometric_max).max(0.0).cos(),
+            trig::cos((hi_d + s.geometric_max).min(FRAC_PI_2)),
+            trig::cos((lo_d - s.geometric_max).max(0.0)),
         ],
         specular: [0.0, 0.0],
         smooth: hi_d + s.geometric_max < FRAC_PI_2,

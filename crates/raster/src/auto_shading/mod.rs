@@ -10,6 +10,7 @@
 mod bound;
 mod cost;
 mod nodal;
+mod trig;
 
 use glam::{DVec3, DVec4};
 use rayon::prelude::*;
@@ -658,7 +659,7 @@ impl Triangle {
         let pairs = [(0usize, 1usize), (1, 2), (2, 0)];
         let edge = pairs.map(|(i, j)| p[j] - p[i]);
         let len = edge.map(|e| e.length());
-        let turns = pairs.map(|(i, j)| n[i].dot(n[j]).clamp(-1.0, 1.0).acos());
+        let turns = pairs.map(|(i, j)| trig::acos(n[i].dot(n[j])));
         let longest = len[0].max(len[1]).max(len[2]);
         let spread = turns[0].max(turns[1]).max(turns[2]);
         let centroid = (p[0] + p[1] + p[2]) / 3.0;
@@ -855,7 +856,7 @@ impl Triangle {
             0.0
         };
         let h = (l + self.view).normalize_or_zero();
-        let angle = |a: DVec3| self.normal.dot(a).clamp(-1.0, 1.0).acos();
+        let angle = |a: DVec3| trig::acos(self.normal.dot(a));
         // Along an edge the light direction turns by about its length over the distance.
         let edges = |extra: f64| {
             (0..3)
