@@ -368,13 +368,10 @@ fn object_estimate(
         let mut acc = [[0.0f64; SLOTS]; 2];
         let t = triangle_of(j);
         let p = t.map(world);
-        let cross = (p[1] - p[0]).cross(p[2] - p[0]);
-        let len = cross.length();
-        if len <= 0.0 || !len.is_finite() {
+        let Some(foot) = Footprint::new(p, view) else {
             return acc;
-        }
-        let face = cross / len;
-        let foot = Footprint::new(p, face, view);
+        };
+        let face = foot.face;
         let side = foot.back as usize;
         acc[side][0] = foot.area;
         acc[side][4] = (foot.area > 0.0) as u8 as f64;
@@ -384,9 +381,7 @@ fn object_estimate(
             return acc;
         }
         let nv = t.map(normal);
-        let Some(tri) = Triangle::new(p, nv, view, foot) else {
-            return acc;
-        };
+        let tri = Triangle::new(p, nv, view, &foot);
         acc[side][5] = tri.area * tri.area;
         let sq = tri.squared_errors(
             &shading,
@@ -538,7 +533,12 @@ struct Triangle {
 
 /// Where a triangle lands on screen: what every sampled triangle needs (its area counts
 /// toward the front or back side), before the lighting only front faces on screen need.
+#[derive(Clone, Copy)]
 struct Footprint {
+    /// Unit face normal (from the winding) and twice the world area.
+    face: DVec3,
+    world_area2: f64,
+    centroid: DVec3,
     /// Unit vector along the pixels' rays toward the eye (the axis for an orthographic
     /// camera).
     ray: DVec3,
@@ -550,8 +550,14 @@ struct Footprint {
 }
 
 impl Footprint {
-    /// `face`: the unit face normal of the world triangle `p` (from its winding).
-    fn new(p: [DVec3; 3], face: DVec3, view: &View) -> Self {
+    /// `None` for a degenerate world triangle `p` (no face normal).
+    fn new(p: [DVec3; 3], view: &View) -> Option<Self> {
+        let cross = (p[1] - p[0]).cross(p[2] - p[0]);
+        let world_area2 = cross.length();
+        if world_area2 <= 0.0 || !world_area2.is_finite() {
+            return None;
+        }
+        let face = cross / world_area2;
         let centroid = (p[0] + p[1] + p[2]) / 3.0;
         let ray = if view.ortho {
             view.axis
@@ -576,12 +582,15 @@ impl Footprint {
             // Crossing the eye plane: left out (the near plane clips it anyway).
             _ => 0.0,
         };
-        Footprint {
+        Some(Footprint {
+            face,
+            world_area2,
+            centroid,
             ray,
             cos_a,
             back: cos_a < 0.0,
             area,
-        }
+        })
     }
 }
 
@@ -649,20 +658,22 @@ impl Shape {
 
 impl Triangle {
     /// `foot`: the triangle's [`Footprint`] (computed first, for every sample).
-    fn new(p: [DVec3; 3], n: [DVec3; 3], view: &View, foot: Footprint) -> Option<Self> {
-        let cross = (p[1] - p[0]).cross(p[2] - p[0]);
-        let world_area2 = cross.length();
-        if world_area2 <= 0.0 || !world_area2.is_finite() {
-            return None;
-        }
-        let face = cross / world_area2;
+    fn new(p: [DVec3; 3], n: [DVec3; 3], view: &View, foot: &Footprint) -> Self {
+        let Footprint {
+            face,
+            world_area2,
+            centroid,
+            ray,
+            cos_a,
+            back,
+            area,
+        } = *foot;
         let pairs = [(0usize, 1usize), (1, 2), (2, 0)];
         let edge = pairs.map(|(i, j)| p[j] - p[i]);
         let len = edge.map(|e| e.length());
         let turns = pairs.map(|(i, j)| trig::acos(n[i].dot(n[j])));
         let longest = len[0].max(len[1]).max(len[2]);
         let spread = turns[0].max(turns[1]).max(turns[2]);
-        let centroid = (p[0] + p[1] + p[2]) / 3.0;
         let mean = n[0] + n[1] + n[2];
         let normal = if mean.length_squared() > 1e-24 {
             mean.normalize()
@@ -674,12 +685,6 @@ impl Triangle {
             Some(v) => (v, f64::INFINITY),
             None => (to_eye.normalize_or_zero(), to_eye.length()),
         };
-        let Footprint {
-            ray,
-            cos_a,
-            back,
-            area,
-        } = foot;
         let (geometric, geometric_max, offset) = if spread > 0.0 {
             geometric_error(&edge, &len, &n, face, ray, cos_a, world_area2, spread)
         } else {
@@ -699,7 +704,7 @@ impl Triangle {
         // Oriented as the vertex normals, and flipped with them for a back face below.
         let face_n = if face.dot(normal) < 0.0 { -face } else { face };
         let face_offset = face_n - normal * face_n.dot(normal);
-        Some(Triangle {
+        Triangle {
             centroid,
             face_offset: if back { -face_offset } else { face_offset },
             edge_turns: turns,
@@ -719,7 +724,7 @@ impl Triangle {
             area,
             back,
             offset,
-        })
+        }
     }
 
     /// Per mode, the squared error in 8-bit levels summed over the channels over 3 (the
@@ -1105,8 +1110,8 @@ mod tests {
             axis: DVec3::Z,
         };
         let p = [DVec3::ZERO, DVec3::X, DVec3::Y];
-        let foot = Footprint::new(p, DVec3::Z, &view);
-        let t = Triangle::new(p, [DVec3::Z; 3], &view, foot).unwrap();
+        let foot = Footprint::new(p, &view).unwrap();
+        let t = Triangle::new(p, [DVec3::Z; 3], &view, &foot);
         assert_eq!((t.geometric, t.geometric_max), (0.0, 0.0));
     }
 
