@@ -161,7 +161,7 @@ fn tile_baseline<P: Pixel>(
     buf: &mut TileBuffers,
     job: TileJob<'_, '_, P>,
 ) {
-    tile::<P, false>(ctx, mode, buf, job);
+    tile::<P, false, false>(ctx, mode, buf, job);
 }
 
 /// # Safety
@@ -174,7 +174,7 @@ unsafe fn tile_avx2<P: Pixel>(
     buf: &mut TileBuffers,
     job: TileJob<'_, '_, P>,
 ) {
-    tile::<P, false>(ctx, mode, buf, job);
+    tile::<P, false, true>(ctx, mode, buf, job);
 }
 
 /// The tile body of Gouraud and Phong with screen-space weights, for the baseline
@@ -187,7 +187,7 @@ fn tile_screen<P: Pixel>(
     buf: &mut TileBuffers,
     job: TileJob<'_, '_, P>,
 ) {
-    tile::<P, true>(ctx, mode, buf, job);
+    tile::<P, true, false>(ctx, mode, buf, job);
 }
 
 /// Multi-sample tiles (`samples.rs`), dispatched like the single-sample ones; kept out of
@@ -321,7 +321,7 @@ fn textured_body<P: Pixel, const WIDE: bool>(
         shade::fill_background(ctx, job.rect, job.color, job.depth);
         return;
     }
-    raster::rasterize_tile(ctx.tris, job.index, job.rect, buf);
+    raster::rasterize_tile_on::<WIDE>(ctx.tris, job.index, job.rect, buf);
     // Flat interpolates nothing, so screen-space weights matter only for the others.
     if screen && mode != ShadingMode::Flat {
         shade::shade_textured_tile::<P, true, WIDE>(ctx, mode, job.rect, buf, job.color, job.depth);
@@ -387,7 +387,7 @@ fn mixed_body<P: Pixel, const AFFINE: bool>(
 /// The tile body; always inlined, so each variant above compiles all of it for its own
 /// instruction set (the passes it calls are `#[inline(always)]` down to the lane loops).
 #[inline(always)]
-fn tile<P: Pixel, const AFFINE: bool>(
+fn tile<P: Pixel, const AFFINE: bool, const WIDE: bool>(
     ctx: &ShadeContext<'_>,
     mode: ShadingMode,
     buf: &mut TileBuffers,
@@ -398,6 +398,6 @@ fn tile<P: Pixel, const AFFINE: bool>(
         shade::fill_background(ctx, job.rect, job.color, job.depth);
         return;
     }
-    raster::rasterize_tile(ctx.tris, job.index, job.rect, buf);
+    raster::rasterize_tile_on::<WIDE>(ctx.tris, job.index, job.rect, buf);
     shade::shade_tile::<P, AFFINE>(ctx, mode, job.rect, buf, job.color, job.depth);
 }

@@ -68,6 +68,40 @@ pub(crate) fn rasterize_tile(tris: &Binned, index: usize, rect: TileRect, buf: &
     }
 }
 
+/// [`rasterize_tile`] compiled out of line, once per instruction set (`WIDE`: AVX2 + FMA,
+/// which the caller checked): the visibility pass is the same for every pixel type and
+/// shading body, so the code beside it in a tile body no longer changes how its loops are
+/// compiled (and they are compiled once, not once per body).
+#[inline(always)]
+pub(crate) fn rasterize_tile_on<const WIDE: bool>(
+    tris: &Binned,
+    index: usize,
+    rect: TileRect,
+    buf: &mut TileBuffers,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if WIDE {
+        // SAFETY: `WIDE` only in the bodies run after `Isa::detect` found AVX2 and FMA.
+        unsafe { rasterize_tile_avx2(tris, index, rect, buf) };
+        return;
+    }
+    rasterize_tile_baseline(tris, index, rect, buf);
+}
+
+#[inline(never)]
+fn rasterize_tile_baseline(tris: &Binned, index: usize, rect: TileRect, buf: &mut TileBuffers) {
+    rasterize_tile(tris, index, rect, buf);
+}
+
+/// # Safety
+/// The CPU must support AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline(never)]
+unsafe fn rasterize_tile_avx2(tris: &Binned, index: usize, rect: TileRect, buf: &mut TileBuffers) {
+    rasterize_tile(tris, index, rect, buf);
+}
+
 /// [`rasterize_tile`] with every pixel's sample point moved from the centre by `offset`
 /// (fixed-point units): one sample position of a multi-sample tile.
 #[inline(always)]
