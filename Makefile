@@ -10,7 +10,7 @@ DEPS := $(VENV)/.deps-stamp
 BENCH_ENV := OPENBLAS_NUM_THREADS=1 PYTHONPATH=$(CURDIR)
 ENVS := VIRTUAL_ENV=$(abspath $(VENV)) PATH="$(abspath $(VENV))/bin:$$PATH"
 
-.PHONY: help demo test lint build bench bench-aa bench-auto bench-batch bench-threads bench-shadows bench-textures bench-reflect bench-cold bench-peers docs-images wheel wheel-check clean fuzz
+.PHONY: help demo test test-bins lint build bench bench-aa bench-auto bench-batch bench-threads bench-shadows bench-textures bench-reflect bench-cold bench-peers docs-images wheel wheel-check clean fuzz
 
 help:  ## list targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
@@ -37,17 +37,28 @@ build: $(DEPS)  ## build the extension (release) into .venv
 demo: $(BUILT)  ## render the built-in demo scene to demo.png (builds only when a source changed)
 	$(PY) -m shadelab_rs demo -o demo.png
 
+# Clippy and the test binaries build in a target directory of their own: cargo locks a
+# target directory for a whole build, and the release build of the extension (one codegen
+# unit, thin LTO) keeps one core busy for minutes, so `make test` builds the tests and runs
+# clippy on the other core meanwhile.
+TEST_TARGET := target/tests
+
 lint: $(DEPS)  ## rustfmt, clippy (warnings are errors), ruff
 	cargo fmt --all -- --check
-	PYO3_PYTHON=$(abspath $(PY)) cargo clippy --workspace --all-targets --features shadelab-raster/fuzzing -- -D warnings
+	CARGO_TARGET_DIR=$(TEST_TARGET) PYO3_PYTHON=$(abspath $(PY)) cargo clippy --workspace --all-targets --features shadelab-raster/fuzzing -- -D warnings
 	$(VENV)/bin/ruff check python tests bench shadelab_ref docs/lighting docs/first_minutes docs/antialiasing docs/edges docs/reflect docs/textures examples
 	$(VENV)/bin/ruff format --check python tests bench shadelab_ref docs/lighting docs/first_minutes docs/antialiasing docs/edges docs/reflect docs/textures examples
 
-test: lint build  ## lint, stub check, cargo test, pytest
+test: $(DEPS)  ## lint, stub check, cargo test, pytest
+	$(MAKE) --no-print-directory -j2 build test-bins lint
 	$(PY) -m mypy.stubtest shadelab_rs._core
 	$(PY) -m mypy python/shadelab_rs
-	cargo test --features fuzzing
+	CARGO_TARGET_DIR=$(TEST_TARGET) cargo test --features fuzzing
 	$(PY) -m pytest -q
+
+# The Rust test binaries, built beside the extension (see TEST_TARGET).
+test-bins: $(DEPS)
+	CARGO_TARGET_DIR=$(TEST_TARGET) cargo test --features fuzzing --no-run
 
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS := obj_loader pipeline
