@@ -68,11 +68,17 @@ fn row_span(e: [i64; 3], step: [i64; 3], width: i64) -> Option<(usize, usize)> {
 #[inline(always)]
 pub(crate) fn rasterize_tile(tris: &Binned, index: usize, rect: TileRect, buf: &mut TileBuffers) {
     buf.clear();
+    rasterize_into(tris, index, rect, buf);
+}
+
+/// The triangles binned to tile `index` (in submission order) into `sink`.
+#[inline(always)]
+fn rasterize_into(tris: &Binned, index: usize, rect: TileRect, sink: &mut impl SpanSink) {
     // A chunk at a time: through `Binned::tile`'s flattened iterator, each triangle cost an
     // out-of-line `FlatMap::next` call (about 20 M instructions a frame of the 998k-triangle
     // sphere).
     for (c, chunk) in tris.chunks.iter().enumerate() {
-        for_each_span(chunk.tile(c, index), rect, buf);
+        for_each_span(chunk.tile(c, index), rect, sink);
     }
 }
 
@@ -108,10 +114,7 @@ fn rasterize_tile_baseline(tris: &Binned, index: usize, rect: TileRect, buf: &mu
 #[inline(never)]
 unsafe fn rasterize_tile_avx2(tris: &Binned, index: usize, rect: TileRect, buf: &mut TileBuffers) {
     buf.clear();
-    let mut sink = WideBuffers(buf);
-    for (c, chunk) in tris.chunks.iter().enumerate() {
-        for_each_span(chunk.tile(c, index), rect, &mut sink);
-    }
+    rasterize_into(tris, index, rect, &mut WideBuffers(buf));
 }
 
 /// [`rasterize_tile`] with every pixel's sample point moved from the centre by `offset`
