@@ -223,18 +223,22 @@ class Ours:
 
 
 class Peer:
-    """llvmpipe on the scene last given to :meth:`LlvmpipeRenderer.set_scene`."""
+    """llvmpipe on the scene last given to :meth:`LlvmpipeRenderer.set_scene`; ``cull``:
+    with ``GL_CULL_FACE`` (back faces culled)."""
 
-    def __init__(self, gl):
+    def __init__(self, gl, cull: bool = False):
         self.gl = gl
+        self.cull = cull
 
     def frame(self, mode: str, w: int, h: int, timing: Timing) -> np.ndarray:
+        self.gl.cull_back = self.cull
         t0 = time.perf_counter()
         img = self.gl.render(mode, w, h)
         timing.add((time.perf_counter() - t0) * 1e3)
         return img
 
     def linear(self, mode: str, w: int, h: int) -> tuple[np.ndarray, np.ndarray]:
+        self.gl.cull_back = self.cull
         return self.gl.render_linear(mode, w, h)
 
 

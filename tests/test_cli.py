@@ -101,6 +101,7 @@ def test_render_options(tmp_path):
         "--threads",
         "1",
         "--cull-backfaces",
+        "--draw-hidden",
         "--light",
         "0,-1,0",
         "--light=-1,0,0",  # a leading "-" needs "=" (argparse)

@@ -135,7 +135,10 @@ def test_render_frame(sphere_scene, camera):
     assert timings >= STATS_TIMINGS
     assert stats["triangles_in"] == sphere_scene.n_triangles
     assert 0 < stats["triangles_setup"] <= stats["triangles_in"]
-    assert stats["triangles_clipped"] == stats["triangles_culled"] == 0
+    assert stats["triangles_clipped"] == 0
+    # The sphere is a closed solid seen from outside: its hidden back faces are skipped.
+    assert 0 < stats["triangles_culled"] < stats["triangles_in"]
+    assert stats["triangles_setup"] + stats["triangles_culled"] <= stats["triangles_in"]
     assert stats["triangles_dropped"] == 0
     assert stats["light_sources"] == sphere_scene.n_lights
     for k in STATS_COUNTERS:
@@ -191,11 +194,32 @@ def test_culling_a_closed_mesh_changes_nothing(sphere_scene, camera, shading):
     """Front faces of a closed convex mesh tile its silhouette exactly (watertight fill rule),
     so culling the back faces hidden behind them gives the same image, pixel for pixel."""
     kw = dict(width=96, height=80, shading=shading, dtype="float32", return_depth=True)
-    drawn = sl.render_frame(sphere_scene, camera, **kw)
+    drawn = sl.render_frame(sphere_scene, camera, cull_hidden=False, **kw)
     culled = sl.render_frame(sphere_scene, camera, cull_backfaces=True, **kw)
-    np.testing.assert_array_equal(culled["image"], drawn["image"])
-    np.testing.assert_array_equal(culled["depth"], drawn["depth"])
-    assert culled["stats"]["triangles_culled"] > 0.3 * sphere_scene.n_triangles
+    hidden = sl.render_frame(sphere_scene, camera, **kw)  # cull_hidden=True, the default
+    for f in (culled, hidden):
+        np.testing.assert_array_equal(f["image"], drawn["image"])
+        np.testing.assert_array_equal(f["depth"], drawn["depth"])
+        assert f["stats"]["triangles_culled"] > 0.3 * sphere_scene.n_triangles
+    assert drawn["stats"]["triangles_culled"] == 0
+
+
+def test_hidden_back_faces_are_drawn_where_they_may_show(camera):
+    """The default skips a solid's back faces only where they cannot show: a sphere wound
+    inward (seen from outside, its back faces are what shows) and an open one keep them."""
+    m = sl.Mesh.uv_sphere(12, 24)
+    inward = sl.Mesh(m.vertices, m.faces[:, ::-1])
+    open_sphere = sl.Mesh(m.vertices, m.faces[1:])
+    for mesh, skipped in ((m, True), (inward, False), (open_sphere, False)):
+        scene = sl.Scene()
+        scene.add(mesh, sl.Material.preset("gold"))
+        scene.add_light(sl.DirectionalLight((-1, -1, -1)))
+        kw = dict(width=64, height=48, dtype="float32")
+        on = sl.render_frame(scene, camera, **kw)
+        off = sl.render_frame(scene, camera, cull_hidden=False, **kw)
+        np.testing.assert_array_equal(on["image"], off["image"])
+        assert (on["stats"]["triangles_culled"] > 0) == skipped
+        assert off["stats"]["triangles_culled"] == 0
 
 
 def test_shading_and_specular_names_case_insensitive(sphere_scene, camera):

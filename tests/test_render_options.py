@@ -45,6 +45,7 @@ def test_defaults_and_round_trip():
         "refractions": None,
         "max_depth": 5,
         "tolerance": None,
+        "cull_hidden": True,
     }
     p = sl.RenderOptions(64, 48, shading="FLAT", specular="blinn-normalized", threads=2)
     assert (p.width, p.height, p.shading, p.specular, p.threads) == (

@@ -622,6 +622,7 @@ ERRORS = [
         "background[2] = inf is not a finite float32",
     ),
     (("render", "cull_backfaces"), "no", "render.cull_backfaces", "expected true or false"),
+    (("render", "cull_hidden"), 1, "render.cull_hidden", "expected true or false"),
     (("render", "threads"), 0, "render.threads", "threads must be between 1 and 256 (or None for"),
     (
         ("render", "threads"),

@@ -170,6 +170,12 @@ class LlvmpipeRenderer:
             "moderngl": moderngl.__version__,
         }
         self.ctx.enable(moderngl.DEPTH_TEST)
+        # The y flip of `set_scene` (row 0 at the top) turns counter-clockwise faces
+        # clockwise in GL's window space, so the front is clockwise there.
+        self.ctx.front_face = "cw"
+        self.cull_back = False
+        """Draw with ``GL_CULL_FACE`` (back faces culled): what a GL program does for a closed
+        mesh, the same work our ``cull_hidden`` skips."""
         self._fbos: dict[tuple[int, int, str, int], tuple] = {}
         self._vaos: dict[str, object] = {}
         self._buffers: list = []
@@ -250,6 +256,10 @@ class LlvmpipeRenderer:
     def _draw(self, mode: str, width: int, height: int, dtype: str, samples: int):
         draw, read = self._fbo(width, height, dtype, samples)
         draw.use()
+        if self.cull_back:
+            self.ctx.enable(self._mgl.CULL_FACE)
+        else:
+            self.ctx.disable(self._mgl.CULL_FACE)
         draw.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
         self._vaos[mode].render(self._mgl.TRIANGLES)
         if read is not draw:

@@ -1128,10 +1128,14 @@ class RenderOptions:
     > 0; default :data:`DEFAULT_TOLERANCE`; only with "auto"), Phong where none is
     (see :func:`explain`); ``specular``: "blinn" (Blinn-Phong), "phong" or "blinn-normalized"
     (case-insensitive). ``background``: linear RGB of empty pixels (default black).
-    ``cull_backfaces``: skip clockwise faces. ``threads``: worker threads, None for all
-    cores; the image is bit-identical for any count. ``gouraud``: "normals" (each vertex lit
-    with its normal, the default) or "face-intensities" (the mean of the flat-lit colours of
-    the faces around the vertex, the lectures' simple method). ``interpolation``:
+    ``cull_backfaces``: skip clockwise faces. ``cull_hidden``: skip the back faces that
+    cannot show (default True): those of an opaque object whose mesh is closed, consistently
+    wound and encloses each piece outward, seen from outside (every vertex beyond the near
+    plane) and not mirrored by its transform; the image is the same. ``threads``: worker
+    threads, None for all cores; the image is bit-identical for any count. ``gouraud``:
+    "normals" (each vertex lit with its normal, the default) or "face-intensities" (the
+    mean of the flat-lit colours of the faces around the vertex, the lectures' simple
+    method). ``interpolation``:
     "perspective" (perspective-correct, the default) or "screen" (affine, the lectures'
     scan-line formulas) for Gouraud colours and Phong normals and positions. ``samples``:
     1 (default) or 2, 4, 8, 16: multi-sample anti-aliasing at the standard D3D/Vulkan
@@ -1174,6 +1178,7 @@ class RenderOptions:
         refractions: _Technique | None = None,
         max_depth: int | None = 5,
         tolerance: float | None = None,
+        cull_hidden: bool = True,
     ) -> RenderOptions: ...
     def __copy__(self) -> RenderOptions: ...
     def __deepcopy__(self, _memo: Any) -> RenderOptions:
@@ -1222,6 +1227,10 @@ class RenderOptions:
     @property
     def cull_backfaces(self) -> bool:
         """Whether clockwise (back) faces are skipped."""
+    @property
+    def cull_hidden(self) -> bool:
+        """Whether the back faces that cannot show (of opaque closed solids seen from
+        outside) are skipped."""
     @property
     def threads(self) -> int | None:
         """Worker threads, or None for all cores."""
@@ -1277,6 +1286,7 @@ class _RenderOptionsArgs(TypedDict, total=False):
     refractions: _Technique | None
     max_depth: int | None
     tolerance: float | None
+    cull_hidden: bool
 
 # One overload per output type; the render options are RenderOptions' arguments.
 @overload

@@ -130,6 +130,13 @@ def _render_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--threads", type=int, default=None, help="worker threads (default: all)")
     p.add_argument("--cull-backfaces", action="store_true", default=None)
     p.add_argument(
+        "--draw-hidden",
+        dest="cull_hidden",
+        action="store_false",
+        default=None,
+        help="draw the back faces of closed solids too (skipped by default: they cannot show)",
+    )
+    p.add_argument(
         "--shadows",
         choices=["off", "map", "exact"],
         default=None,
@@ -246,6 +253,7 @@ def _render(
     )
     flags = {k: getattr(args, k) for k in names}
     flags["cull_backfaces"] = args.cull_backfaces
+    flags["cull_hidden"] = args.cull_hidden
     if args.size is not None:
         flags["width"], flags["height"] = args.size
     given = {k: v for k, v in flags.items() if v is not None}

@@ -327,7 +327,10 @@ def render(
       1.0; see :func:`explain`). ``specular``: "blinn"
       (Blinn-Phong, default), "phong" or "blinn-normalized". ``background``: linear RGB of
       empty pixels, each in [0, 1] for 8-bit output (default black). ``cull_backfaces``:
-      skip triangles facing away from the camera. ``threads``: worker threads, None for
+      skip triangles facing away from the camera. ``cull_hidden``: skip the back faces
+      that cannot show (default True; the image is the same): those of opaque objects
+      whose mesh bounds solids, seen from outside (see the user guide, "Hidden back
+      faces"). ``threads``: worker threads, None for
       all cores; the image is bit-identical for any. ``gouraud``: "normals" (default:
       vertex normals averaged, lit per vertex) or "face-intensities" (the lectures' simple
       method: each vertex takes the mean of its faces' flat-lit colours).

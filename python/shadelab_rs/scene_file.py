@@ -726,6 +726,7 @@ def _render_options(v: Any, where: str) -> dict[str, Any]:
         "interpolation": _string,
         "background": lambda v, w: v if v == "environment" else _numbers(v, w),
         "cull_backfaces": _boolean,
+        "cull_hidden": _boolean,
         "edges": _string,
         "edge_color": _numbers,
         "edge_width": _number,

@@ -196,8 +196,8 @@ impl PyRenderOptions {
                         gouraud="normals", interpolation="perspective", samples=None,
                         supersample=None, edges=None, edge_color=None, edge_width=None,
                         edge_angle=None, edges_only=false, reflections="environment",
-                        refractions=None, max_depth=None, tolerance=None),
-           text_signature = "(width=800, height=600, shading='phong', specular='blinn', background=None, cull_backfaces=False, threads=None, gouraud='normals', interpolation='perspective', samples=1, supersample=1, edges=None, edge_color=(0.0, 0.0, 0.0), edge_width=1.0, edge_angle=30.0, edges_only=False, reflections='environment', refractions=None, max_depth=5, tolerance=None)")]
+                        refractions=None, max_depth=None, tolerance=None, cull_hidden=true),
+           text_signature = "(width=800, height=600, shading='phong', specular='blinn', background=None, cull_backfaces=False, threads=None, gouraud='normals', interpolation='perspective', samples=1, supersample=1, edges=None, edge_color=(0.0, 0.0, 0.0), edge_width=1.0, edge_angle=30.0, edges_only=False, reflections='environment', refractions=None, max_depth=5, tolerance=None, cull_hidden=True)")]
     #[allow(clippy::too_many_arguments)]
     fn new(
         width: Option<&Bound<'_, PyAny>>,
@@ -220,6 +220,7 @@ impl PyRenderOptions {
         refractions: Option<&str>,
         max_depth: Option<&Bound<'_, PyAny>>,
         tolerance: Option<&Bound<'_, PyAny>>,
+        cull_hidden: bool,
     ) -> PyResult<Self> {
         let mut inner =
             core::RenderOptions::new(size(width, 800, "width")?, size(height, 600, "height")?);
@@ -282,6 +283,7 @@ impl PyRenderOptions {
             })?;
         }
         inner.cull_backfaces = cull_backfaces;
+        inner.cull_hidden = cull_hidden;
         inner.threads = threads_arg(threads)?;
         inner.samples = count_arg(samples, "samples", "1, 2, 4, 8 or 16")?;
         let max_ss = core::MAX_SUPERSAMPLE;
@@ -375,6 +377,7 @@ impl PyRenderOptions {
         d.set_item("refractions", self.inner.refractions.map(technique_name))?;
         d.set_item("max_depth", self.inner.max_depth)?;
         d.set_item("tolerance", self.inner.tolerance)?;
+        d.set_item("cull_hidden", self.inner.cull_hidden)?;
         Ok(d)
     }
 
@@ -507,6 +510,13 @@ impl PyRenderOptions {
     #[getter]
     fn cull_backfaces(&self) -> bool {
         self.inner.cull_backfaces
+    }
+
+    /// Whether the back faces that cannot show (of opaque closed solids seen from outside)
+    /// are skipped.
+    #[getter]
+    fn cull_hidden(&self) -> bool {
+        self.inner.cull_hidden
     }
 
     /// Worker threads, or None for all cores.

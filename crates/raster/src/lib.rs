@@ -37,6 +37,7 @@ mod lights;
 mod material;
 mod mesh;
 mod mesh_edges;
+mod mesh_solid;
 mod mtl_maps;
 mod obj;
 mod options;

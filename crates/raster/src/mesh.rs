@@ -27,6 +27,8 @@ pub struct Mesh {
     tangents: OnceLock<Vec<Vec4>>,
     /// Welded vertices and unique edges, computed on first use (lines).
     edges: OnceLock<MeshEdges>,
+    /// Whether the faces bound solids wound outward, computed on first use.
+    solid: OnceLock<bool>,
 }
 
 impl Mesh {
@@ -106,6 +108,7 @@ impl Mesh {
             generated_normals: OnceLock::new(),
             tangents: OnceLock::new(),
             edges: OnceLock::new(),
+            solid: OnceLock::new(),
         })
     }
 
@@ -161,6 +164,15 @@ impl Mesh {
     pub(crate) fn edges(&self) -> &MeshEdges {
         self.edges
             .get_or_init(|| MeshEdges::new(&self.positions, &self.indices))
+    }
+
+    /// Whether the faces are closed, consistently wound and enclose each of their connected
+    /// pieces outward ([`crate::mesh_solid`]): seen from outside, no back face can show.
+    /// Computed on the first call (with [`Mesh::edges`]), then kept.
+    pub(crate) fn bounds_solids(&self) -> bool {
+        *self.solid.get_or_init(|| {
+            crate::mesh_solid::bounds_solids(&self.positions, &self.indices, || self.edges())
+        })
     }
 
     /// The vertex normals given at construction, if any (not those a loader generated).

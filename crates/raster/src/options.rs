@@ -33,6 +33,13 @@ pub struct RenderOptions {
     pub background: Vec3,
     /// Skip triangles that are clockwise on screen.
     pub cull_backfaces: bool,
+    /// Skip the back faces that cannot show (default `true`): those of an object whose mesh
+    /// bounds solids wound outward (closed, consistently wound, each piece enclosing a
+    /// positive volume), opaque, not mirrored by its transform, and lying wholly beyond the
+    /// near plane (so the eye is outside it). The image is that of drawing them (up to
+    /// rounding where a back face ties a front one at the silhouette); `false` draws them,
+    /// for a mesh that passes through itself inside out (see docs/USER_GUIDE.md).
+    pub cull_hidden: bool,
     /// Worker threads; `None` uses every core. Results are identical for any count.
     pub threads: Option<usize>,
     /// How Gouraud finds its vertex colours (ignored by flat and Phong).
@@ -152,7 +159,7 @@ pub const SAMPLE_COUNTS: [u32; 5] = [1, 2, 4, 8, 16];
 pub const MAX_SUPERSAMPLE: u32 = 8;
 
 impl RenderOptions {
-    /// Phong shading, Blinn-Phong specular, black background, no culling, all cores.
+    /// Phong shading, Blinn-Phong specular, black background, no back-face culling (hidden back faces of solids skipped), all cores.
     pub fn new(width: u32, height: u32) -> Self {
         RenderOptions {
             width,
@@ -162,6 +169,7 @@ impl RenderOptions {
             specular: SpecularModel::BlinnPhong,
             background: Vec3::ZERO,
             cull_backfaces: false,
+            cull_hidden: true,
             threads: None,
             gouraud: GouraudMethod::Normals,
             interpolation: Interpolation::Perspective,

@@ -188,7 +188,7 @@ fn fan_of_slivers_is_watertight() {
 fn closed_sphere_is_covered_zero_or_twice() {
     // Seen through a perspective camera, front and back of a closed mesh meet along the
     // silhouette: every pixel is covered by exactly 0 or 2 triangles, and with back-face
-    // culling by 0 or 1.
+    // culling by 0 or 1 (as by default, where the hidden back faces of a solid are skipped).
     let cam = Camera::look_at(
         glam::DVec3::new(0.3, 0.2, 3.0),
         glam::DVec3::ZERO,
@@ -200,11 +200,14 @@ fn closed_sphere_is_covered_zero_or_twice() {
     .unwrap();
     let scene = white_scene(primitives::uv_sphere(160, 320)); // 101 760 triangles
     let mut opts = RenderOptions::new(200, 160);
+    opts.cull_hidden = false;
     let c = coverage_counts(&scene, &cam, &opts).unwrap();
     assert!(c.iter().all(|&v| v == 0 || v == 2));
     let inside = c.iter().filter(|&&v| v == 2).count();
     assert!(inside > 5000);
+    let hidden_skipped = coverage_counts(&scene, &cam, &RenderOptions::new(200, 160)).unwrap();
     opts.cull_backfaces = true;
     let c1 = coverage_counts(&scene, &cam, &opts).unwrap();
     assert!(c1.iter().zip(&c).all(|(&a, &b)| a * 2 == b));
+    assert_eq!(hidden_skipped, c1);
 }

@@ -10,6 +10,9 @@ use glam::{DVec4, Vec4};
 /// How far beyond the image border (in pixels) vertices are kept unclipped.
 pub(crate) const GUARD_PX: f64 = 16384.0;
 
+/// Outcode bit of a vertex in front of the near plane (nearer the eye than it, or behind it).
+pub(crate) const NEAR: u8 = 1;
+
 /// The six clip planes as `dot(plane, p) >= 0` tests, plus the guard-band extents.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct ClipPlanes {

@@ -9,6 +9,7 @@
 
 pub(crate) mod bin;
 pub(crate) mod clip;
+mod cull;
 pub(crate) mod isa;
 mod lines;
 mod passes;
@@ -80,6 +81,8 @@ struct PrimitiveContext<'a> {
     planes: ClipPlanes,
     options: &'a RenderOptions,
     tiles: (usize, usize),
+    /// Per object: whether setup skips its back faces ([`cull`]).
+    cull: Vec<bool>,
 }
 
 impl PrimitiveContext<'_> {
@@ -102,7 +105,7 @@ impl PrimitiveContext<'_> {
         let params = SetupParams {
             object,
             size: (w, h),
-            cull: self.options.cull_backfaces,
+            cull: self.cull[object as usize],
             margin: samples::margin(self.options.samples),
         };
         for idx in indices {
@@ -412,11 +415,23 @@ pub(crate) fn prepare(
         }
         first_vertex += obj.mesh().positions().len() as u32;
     }
+    let mut first = 0;
+    let cull = scene
+        .objects()
+        .iter()
+        .map(|o| {
+            let n = o.mesh().positions().len();
+            let codes = &verts.outcode[first..first + n];
+            first += n;
+            cull::skips_back_faces(o, codes, options, two_sided)
+        })
+        .collect();
     let ctx = PrimitiveContext {
         verts: &verts,
         planes,
         options,
         tiles: tiles::tile_counts(w, h),
+        cull,
     };
     // Each object's mode: the render's, or its own (`shading="auto"` mixing modes).
     let mode_of = |object: u32| modes.map_or(options.shading, |m| m[object as usize]);

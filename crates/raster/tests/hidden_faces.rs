@@ -1,0 +1,169 @@
+//! Hidden back faces (`RenderOptions::cull_hidden`): skipped exactly where they cannot show,
+//! with the same image as drawing them; drawn wherever they might show.
+
+use std::sync::Arc;
+
+use glam::{DVec3, Mat4, Vec3};
+use shadelab_raster::*;
+
+const W: u32 = 160;
+const H: u32 = 120;
+
+fn camera(eye: DVec3, target: DVec3, near: f64) -> Camera {
+    Camera::look_at(eye, target, DVec3::Y, 50.0, near, 100.0).unwrap()
+}
+
+fn outside() -> Camera {
+    camera(DVec3::new(0.4, 0.7, 3.2), DVec3::ZERO, 0.1)
+}
+
+fn scene_of(objects: Vec<(Mesh, Material, Mat4)>, shadows: bool) -> Scene {
+    let mut scene = Scene::new(Vec3::splat(0.2)).unwrap();
+    for (mesh, material, transform) in objects {
+        scene.add(Arc::new(mesh), material, transform).unwrap();
+    }
+    let sun = DirectionalLight::new(Vec3::new(-1.0, -2.0, -1.5), Vec3::ONE, 1.0).unwrap();
+    let sun = if shadows {
+        sun.with_shadows(Shadows::Map(ShadowSettings::default()))
+    } else {
+        sun
+    };
+    scene.add_light(sun);
+    scene.add_light(PointLight::new(Vec3::new(2.0, 3.0, 4.0), Vec3::splat(0.5), 1.0).unwrap());
+    scene
+}
+
+fn sphere(material: &str, transform: Mat4) -> (Mesh, Material, Mat4) {
+    (
+        primitives::uv_sphere(24, 48),
+        Material::preset(material).unwrap(),
+        transform,
+    )
+}
+
+/// The render's colour and depth bits and its culled-triangle count, with `cull_hidden` on
+/// or off.
+fn frame(scene: &Scene, camera: &Camera, mode: ShadingMode, hidden: bool) -> (Vec<u32>, usize) {
+    let mut options = RenderOptions::new(W, H);
+    options.shading = mode;
+    options.cull_hidden = hidden;
+    let f = render(scene, camera, &options, ColorFormat::F32, true).unwrap();
+    let ColorBuffer::F32(c) = &f.color else {
+        panic!("f32 colour asked for")
+    };
+    let bits = c
+        .iter()
+        .chain(f.depth.as_ref().unwrap())
+        .map(|v| v.to_bits())
+        .collect();
+    (bits, f.stats.triangles_culled)
+}
+
+/// Skipped or not, the picture is the same; returns the culled counts (on, off).
+fn same_picture(scene: &Scene, camera: &Camera) -> (usize, usize) {
+    let mut counts = (0, 0);
+    for mode in [ShadingMode::Flat, ShadingMode::Gouraud, ShadingMode::Phong] {
+        let (on, culled_on) = frame(scene, camera, mode, true);
+        let (off, culled_off) = frame(scene, camera, mode, false);
+        let differ = on.iter().zip(&off).filter(|(a, b)| a != b).count();
+        assert_eq!(differ, 0, "{mode:?}: {differ} values differ");
+        counts = (culled_on, culled_off);
+    }
+    counts
+}
+
+#[test]
+fn solids_seen_from_outside_skip_their_back_faces() {
+    let triangles = primitives::uv_sphere(24, 48).triangle_count();
+    let scene = scene_of(
+        vec![
+            sphere("gold", Mat4::IDENTITY),
+            sphere(
+                "jade",
+                Mat4::from_translation(Vec3::new(-1.2, -0.3, -1.5))
+                    * Mat4::from_scale(Vec3::splat(0.7)),
+            ),
+            (
+                primitives::cube(),
+                Material::preset("ruby").unwrap(),
+                Mat4::from_translation(Vec3::new(1.3, 0.0, -0.5)),
+            ),
+        ],
+        false,
+    );
+    let (on, off) = same_picture(&scene, &outside());
+    assert_eq!(off, 0);
+    // About half of each solid faces away.
+    assert!(
+        on > triangles * 2 * 4 / 10,
+        "{on} of {}",
+        triangles * 2 + 12
+    );
+}
+
+#[test]
+fn shadow_maps_are_unchanged() {
+    let scene = scene_of(
+        vec![
+            sphere("gold", Mat4::IDENTITY),
+            (
+                primitives::plane(),
+                Material::preset("white plastic").unwrap(),
+                Mat4::from_translation(Vec3::new(0.0, -1.2, 0.0))
+                    * Mat4::from_scale(Vec3::splat(4.0)),
+            ),
+        ],
+        true,
+    );
+    let (on, off) = same_picture(&scene, &outside());
+    assert!(on > 0 && off == 0);
+}
+
+#[test]
+fn back_faces_that_may_show_are_drawn() {
+    let culled_on = |objects: Vec<(Mesh, Material, Mat4)>, camera: &Camera| {
+        let scene = scene_of(objects, false);
+        let (on, off) = same_picture(&scene, camera);
+        assert_eq!(off, 0);
+        on
+    };
+    // The eye inside the sphere (it sees the inside, all back faces).
+    let inside = camera(DVec3::new(0.1, 0.0, 0.2), DVec3::new(0.0, 0.0, -1.0), 0.05);
+    assert_eq!(culled_on(vec![sphere("gold", Mat4::IDENTITY)], &inside), 0);
+    // The near plane cuts into it.
+    let cutting = camera(DVec3::new(0.0, 0.0, 1.05), DVec3::ZERO, 0.1);
+    assert_eq!(culled_on(vec![sphere("gold", Mat4::IDENTITY)], &cutting), 0);
+    // Mirrored by its transform: its outward faces turn clockwise on screen.
+    let mirror = Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0));
+    assert_eq!(culled_on(vec![sphere("gold", mirror)], &outside()), 0);
+    // Transparent: the far side shows through.
+    let mut glass = Material::preset("gold").unwrap();
+    glass.transparency = 0.5;
+    let glassy = (primitives::uv_sphere(24, 48), glass, Mat4::IDENTITY);
+    assert_eq!(culled_on(vec![glassy], &outside()), 0);
+    // Open: a sphere with a face missing shows its inside through the hole.
+    let s = primitives::uv_sphere(24, 48);
+    let mut faces = s.indices().to_vec();
+    faces.remove(faces.len() / 2);
+    let open = Mesh::new(s.positions().to_vec(), faces, None, None).unwrap();
+    let m = Material::preset("gold").unwrap();
+    assert_eq!(
+        culled_on(vec![(open, m, Mat4::IDENTITY)], &outside()),
+        0
+    );
+    // Wound inward: seen from outside, its back faces are what shows.
+    let inward: Vec<[u32; 3]> = s.indices().iter().map(|t| [t[0], t[2], t[1]]).collect();
+    let inward = Mesh::new(s.positions().to_vec(), inward, None, None).unwrap();
+    assert_eq!(culled_on(vec![(inward, m, Mat4::IDENTITY)], &outside()), 0);
+}
+
+#[test]
+fn an_explicit_cull_still_culls_everything_clockwise() {
+    let scene = scene_of(vec![sphere("gold", Mat4::IDENTITY)], false);
+    let inside = camera(DVec3::new(0.1, 0.0, 0.2), DVec3::new(0.0, 0.0, -1.0), 0.05);
+    let mut options = RenderOptions::new(W, H);
+    options.cull_backfaces = true;
+    let f = render(&scene, &inside, &options, ColorFormat::U8, false).unwrap();
+    assert!(f.stats.triangles_culled > 0);
+    assert_eq!(f.stats.triangles_setup, 0);
+}
