@@ -147,10 +147,7 @@ fn back_faces_that_may_show_are_drawn() {
     faces.remove(faces.len() / 2);
     let open = Mesh::new(s.positions().to_vec(), faces, None, None).unwrap();
     let m = Material::preset("gold").unwrap();
-    assert_eq!(
-        culled_on(vec![(open, m, Mat4::IDENTITY)], &outside()),
-        0
-    );
+    assert_eq!(culled_on(vec![(open, m, Mat4::IDENTITY)], &outside()), 0);
     // Wound inward: seen from outside, its back faces are what shows.
     let inward: Vec<[u32; 3]> = s.indices().iter().map(|t| [t[0], t[2], t[1]]).collect();
     let inward = Mesh::new(s.positions().to_vec(), inward, None, None).unwrap();

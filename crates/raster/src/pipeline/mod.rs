@@ -492,15 +492,19 @@ pub(crate) fn prepare(
         let keep =
             phong_too || options.edges != EdgeMode::None || SecondaryEffect::wanted(scene, options);
         match options.gouraud {
-            GouraudMethod::Normals => prelight::light_vertices(
-                scene,
-                &mut verts,
-                &materials,
-                eye,
-                shadows.as_ref(),
-                keep,
-                wide,
-            ),
+            GouraudMethod::Normals => {
+                let used = used_vertices(&outs, &verts.blends, total_vertices);
+                prelight::light_vertices(
+                    scene,
+                    &mut verts,
+                    &materials,
+                    eye,
+                    shadows.as_ref(),
+                    keep,
+                    wide,
+                    &used,
+                )
+            }
             GouraudMethod::FaceIntensities => prelight::light_vertices_by_faces(
                 scene,
                 &mut verts,
@@ -528,6 +532,29 @@ pub(crate) fn prepare(
         stats,
         t_start: t_setup,
     })
+}
+
+/// Which of the `total` transformed vertices the set-up triangles use, directly or through
+/// a clip-made vertex's blend (Gouraud lights only those).
+fn used_vertices(outs: &[ChunkOut], blends: &[([u32; 3], [f32; 3])], total: usize) -> Vec<bool> {
+    use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
+    let used: Vec<AtomicBool> = (0..total).map(|_| AtomicBool::new(false)).collect();
+    // Stores of `true` only: the result is the same whatever the order.
+    outs.par_iter().for_each(|o| {
+        for t in &o.chunk.tris {
+            for &v in &t.v {
+                if let Some(u) = used.get(v as usize) {
+                    u.store(true, Relaxed);
+                }
+            }
+        }
+    });
+    for (from, _) in blends {
+        for &v in from {
+            used[v as usize].store(true, Relaxed);
+        }
+    }
+    used.into_iter().map(AtomicBool::into_inner).collect()
 }
 
 /// Largest colour value the lighting of a scene may reach. Far below `f32::MAX`

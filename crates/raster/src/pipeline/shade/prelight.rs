@@ -101,6 +101,12 @@ impl VertexLanes<'_> {
 /// (the tile stage interpolates colours only) unless `keep_geometry` (a later stage reads
 /// them: lines, reflections and transparency). `wide`: the CPU has AVX2 and FMA (the
 /// lighting runs in their lanes, with the same bits).
+///
+/// Only the vertices in `used` (indexed like the transformed vertices) are lit, eight lanes
+/// at a time: a group of lanes none of which is used is skipped and its colours left at
+/// zero, which no drawn triangle reads (culled back faces and triangles covering no pixel
+/// centre leave many vertices unused; each lit one gets the same bits either way).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn light_vertices(
     scene: &Scene,
     verts: &mut Vertices,
@@ -109,6 +115,7 @@ pub(crate) fn light_vertices(
     shadows: Option<&ShadowEffect>,
     keep_geometry: bool,
     wide: bool,
+    used: &[bool],
 ) {
     #[cfg(not(target_arch = "x86_64"))]
     let _ = wide;
@@ -124,6 +131,7 @@ pub(crate) fn light_vertices(
         );
         // Each work item writes its lanes' colours straight into its slice of the output (a
         // flat-mapped iterator of single colours paid an iterator step per vertex).
+        let used = &used[first..first + n];
         let light = |flip: f32, out: &mut Vec<Vec3>| {
             let surface = if flip > 0.0 { front } else { back };
             let start = out.len();
@@ -132,8 +140,12 @@ pub(crate) fn light_vertices(
                 .par_chunks_mut(LANES)
                 .zip(pos.par_chunks(LANES))
                 .zip(normals.par_chunks(LANES))
+                .zip(used.par_chunks(LANES))
                 .with_min_len(CHUNK / LANES)
-                .for_each(|((o, p), n)| {
+                .for_each(|(((o, p), n), u)| {
+                    if !u.contains(&true) {
+                        return;
+                    }
                     let lanes = VertexLanes {
                         surface,
                         shadows,
