@@ -15,11 +15,12 @@
 //! option exists to turn the skipping off for it.
 
 use glam::{DVec3, Vec3};
+use rayon::prelude::*;
 
 use crate::mesh_edges::MeshEdges;
 
 /// Whether `faces` over `positions` are closed, consistently wound, and each connected
-/// piece encloses a positive volume. The mesh's own indices are tried first (a few tens of
+/// piece encloses a positive volume. The mesh's own indices are tried first (tens of
 /// nanoseconds per face); only a mesh open by its indices is welded by position (`welded`,
 /// the mesh's [`MeshEdges`]: an OBJ's vertices split along UV seams close up there).
 pub(crate) fn bounds_solids<'a>(
@@ -27,71 +28,131 @@ pub(crate) fn bounds_solids<'a>(
     faces: &[[u32; 3]],
     welded: impl FnOnce() -> &'a MeshEdges,
 ) -> bool {
-    if closed_by_indices(positions.len(), faces) {
-        return outward(positions, faces, |i| i);
+    let outgoing = Outgoing::new(positions.len(), faces);
+    if outgoing.closed() {
+        let (piece, pieces) = outgoing.pieces();
+        let proper = faces.iter().filter(|f| distinct(f));
+        return positive_volumes(
+            positions,
+            proper.map(|f| (f, piece[f[0] as usize] as usize)),
+            pieces,
+        );
     }
-    let edges = welded();
-    !edges.edges.is_empty()
-        && edges.edges.iter().all(|e| e.count == 2 && e.consistent)
-        && outward(positions, faces, |i| edges.weld[i as usize])
+    welded_solids(positions, faces, welded())
 }
 
-/// Whether every edge of the faces (those with three distinct indices) is walked exactly
-/// once in each direction: each directed edge `a → b` once, and `b → a` once. The directed
-/// edges are listed per start vertex (a counting sort), so each check scans one vertex's
-/// few neighbours.
-fn closed_by_indices(vertices: usize, faces: &[[u32; 3]]) -> bool {
-    let proper = |f: &[u32; 3]| f[0] != f[1] && f[1] != f[2] && f[0] != f[2];
-    let mut start = vec![0u32; vertices + 1];
-    for f in faces.iter().filter(|f| proper(f)) {
-        for &a in f {
-            start[a as usize + 1] += 1;
-        }
-    }
-    for k in 0..vertices {
-        start[k + 1] += start[k];
-    }
-    if start[vertices] == 0 {
+/// [`bounds_solids`] of the mesh welded by position.
+fn welded_solids(positions: &[Vec3], faces: &[[u32; 3]], edges: &MeshEdges) -> bool {
+    if edges.edges.is_empty() || !edges.edges.iter().all(|e| e.count == 2 && e.consistent) {
         return false;
     }
-    let mut fill = start.clone();
-    let mut to = vec![0u32; start[vertices] as usize];
-    for f in faces.iter().filter(|f| proper(f)) {
-        for k in 0..3 {
-            let a = f[k] as usize;
-            to[fill[a] as usize] = f[(k + 1) % 3];
-            fill[a] += 1;
+    // Pieces of the welded mesh: union–find along its edges, numbered by their roots.
+    let mut parent: Vec<u32> = (0..positions.len() as u32).collect();
+    for e in &edges.edges {
+        let (a, b) = (root(&mut parent, e.ends[0]), root(&mut parent, e.ends[1]));
+        if a != b {
+            parent[a.max(b) as usize] = a.min(b);
         }
     }
-    let out = |a: u32| &to[start[a as usize] as usize..start[a as usize + 1] as usize];
-    (0..vertices as u32).all(|a| {
-        let mine = out(a);
-        mine.iter()
-            .enumerate()
-            .all(|(k, &b)| !mine[..k].contains(&b) && out(b).contains(&a))
-    })
+    let weld = |f: &[u32; 3]| f.map(|i| edges.weld[i as usize]);
+    let mut with_piece = Vec::new();
+    for f in faces.iter().filter(|f| distinct(&weld(f))) {
+        with_piece.push((f, root(&mut parent, weld(f)[0]) as usize));
+    }
+    positive_volumes(positions, with_piece.into_iter(), positions.len())
 }
 
-/// Whether every connected piece of the faces (vertices identified by `weld`) encloses a
-/// positive signed volume.
-fn outward(positions: &[Vec3], faces: &[[u32; 3]], weld: impl Fn(u32) -> u32) -> bool {
-    let n = positions.len();
-    let faces = || {
-        faces.iter().filter_map(|f| {
-            let w = f.map(&weld);
-            (w[0] != w[1] && w[1] != w[2] && w[0] != w[2]).then_some((f, w))
-        })
-    };
-    // Connected pieces: union–find over the welded vertex ids.
-    let mut parent: Vec<u32> = (0..n as u32).collect();
-    for (_, w) in faces() {
-        for b in [w[1], w[2]] {
-            let (ra, rb) = (root(&mut parent, w[0]), root(&mut parent, b));
-            if ra != rb {
-                parent[ra.max(rb) as usize] = ra.min(rb);
+/// A face's three vertex ids differ (otherwise it has no area and no edge of the surface).
+fn distinct(f: &[u32; 3]) -> bool {
+    f[0] != f[1] && f[1] != f[2] && f[0] != f[2]
+}
+
+/// The directed edges `a → b` of the faces (those with three distinct indices), listed by
+/// start vertex (a counting sort): the ends of the edges leaving `a` are
+/// `to[start[a]..start[a + 1]]`.
+struct Outgoing {
+    start: Vec<u32>,
+    to: Vec<u32>,
+}
+
+impl Outgoing {
+    fn new(vertices: usize, faces: &[[u32; 3]]) -> Self {
+        let mut start = vec![0u32; vertices + 1];
+        for f in faces.iter().filter(|f| distinct(f)) {
+            for &a in f {
+                start[a as usize + 1] += 1;
             }
         }
+        for k in 0..vertices {
+            start[k + 1] += start[k];
+        }
+        let mut fill = start.clone();
+        let mut to = vec![0u32; start[vertices] as usize];
+        for f in faces.iter().filter(|f| distinct(f)) {
+            for (a, b) in [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])] {
+                to[fill[a as usize] as usize] = b;
+                fill[a as usize] += 1;
+            }
+        }
+        Outgoing { start, to }
     }
+
+    fn of(&self, a: u32) -> &[u32] {
+        &self.to[self.start[a as usize] as usize..self.start[a as usize + 1] as usize]
+    }
+
+    /// Every edge walked exactly once in each direction: no directed edge twice, and each
+    /// one's reverse present (once, since none is there twice). Each check scans one
+    /// vertex's few neighbours.
+    fn closed(&self) -> bool {
+        !self.to.is_empty()
+            && (0..self.start.len() as u32 - 1)
+                .into_par_iter()
+                .with_min_len(1 << 14)
+                .all(|a| {
+                    let mine = self.of(a);
+                    (0..mine.len()).all(|k| {
+                        let b = mine[k];
+                        !mine[..k].contains(&b) && self.of(b).contains(&a)
+                    })
+                })
+    }
+
+    /// A piece number per vertex (connected through the edges; a closed mesh lists each
+    /// edge from both ends, so the outgoing ones reach every neighbour) and their count.
+    /// Vertices on no face get no meaningful number (no face asks for theirs).
+    fn pieces(&self) -> (Vec<u32>, usize) {
+        let n = self.start.len() - 1;
+        let mut piece = vec![u32::MAX; n];
+        let mut count = 0u32;
+        let mut stack = Vec::new();
+        for seed in 0..n as u32 {
+            if piece[seed as usize] != u32::MAX || self.of(seed).is_empty() {
+                continue;
+            }
+            piece[seed as usize] = count;
+            stack.push(seed);
+            while let Some(a) = stack.pop() {
+                for &b in self.of(a) {
+                    if piece[b as usize] == u32::MAX {
+                        piece[b as usize] = count;
+                        stack.push(b);
+                    }
+                }
+            }
+            count += 1;
+        }
+        (piece, count as usize)
+    }
+}
+
+/// Whether every piece (numbered below `pieces`) with faces encloses a positive signed volume
+/// (`faces`: each proper face with its piece).
+fn positive_volumes<'a>(
+    positions: &[Vec3],
+    faces: impl Iterator<Item = (&'a [u32; 3], usize)>,
+    pieces: usize,
+) -> bool {
     // Signed volume (six times it) per piece, about the centre of the bounding box so that
     // a model far from the origin does not lose its volume to cancellation; `scale` sums
     // the terms' magnitudes, to tell a volume from rounding.
@@ -100,20 +161,19 @@ fn outward(positions: &[Vec3], faces: &[[u32; 3]], weld: impl Fn(u32) -> u32) ->
         |(lo, hi), p| (lo.min(*p), hi.max(*p)),
     );
     let centre = (lo.as_dvec3() + hi.as_dvec3()) * 0.5;
-    let mut volume = vec![0.0f64; n];
-    let mut scale = vec![0.0f64; n];
-    let mut has_faces = vec![false; n];
-    for (f, w) in faces() {
+    let mut volume = vec![0.0f64; pieces];
+    let mut scale = vec![0.0f64; pieces];
+    let mut has_faces = vec![false; pieces];
+    for (f, r) in faces {
         let p: [DVec3; 3] = f.map(|i| positions[i as usize].as_dvec3() - centre);
         let det = p[0].dot(p[1].cross(p[2]));
-        let r = root(&mut parent, w[0]) as usize;
         volume[r] += det;
         scale[r] += det.abs();
         has_faces[r] = true;
     }
     // Every piece with faces encloses a volume well above the terms' rounding (~1e-16 of
     // their sum; a flat, two-layered piece encloses none and is refused).
-    (0..n).all(|r| !has_faces[r] || volume[r] > 1e-9 * scale[r].max(f64::MIN_POSITIVE))
+    (0..pieces).all(|r| !has_faces[r] || volume[r] > 1e-9 * scale[r].max(f64::MIN_POSITIVE))
 }
 
 /// The representative of `x`'s set, halving the path on the way.
@@ -133,14 +193,12 @@ mod tests {
 
     fn solid(positions: &[Vec3], faces: &[[u32; 3]]) -> bool {
         let edges = MeshEdges::new(positions, faces);
-        let by_weld = bounds_solids(positions, faces, || &edges);
+        let by_indices = bounds_solids(positions, faces, || &edges);
         // The welded test alone agrees wherever the indices close the mesh.
-        if closed_by_indices(positions.len(), faces) {
-            let welded = edges.edges.iter().all(|e| e.count == 2 && e.consistent)
-                && outward(positions, faces, |i| edges.weld[i as usize]);
-            assert_eq!(welded, by_weld);
+        if Outgoing::new(positions.len(), faces).closed() {
+            assert_eq!(welded_solids(positions, faces, &edges), by_indices);
         }
-        by_weld
+        by_indices
     }
 
     fn cube() -> (Vec<Vec3>, Vec<[u32; 3]>) {
