@@ -164,3 +164,35 @@ fn an_explicit_cull_still_culls_everything_clockwise() {
     assert!(f.stats.triangles_culled > 0);
     assert_eq!(f.stats.triangles_setup, 0);
 }
+
+/// The documented exception: a closed, outward-wound mesh that passes through itself so that
+/// part of it is turned inside out shows back faces from outside, which `cull_hidden` then
+/// skips; `false` draws them. Here a sphere's north cap is pushed down through the sphere
+/// and out below it (`y → c − k·y` reverses the cap's orientation), and seen from below the
+/// emerging cap shows its back faces.
+#[test]
+fn a_mesh_turned_inside_out_through_itself_needs_cull_hidden_off() {
+    let s = primitives::uv_sphere(24, 48);
+    let pushed: Vec<Vec3> = s
+        .positions()
+        .iter()
+        .map(|p| {
+            if p.y > 0.5 {
+                Vec3::new(p.x, 0.5 - 4.0 * (p.y - 0.5), p.z)
+            } else {
+                *p
+            }
+        })
+        .collect();
+    let mesh = Mesh::new(pushed, s.indices().to_vec(), None, None).unwrap();
+    let scene = scene_of(
+        vec![(mesh, Material::preset("gold").unwrap(), Mat4::IDENTITY)],
+        false,
+    );
+    let below = camera(DVec3::new(0.2, -5.0, 0.3), DVec3::ZERO, 0.1);
+    let (on, culled_on) = frame(&scene, &below, ShadingMode::Phong, true);
+    let (off, culled_off) = frame(&scene, &below, ShadingMode::Phong, false);
+    assert!(culled_on > 0 && culled_off == 0);
+    let differ = on.iter().zip(&off).filter(|(a, b)| a != b).count();
+    assert!(differ > 100, "{differ} values differ");
+}
