@@ -168,11 +168,11 @@ impl Mesh {
 
     /// Whether the faces are closed, consistently wound and enclose each of their connected
     /// pieces outward ([`crate::mesh_solid`]): seen from outside, no back face can show.
-    /// Computed on the first call (with [`Mesh::edges`]), then kept.
+    /// Computed on the first call, then kept.
     pub(crate) fn bounds_solids(&self) -> bool {
-        *self.solid.get_or_init(|| {
-            crate::mesh_solid::bounds_solids(&self.positions, &self.indices, || self.edges())
-        })
+        *self
+            .solid
+            .get_or_init(|| crate::mesh_solid::bounds_solids(&self.positions, &self.indices))
     }
 
     /// The vertex normals given at construction, if any (not those a loader generated).

@@ -34,8 +34,8 @@ pub(crate) struct MeshEdges {
     pub edges: Vec<MeshEdge>,
 }
 
-/// Position bits with −0 made +0, so the two zeros weld.
-fn key(p: Vec3) -> [u32; 3] {
+/// Position bits with −0 made +0, so the two zeros weld (vertices weld where these agree).
+pub(crate) fn position_key(p: Vec3) -> [u32; 3] {
     (p + Vec3::ZERO).to_array().map(f32::to_bits)
 }
 
@@ -46,7 +46,7 @@ impl MeshEdges {
         let weld: Vec<u32> = positions
             .iter()
             .enumerate()
-            .map(|(k, p)| *ids.entry(key(*p)).or_insert(k as u32))
+            .map(|(k, p)| *ids.entry(position_key(*p)).or_insert(k as u32))
             .collect();
         // (lower welded id, higher, face, slot): one entry per face side; sorted, the sides
         // of one edge are adjacent, faces in order.

@@ -17,49 +17,49 @@
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
-use crate::mesh_edges::MeshEdges;
+use crate::mesh_edges::position_key;
 
 /// Whether `faces` over `positions` are closed, consistently wound, and each connected
 /// piece encloses a positive volume. The mesh's own indices are tried first (tens of
-/// nanoseconds per face); only a mesh open by its indices is welded by position (`welded`,
-/// the mesh's [`MeshEdges`]: an OBJ's vertices split along UV seams close up there).
-pub(crate) fn bounds_solids<'a>(
-    positions: &[Vec3],
-    faces: &[[u32; 3]],
-    welded: impl FnOnce() -> &'a MeshEdges,
-) -> bool {
-    let outgoing = Outgoing::new(positions.len(), faces);
-    if outgoing.closed() {
-        let (piece, pieces) = outgoing.pieces();
-        let proper = faces.iter().filter(|f| distinct(f));
-        return positive_volumes(
-            positions,
-            proper.map(|f| (f, piece[f[0] as usize] as usize)),
-            pieces,
-        );
-    }
-    welded_solids(positions, faces, welded())
+/// nanoseconds per face); only a mesh open by its indices is welded by position first (an
+/// OBJ's vertices split along UV seams or crease normals close up there).
+pub(crate) fn bounds_solids(positions: &[Vec3], faces: &[[u32; 3]]) -> bool {
+    closed_outward(positions, faces).unwrap_or_else(|| welded_solids(positions, faces))
 }
 
-/// [`bounds_solids`] of the mesh welded by position.
-fn welded_solids(positions: &[Vec3], faces: &[[u32; 3]], edges: &MeshEdges) -> bool {
-    if edges.edges.is_empty() || !edges.edges.iter().all(|e| e.count == 2 && e.consistent) {
-        return false;
+/// [`bounds_solids`] by the faces' own indices: `None` when they do not close the mesh.
+fn closed_outward(positions: &[Vec3], faces: &[[u32; 3]]) -> Option<bool> {
+    let outgoing = Outgoing::new(positions.len(), faces);
+    if !outgoing.closed() {
+        return None;
     }
-    // Pieces of the welded mesh: union–find along its edges, numbered by their roots.
-    let mut parent: Vec<u32> = (0..positions.len() as u32).collect();
-    for e in &edges.edges {
-        let (a, b) = (root(&mut parent, e.ends[0]), root(&mut parent, e.ends[1]));
-        if a != b {
-            parent[a.max(b) as usize] = a.min(b);
+    let (piece, pieces) = outgoing.pieces();
+    let proper = faces.iter().filter(|f| distinct(f));
+    Some(positive_volumes(
+        positions,
+        proper.map(|f| (f, piece[f[0] as usize] as usize)),
+        pieces,
+    ))
+}
+
+/// [`bounds_solids`] of the mesh welded by position: each vertex replaced by the first one
+/// at the same position (bit for bit, ±0 alike), which has the same coordinates, so the
+/// welded faces enclose the same volumes.
+fn welded_solids(positions: &[Vec3], faces: &[[u32; 3]]) -> bool {
+    let key = |i: u32| position_key(positions[i as usize]);
+    let mut order: Vec<u32> = (0..positions.len() as u32).collect();
+    order.par_sort_unstable_by_key(|&i| (key(i), i));
+    let mut weld = vec![0u32; positions.len()];
+    for group in order.chunk_by(|&a, &b| key(a) == key(b)) {
+        for &i in group {
+            weld[i as usize] = group[0];
         }
     }
-    let weld = |f: &[u32; 3]| f.map(|i| edges.weld[i as usize]);
-    let mut with_piece = Vec::new();
-    for f in faces.iter().filter(|f| distinct(&weld(f))) {
-        with_piece.push((f, root(&mut parent, weld(f)[0]) as usize));
-    }
-    positive_volumes(positions, with_piece.into_iter(), positions.len())
+    let welded: Vec<[u32; 3]> = faces
+        .par_iter()
+        .map(|f| f.map(|i| weld[i as usize]))
+        .collect();
+    closed_outward(positions, &welded).unwrap_or(false)
 }
 
 /// A face's three vertex ids differ (otherwise it has no area and no edge of the surface).
@@ -176,27 +176,16 @@ fn positive_volumes<'a>(
     (0..pieces).all(|r| !has_faces[r] || volume[r] > 1e-9 * scale[r].max(f64::MIN_POSITIVE))
 }
 
-/// The representative of `x`'s set, halving the path on the way.
-fn root(parent: &mut [u32], mut x: u32) -> u32 {
-    while parent[x as usize] != x {
-        let up = parent[parent[x as usize] as usize];
-        parent[x as usize] = up;
-        x = up;
-    }
-    x
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::primitives;
 
     fn solid(positions: &[Vec3], faces: &[[u32; 3]]) -> bool {
-        let edges = MeshEdges::new(positions, faces);
-        let by_indices = bounds_solids(positions, faces, || &edges);
+        let by_indices = bounds_solids(positions, faces);
         // The welded test alone agrees wherever the indices close the mesh.
         if Outgoing::new(positions.len(), faces).closed() {
-            assert_eq!(welded_solids(positions, faces, &edges), by_indices);
+            assert_eq!(welded_solids(positions, faces), by_indices);
         }
         by_indices
     }
