@@ -305,7 +305,9 @@ pub fn render_depth_map(
 }
 
 /// Test hook: per-pixel count of covering triangles (no depth test), row-major
-/// `height·width`. Watertight meshes give exactly 1 inside and 0 outside.
+/// `height·width`, of the triangles setup keeps (`options.cull_hidden` drops a solid's
+/// hidden back faces: a closed mesh then counts 1 inside instead of 2). Watertight meshes
+/// give exactly 1 inside and 0 outside.
 #[doc(hidden)]
 pub fn coverage_counts(
     scene: &Scene,
