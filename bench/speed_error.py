@@ -713,7 +713,10 @@ def markdown(ctx: dict, rows: list[Row], impl: list[ImplRow], plots: dict[str, s
         f" renderers. Material `{MATERIAL}` (shininess {gold().shininess:g}), scene ambient 0.2,"
         " a white directional light travelling (−1, −1, −1) and a point light at (2, 3, 4) of"
         " colour"
-        " (0.4, 0.4, 0.5); Blinn-Phong, local viewer, black background, no culling.",
+        " (0.4, 0.4, 0.5); Blinn-Phong, local viewer, black background, no back-face culling"
+        " asked for (ours skips the hidden back faces of these closed meshes by default,"
+        " `cull_hidden`, with the same picture; llvmpipe draws every triangle: the"
+        " 1-and-2-thread report below also times it with `GL_CULL_FACE`).",
         "- Time per frame: wall time of `sl.render_frame(...)` (uint8 image in a new NumPy array)"
         " and,"
         " for llvmpipe, of clear + draw + `glReadPixels` into a new NumPy array (moderngl"
