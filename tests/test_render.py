@@ -248,3 +248,31 @@ def test_max_image_size_boundary(sphere_scene, camera):
     assert img.shape == (1, sl.MAX_IMAGE_SIZE, 3)
     img = sl.render(sphere_scene, camera, width=1, height=sl.MAX_IMAGE_SIZE)
     assert img.shape == (sl.MAX_IMAGE_SIZE, 1, 3)
+
+
+@pytest.mark.parametrize(
+    "extra",
+    [
+        {"samples": 4},
+        {"samples": 8, "shading": "gouraud"},
+        {"edges": "visible"},
+        {"edges": "features", "samples": 4},
+        {"supersample": 2, "shading": "flat"},
+    ],
+)
+def test_hidden_back_faces_change_nothing_with_samples_lines_or_supersampling(camera, extra):
+    """Skipping a solid's hidden back faces leaves every colour and depth the same with
+    multi-sampling (each sample point is covered by front and back faces alike), lines and
+    supersampling."""
+    scene = sl.Scene(ambient=(0.2, 0.2, 0.2))
+    scene.add(sl.Mesh.uv_sphere(30, 60), sl.Material.preset("gold"))
+    cube = np.diag([0.5, 0.5, 0.5, 1.0])
+    cube[:3, 3] = (1.2, 0.0, -0.5)
+    scene.add(sl.Mesh.cube(), sl.Material.preset("jade"), transform=cube)
+    scene.add_light(sl.DirectionalLight((-1, -1, -1)))
+    kw = dict(width=120, height=90, dtype="float32", return_depth=True, **extra)
+    on = sl.render_frame(scene, camera, **kw)
+    off = sl.render_frame(scene, camera, cull_hidden=False, **kw)
+    np.testing.assert_array_equal(on["image"], off["image"])
+    np.testing.assert_array_equal(on["depth"], off["depth"])
+    assert on["stats"]["triangles_culled"] > 0 and off["stats"]["triangles_culled"] == 0
