@@ -3,8 +3,6 @@
 //! lines, and kept with the mesh ([`crate::mesh::Mesh::edges`]): it depends only on the
 //! mesh's positions and faces, which never change.
 
-use std::collections::HashMap;
-
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -34,20 +32,30 @@ pub(crate) struct MeshEdges {
     pub edges: Vec<MeshEdge>,
 }
 
-/// Position bits with −0 made +0, so the two zeros weld (vertices weld where these agree).
-pub(crate) fn position_key(p: Vec3) -> [u32; 3] {
+/// Position bits with −0 made +0, so the two zeros weld.
+fn position_key(p: Vec3) -> [u32; 3] {
     (p + Vec3::ZERO).to_array().map(f32::to_bits)
+}
+
+/// Each vertex's welded id: the index of the first vertex at the same position (bit for bit,
+/// ±0 alike). Sorted by position rather than hashed: the same ids, without a hash per vertex.
+pub(crate) fn weld(positions: &[Vec3]) -> Vec<u32> {
+    let key = |i: u32| position_key(positions[i as usize]);
+    let mut order: Vec<u32> = (0..positions.len() as u32).collect();
+    order.par_sort_unstable_by_key(|&i| (key(i), i));
+    let mut weld = vec![0u32; positions.len()];
+    for group in order.chunk_by(|&a, &b| key(a) == key(b)) {
+        for &i in group {
+            weld[i as usize] = group[0];
+        }
+    }
+    weld
 }
 
 impl MeshEdges {
     /// Welds `positions` and collects the edges of `faces`.
     pub fn new(positions: &[Vec3], faces: &[[u32; 3]]) -> Self {
-        let mut ids: HashMap<[u32; 3], u32> = HashMap::with_capacity(positions.len());
-        let weld: Vec<u32> = positions
-            .iter()
-            .enumerate()
-            .map(|(k, p)| *ids.entry(position_key(*p)).or_insert(k as u32))
-            .collect();
+        let weld = weld(positions);
         // (lower welded id, higher, face, slot): one entry per face side; sorted, the sides
         // of one edge are adjacent, faces in order.
         let mut sides: Vec<(u32, u32, u32, u8)> = faces

@@ -17,7 +17,7 @@
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
-use crate::mesh_edges::position_key;
+use crate::mesh_edges::weld;
 
 /// Whether `faces` over `positions` are closed, consistently wound, and each connected
 /// piece encloses a positive volume. The mesh's own indices are tried first (tens of
@@ -46,15 +46,7 @@ fn closed_outward(positions: &[Vec3], faces: &[[u32; 3]]) -> Option<bool> {
 /// at the same position (bit for bit, ±0 alike), which has the same coordinates, so the
 /// welded faces enclose the same volumes.
 fn welded_solids(positions: &[Vec3], faces: &[[u32; 3]]) -> bool {
-    let key = |i: u32| position_key(positions[i as usize]);
-    let mut order: Vec<u32> = (0..positions.len() as u32).collect();
-    order.par_sort_unstable_by_key(|&i| (key(i), i));
-    let mut weld = vec![0u32; positions.len()];
-    for group in order.chunk_by(|&a, &b| key(a) == key(b)) {
-        for &i in group {
-            weld[i as usize] = group[0];
-        }
-    }
+    let weld = weld(positions);
     let welded: Vec<[u32; 3]> = faces
         .par_iter()
         .map(|f| f.map(|i| weld[i as usize]))

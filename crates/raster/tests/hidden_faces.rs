@@ -230,31 +230,29 @@ proptest! {
         let eye = eye_dir.normalize() * distance;
         let up = if eye_dir.normalize().y.abs() > 0.9 { DVec3::X } else { DVec3::Y };
         let cam = Camera::look_at(eye, DVec3::ZERO, up, 50.0, 0.1, 100.0).unwrap();
-        {
-            let mode = [ShadingMode::Flat, ShadingMode::Gouraud, ShadingMode::Phong][mode];
-            let (on, culled_on) = frame(&scene, &cam, mode, true);
-            let (off, culled_off) = frame(&scene, &cam, mode, false);
-            prop_assert!(culled_on > 0 && culled_off == 0);
-            // Colour (3 per pixel) then depth (1 per pixel), W × H each.
-            let n = (W * H) as usize;
-            let depth_off = &off[3 * n..];
-            let empty = |x: i64, y: i64| {
-                x < 0 || y < 0 || x >= W as i64 || y >= H as i64
-                    || f32::from_bits(depth_off[(y * W as i64 + x) as usize]).is_infinite()
-            };
-            let mut differ = 0;
-            for p in 0..n {
-                let same = (0..3).all(|c| on[3 * p + c] == off[3 * p + c])
-                    && on[3 * n + p] == off[3 * n + p];
-                if same {
-                    continue;
-                }
-                differ += 1;
-                let (x, y) = ((p % W as usize) as i64, (p / W as usize) as i64);
-                let silhouette = (-1..=1).any(|dy| (-1..=1).any(|dx| empty(x + dx, y + dy)));
-                prop_assert!(silhouette, "pixel ({x}, {y}) differs away from the silhouette");
+        let mode = [ShadingMode::Flat, ShadingMode::Gouraud, ShadingMode::Phong][mode];
+        let (on, culled_on) = frame(&scene, &cam, mode, true);
+        let (off, culled_off) = frame(&scene, &cam, mode, false);
+        prop_assert!(culled_on > 0 && culled_off == 0);
+        // Colour (3 per pixel) then depth (1 per pixel), W × H each.
+        let n = (W * H) as usize;
+        let depth_off = &off[3 * n..];
+        let empty = |x: i64, y: i64| {
+            x < 0 || y < 0 || x >= W as i64 || y >= H as i64
+                || f32::from_bits(depth_off[(y * W as i64 + x) as usize]).is_infinite()
+        };
+        let mut differ = 0;
+        for p in 0..n {
+            let same = (0..3).all(|c| on[3 * p + c] == off[3 * p + c])
+                && on[3 * n + p] == off[3 * n + p];
+            if same {
+                continue;
             }
-            prop_assert!(differ <= 8, "{differ} pixels differ");
+            differ += 1;
+            let (x, y) = ((p % W as usize) as i64, (p / W as usize) as i64);
+            let silhouette = (-1..=1).any(|dy| (-1..=1).any(|dx| empty(x + dx, y + dy)));
+            prop_assert!(silhouette, "pixel ({x}, {y}) differs away from the silhouette");
         }
+        prop_assert!(differ <= 8, "{differ} pixels differ");
     }
 }

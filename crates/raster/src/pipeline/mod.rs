@@ -407,25 +407,20 @@ pub(crate) fn prepare(
     let t_vertex = Instant::now();
 
     // Primitive stage (assembly, clipping, setup, per-chunk binning) over fixed chunks.
+    // Per object, its chunks and whether setup skips its back faces (from the outcodes of
+    // its transformed vertices).
     let mut work = Vec::with_capacity(chunk_count);
+    let mut cull = Vec::with_capacity(scene.objects().len());
     let mut first_vertex = 0u32;
     for (oi, obj) in scene.objects().iter().enumerate() {
         for part in obj.mesh().indices().chunks(chunk) {
             work.push((oi as u32, first_vertex, part));
         }
-        first_vertex += obj.mesh().positions().len() as u32;
+        let n = obj.mesh().positions().len();
+        let codes = &verts.outcode[first_vertex as usize..first_vertex as usize + n];
+        cull.push(cull::skips_back_faces(obj, codes, options, two_sided));
+        first_vertex += n as u32;
     }
-    let mut first = 0;
-    let cull = scene
-        .objects()
-        .iter()
-        .map(|o| {
-            let n = o.mesh().positions().len();
-            let codes = &verts.outcode[first..first + n];
-            first += n;
-            cull::skips_back_faces(o, codes, options, two_sided)
-        })
-        .collect();
     let ctx = PrimitiveContext {
         verts: &verts,
         planes,
