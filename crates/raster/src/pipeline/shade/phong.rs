@@ -12,27 +12,21 @@ use crate::pipeline::raster::{TileBuffers, NO_TRIANGLE};
 use crate::pipeline::setup::SetupTri;
 use crate::pipeline::tiles::{TileRect, TILE};
 
-/// Phong: per-triangle data gathered once while consecutive pixels share a triangle.
+/// Phong: per-triangle data, made once per triangle and tile and kept in a cache of recent
+/// triangles (a row alternates between neighbouring triangles, and copying this out each
+/// time the triangle changed cost more than making it).
+#[derive(Clone, Copy, Default)]
 struct Current<'a> {
-    id: u32,
     /// Perspective weight planes ([`weight_planes`]).
     plane: [Plane; 3],
     normal: [Vec3; 3],
     pos: [Vec3; 3],
     material: Option<&'a Surface>,
+    /// The face normal (read with shadows only; zero otherwise).
+    face: Vec3,
 }
 
 impl<'a> Current<'a> {
-    fn empty() -> Self {
-        Current {
-            id: NO_TRIANGLE,
-            plane: [[0.0; 3]; 3],
-            normal: [Vec3::ZERO; 3],
-            pos: [Vec3::ZERO; 3],
-            material: None,
-        }
-    }
-
     /// Perspective weights λ_k / w_k at the pixel centre (x, y) (pixel units). Their sum is
     /// the interpolated 1/w.
     #[inline(always)]
@@ -77,39 +71,55 @@ impl<'a> Current<'a> {
         (n, p, eye_depth)
     }
 
-    fn load<const AFFINE: bool>(
-        ctx: &ShadeContext<'a>,
-        id: u32,
-        t: &SetupTri,
-        planes: &mut PlaneCache<[Plane; 3]>,
-    ) -> Self {
+    fn make<const AFFINE: bool, const SHADOWS: bool>(ctx: &ShadeContext<'a>, t: &SetupTri) -> Self {
         let v = t.v.map(|k| k as usize);
         let back = ctx.two_sided && !t.front;
         Current {
-            id,
-            plane: planes.get(id, || weight_planes::<AFFINE>(ctx, t)),
+            plane: weight_planes::<AFFINE>(ctx, t),
             normal: v.map(|k| ctx.verts.normal[k]),
             pos: v.map(|k| ctx.verts.world[k]),
             material: Some(&ctx.materials[t.object as usize][back as usize]),
+            face: if SHADOWS {
+                face_normal(t, &ctx.verts.world)
+            } else {
+                Vec3::ZERO
+            },
         }
     }
 }
 
-/// Pixels waiting to be lit together, all with the same material.
+/// Twice [`LANES`]: a batch holds up to `LANES - 1` waiting pixels plus a whole run chunk
+/// appended behind them in one fixed-size copy.
+const ROOM: usize = 2 * LANES;
+
+/// Pixels waiting to be lit together, all with the same material. The first [`LANES`]
+/// are lit when full; lanes at `len` and beyond hold stale values that nothing reads.
 struct PhongBatch<'a> {
     /// Interpolated normals, not yet normalised (never zero).
-    n: [Lanes; 3],
-    p: [Lanes; 3],
+    n: [[f32; ROOM]; 3],
+    p: [[f32; ROOM]; 3],
     /// (row in tile, column in tile) of each lane.
-    at: [(usize, usize); LANES],
+    at: [(usize, usize); ROOM],
     /// Eye depth of each lane (for fog).
-    depth: Lanes,
+    depth: [f32; ROOM],
     len: usize,
     material: Option<&'a Surface>,
     /// Geometric (face) normals per lane, and each source's visibility: read only by the
     /// loop with shadows.
-    g: [Lanes; 3],
+    g: [[f32; ROOM]; 3],
     vis: Vec<Option<Lanes>>,
+}
+
+/// The first [`LANES`] of each row of `a`.
+#[inline(always)]
+fn head(a: &[[f32; ROOM]; 3]) -> [Lanes; 3] {
+    a.map(|r| r[..LANES].try_into().expect("ROOM > LANES"))
+}
+
+/// Moves lanes `LANES..ROOM` of `a` to its front.
+#[inline(always)]
+fn shift<T: Copy>(a: &mut [T; ROOM]) {
+    a.copy_within(LANES..ROOM, 0);
 }
 
 impl<'a> PhongBatch<'a> {
@@ -121,21 +131,24 @@ impl<'a> PhongBatch<'a> {
         color: &mut [&mut [Out<P>]],
     ) {
         let eye = ctx.eye;
-        if let Some(m) = self.material.filter(|_| self.len > 0) {
+        let len = self.len.min(LANES);
+        if let Some(m) = self.material.filter(|_| len > 0) {
             let mut n = [[0.0; LANES]; 3];
             let raw = &self.n;
             normalize_lanes(&mut n, |k| (raw[0][k], raw[1][k], raw[2][k]));
+            let p = head(&self.p);
             let lit = match &ctx.shadows {
                 Some(shadows) if SHADOWS => {
-                    shadows.visibility(&n, &self.p, &self.g, self.len, &mut self.vis);
-                    m.terms_lanes_visible::<Folded>(&n, &self.p, eye, &self.vis)
-                        .0
+                    let g = head(&self.g);
+                    shadows.visibility(&n, &p, &g, len, &mut self.vis);
+                    m.terms_lanes_visible::<Folded>(&n, &p, eye, &self.vis).0
                 }
-                _ => m.shade_lanes(&n, &self.p, eye),
+                _ => m.shade_lanes(&n, &p, eye),
             };
-            finish_batch(ctx, lit, &self.at[..self.len], &self.depth, rect, color);
+            let depth: Lanes = self.depth[..LANES].try_into().expect("ROOM > LANES");
+            finish_batch(ctx, lit, &self.at[..len], &depth, rect, color);
         }
-        self.len = 0;
+        self.len -= len;
     }
 }
 
@@ -187,13 +200,23 @@ impl Current<'_> {
         }
         blend_lanes(&self.normal, &b, &mut out.n);
         blend_lanes(&self.pos, &b, &mut out.p);
-        // A zero or unusable blend takes the face normal instead (rare: scalar fix-up).
-        for k in 0..live {
+        // A zero or unusable blend takes the face normal instead: found over whole lanes
+        // (SIMD), fixed up one lane at a time (rare).
+        let mut unusable = false;
+        for k in 0..LANES {
             let (x, y, z) = (out.n[0][k], out.n[1][k], out.n[2][k]);
             let len2 = x * x + y * y + z * z;
-            if !(len2 > 1e-30 && len2.is_finite()) {
-                let f = face_normal(t, &ctx.verts.world);
-                (out.n[0][k], out.n[1][k], out.n[2][k]) = (f.x, f.y, f.z);
+            // `&`, not `&&`: no branch per lane.
+            unusable |= (k < live) & !((len2 > 1e-30) & (len2.abs() < f32::INFINITY));
+        }
+        if unusable {
+            for k in 0..live {
+                let (x, y, z) = (out.n[0][k], out.n[1][k], out.n[2][k]);
+                let len2 = x * x + y * y + z * z;
+                if !(len2 > 1e-30 && len2.is_finite()) {
+                    let f = face_normal(t, &ctx.verts.world);
+                    (out.n[0][k], out.n[1][k], out.n[2][k]) = (f.x, f.y, f.z);
+                }
             }
         }
         if ctx.two_sided && !t.front {
@@ -268,21 +291,33 @@ impl<'a> PhongBatch<'a> {
             self.flush::<P, SHADOWS>(ctx, rect, color);
         }
         self.material = Some(m);
-        for k in 0..live {
-            let at = self.len;
+        // The whole chunk behind the waiting pixels (fixed-size copies; the lanes past
+        // `live` are stale and never read), then the first LANES lit and the rest moved
+        // to the front.
+        let at = self.len;
+        for axis in 0..3 {
+            self.n[axis][at..at + LANES].copy_from_slice(&lanes.n[axis]);
+            self.p[axis][at..at + LANES].copy_from_slice(&lanes.p[axis]);
+            if SHADOWS {
+                self.g[axis][at..at + LANES].fill(g[axis]);
+            }
+        }
+        for (k, slot) in self.at[at..at + LANES].iter_mut().enumerate() {
+            *slot = (j, i + k);
+        }
+        self.depth[at..at + LANES].copy_from_slice(&lanes.depth);
+        self.len += live;
+        if self.len >= LANES {
+            self.flush::<P, SHADOWS>(ctx, rect, color);
             for axis in 0..3 {
-                self.n[axis][at] = lanes.n[axis][k];
-                self.p[axis][at] = lanes.p[axis][k];
+                shift(&mut self.n[axis]);
+                shift(&mut self.p[axis]);
                 if SHADOWS {
-                    self.g[axis][at] = g[axis];
+                    shift(&mut self.g[axis]);
                 }
             }
-            self.at[at] = (j, i + k);
-            self.depth[at] = lanes.depth[k];
-            self.len += 1;
-            if self.len == LANES {
-                self.flush::<P, SHADOWS>(ctx, rect, color);
-            }
+            shift(&mut self.at);
+            shift(&mut self.depth);
         }
     }
 }
@@ -308,23 +343,23 @@ pub(super) fn shade_phong<
     // Whether the program's stages read the eye depth (fog does) is a constant of the loop:
     // a per-pixel test of it cost 3 % more instructions per Phong frame.
     let want_depth = depth.is_some() || STAGES_READ_DEPTH;
-    let mut cur = Current::empty();
-    let mut planes = PlaneCache::new();
+    let mut cache = PlaneCache::<Current>::new();
+    let mut cur_id = NO_TRIANGLE;
+    let mut cur = &Current::default();
     let background = background_row::<P>(ctx);
     let mut batch = PhongBatch {
-        n: [[0.0; LANES]; 3],
-        p: [[0.0; LANES]; 3],
-        at: [(0, 0); LANES],
-        depth: [0.0; LANES],
+        n: [[0.0; ROOM]; 3],
+        p: [[0.0; ROOM]; 3],
+        at: [(0, 0); ROOM],
+        depth: [0.0; ROOM],
         len: 0,
         material: None,
-        g: [[0.0; LANES]; 3],
+        g: [[0.0; ROOM]; 3],
         vis: match &ctx.shadows {
             Some(s) if SHADOWS => vec![None; s.sources()],
             _ => Vec::new(),
         },
     };
-    let mut face = Vec3::ZERO;
     let mut lanes = RunLanes {
         n: [[0.0; LANES]; 3],
         p: [[0.0; LANES]; 3],
@@ -347,13 +382,11 @@ pub(super) fn shade_phong<
                 continue;
             }
             let t = ctx.tris.get(id);
-            if id != cur.id {
-                cur = Current::load::<AFFINE>(ctx, id, t, &mut planes);
-                if SHADOWS {
-                    face = face_normal(t, &ctx.verts.world);
-                }
+            if id != cur_id {
+                cur = cache.get_ref(id, || Current::make::<AFFINE, SHADOWS>(ctx, t));
+                cur_id = id;
             }
-            let m = cur.material.expect("loaded for phong");
+            let (m, face) = (cur.material.expect("made for phong"), cur.face);
             if end - i < LANE_RUN {
                 // Short runs (small triangles) a pixel at a time: a whole lane loop for a
                 // few live lanes measured slower.

@@ -91,11 +91,18 @@ impl<T: Copy + Default> PlaneCache<T> {
 
     #[inline]
     pub(super) fn get(&mut self, id: u32, make: impl FnOnce() -> T) -> T {
+        *self.get_ref(id, make)
+    }
+
+    /// The entry of `id`, made by `make` if it is not cached: by reference, for entries
+    /// too large to copy each time a row changes triangle.
+    #[inline]
+    pub(super) fn get_ref(&mut self, id: u32, make: impl FnOnce() -> T) -> &T {
         let e = &mut self.entries[id as usize % PLANE_CACHE];
         if e.0 != id {
             *e = (id, make());
         }
-        e.1
+        &e.1
     }
 }
 
