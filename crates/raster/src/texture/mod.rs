@@ -228,6 +228,7 @@ impl Texture {
     /// [`Texture::sample`] at several points (`uv[k]` seen with `fp[k]`, into `out[k]`),
     /// the same values: the source and filter are dispatched once for all of them, and the
     /// filters that read neither λ nor probes loop straight over the texel reads.
+    #[inline(always)]
     pub fn sample_many(&self, uv: &[(f64, f64)], fp: &[Footprint], out: &mut [Vec3]) {
         let (s, o) = (self.uv_scale, self.uv_offset);
         let at =

@@ -175,7 +175,7 @@ fn sample_at(image: &Image, filter: Filter, wrap: [Wrap; 2], u: f64, v: f64, lam
 
 /// `GL_LINEAR_MIPMAP_LINEAR` at level of detail `lambda` (`GL_LINEAR` on level 0 when
 /// magnified or NaN, on the last level beyond it).
-#[inline]
+#[inline(always)]
 pub(super) fn trilinear(levels: &[Level], wrap: [Wrap; 2], u: f64, v: f64, lambda: f64) -> Vec3 {
     if lambda.is_nan() || lambda <= 0.0 {
         return bilinear(&levels[0], wrap, u, v);
@@ -192,7 +192,7 @@ pub(super) fn trilinear(levels: &[Level], wrap: [Wrap; 2], u: f64, v: f64, lambd
 }
 
 /// `GL_NEAREST` on one level: the texel (⌊u·w⌋, ⌊v·h⌋), wrapped.
-#[inline]
+#[inline(always)]
 pub(super) fn nearest(l: &Level, wrap: [Wrap; 2], u: f64, v: f64) -> Vec3 {
     let i = wrap[0].index(floor(u * l.width as f64), l.width);
     let j = wrap[1].index(floor(v * l.height as f64), l.height);
@@ -201,7 +201,7 @@ pub(super) fn nearest(l: &Level, wrap: [Wrap; 2], u: f64, v: f64) -> Vec3 {
 
 /// `GL_LINEAR` on one level: the four texels around (u·w − ½, v·h − ½), weighted by the
 /// fractions α, β (eq. 8.19).
-#[inline]
+#[inline(always)]
 pub(super) fn bilinear(l: &Level, wrap: [Wrap; 2], u: f64, v: f64) -> Vec3 {
     let x = u * l.width as f64 - 0.5;
     let y = v * l.height as f64 - 0.5;

@@ -424,9 +424,9 @@ impl Batch {
 /// How many loaded triangles [`shade_textured`] keeps (direct-mapped by id).
 const LOADED: usize = 16;
 
-/// Shades one tile of a textured scene (any mode); `WIDE`: its batches are lit with AVX2
-/// ([`Batch::flush_on`]). Never inlined: the untextured tile bodies that branch past it
-/// keep their own code layout.
+/// Shades one tile of a textured scene (any mode); `WIDE`: compiled for AVX2 + FMA, its
+/// batches lit with AVX2 too ([`Batch::flush_on`]). Never inlined: the untextured tile
+/// bodies that branch past it keep their own code layout.
 #[inline(never)]
 pub(super) fn shade_textured<
     P: Pixel,
@@ -434,6 +434,46 @@ pub(super) fn shade_textured<
     const PERTURB: bool,
     const WIDE: bool,
 >(
+    ctx: &ShadeContext<'_>,
+    tex: &TexturedScene<'_>,
+    mode: ShadingMode,
+    rect: TileRect,
+    buf: &TileBuffers,
+    color: &mut [&mut [Out<P>]],
+    depth: Option<&mut [&mut [Out<f32>]]>,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if WIDE {
+        // SAFETY: `WIDE` is set only by the AVX2 tile body (`isa.rs`), which runs only
+        // where AVX2 and FMA were detected.
+        unsafe {
+            shade_textured_avx2::<P, AFFINE, PERTURB>(ctx, tex, mode, rect, buf, color, depth)
+        };
+        return;
+    }
+    shade_textured_body::<P, AFFINE, PERTURB, WIDE>(ctx, tex, mode, rect, buf, color, depth);
+}
+
+/// [`shade_textured_body`] compiled for AVX2 + FMA: its per-pixel f64 interpolation (the
+/// texture coordinates and their derivatives) in AVX encodings, the same operations, so the
+/// same bits.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn shade_textured_avx2<P: Pixel, const AFFINE: bool, const PERTURB: bool>(
+    ctx: &ShadeContext<'_>,
+    tex: &TexturedScene<'_>,
+    mode: ShadingMode,
+    rect: TileRect,
+    buf: &TileBuffers,
+    color: &mut [&mut [Out<P>]],
+    depth: Option<&mut [&mut [Out<f32>]]>,
+) {
+    shade_textured_body::<P, AFFINE, PERTURB, true>(ctx, tex, mode, rect, buf, color, depth);
+}
+
+#[inline(always)]
+fn shade_textured_body<P: Pixel, const AFFINE: bool, const PERTURB: bool, const WIDE: bool>(
     ctx: &ShadeContext<'_>,
     tex: &TexturedScene<'_>,
     mode: ShadingMode,
