@@ -75,9 +75,10 @@ pub(super) type Plane = [f64; 3];
 /// Entries of the per-tile plane caches.
 const PLANE_CACHE: usize = 64;
 
-/// Planes of recently seen triangles, direct-mapped by id: a triangle's rows alternate with
-/// its neighbours' within a tile and each row segment needs them again, so without this they
-/// (a dozen f64 products and four divisions) were recomputed per segment.
+/// What is made per triangle for shading (its planes; Phong's whole inputs) for recently
+/// seen triangles, direct-mapped by id: a triangle's rows alternate with its neighbours'
+/// within a tile and each row segment needs them again, so without this they (a dozen f64
+/// products and four divisions at least) were recomputed per segment.
 pub(super) struct PlaneCache<T> {
     entries: [(u32, T); PLANE_CACHE],
 }
