@@ -77,9 +77,9 @@ pub use options::{
 pub use pipeline::shade::Pixel;
 pub use pipeline::MAX_RADIANCE;
 pub use png_out::{encode_png, PngCompression, PngSamples};
-pub use pool::{default_threads, MAX_THREADS};
+pub use pool::{default_threads, MAX_THREADS, PIN_THREADS_ENV};
 #[doc(hidden)]
-pub use pool::{max_in_flight, set_rendezvous};
+pub use pool::{max_in_flight, set_rendezvous, worker_cpus};
 pub use render::{coverage_counts, render, render_depth_map, render_into, render_with};
 pub use scene::{Object, Scene};
 pub use tangents::generate_tangents;

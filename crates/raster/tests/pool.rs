@@ -48,3 +48,29 @@ fn two_single_thread_renders_are_in_flight_together() {
     assert_eq!(seen, 2);
     assert_eq!(frames[0].color, frames[1].color);
 }
+
+#[cfg(target_os = "linux")]
+#[test]
+fn a_pool_of_every_cpu_binds_each_worker_to_its_own() {
+    // The CPUs this process may use (the test harness does not bind its threads).
+    let allowed = worker_cpus(Some(1)).unwrap().remove(0);
+    assert!(!allowed.is_empty());
+    // A single worker is left to the OS.
+    assert_eq!(worker_cpus(Some(1)).unwrap(), vec![allowed.clone()]);
+    // Fewer or more workers than CPUs: left to the OS (processes sharing the machine
+    // would otherwise bind theirs to the same first CPUs).
+    for n in [allowed.len() - 1, allowed.len() + 1] {
+        if n >= 2 {
+            let cpus = worker_cpus(Some(n)).unwrap();
+            assert!(cpus.iter().all(|c| *c == allowed), "{n}: {cpus:?}");
+        }
+    }
+    if allowed.len() < 2 || std::env::var(PIN_THREADS_ENV).is_ok_and(|v| v.trim() == "0") {
+        return;
+    }
+    // Every CPU, as `threads=None` asks: worker i on the i-th CPU.
+    let cpus = worker_cpus(None).unwrap();
+    let expected: Vec<Vec<usize>> = allowed.iter().map(|&c| vec![c]).collect();
+    assert_eq!(cpus, expected);
+    assert_eq!(worker_cpus(Some(allowed.len())).unwrap(), expected);
+}
