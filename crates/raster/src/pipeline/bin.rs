@@ -66,6 +66,13 @@ impl Binned {
     }
 }
 
+impl Drop for Binned {
+    /// The chunks' triangle vectors go to the next frame ([`super::recycle`]).
+    fn drop(&mut self) {
+        super::recycle::give_back(self.chunks.iter_mut().map(|c| std::mem::take(&mut c.tris)));
+    }
+}
+
 /// Per-tile triangle lists stored flat: tile `t` owns `items[offsets[t]..offsets[t + 1]]`.
 #[derive(Debug, Default)]
 pub(crate) struct Bins {

@@ -14,6 +14,7 @@ pub(crate) mod isa;
 mod lines;
 mod passes;
 pub(crate) mod raster;
+mod recycle;
 pub(crate) mod samples;
 mod secondary_samples;
 pub(crate) mod setup;
@@ -91,7 +92,7 @@ impl PrimitiveContext<'_> {
         let (wf, hf) = (w as f64, h as f64);
         let mut out = ChunkOut {
             chunk: Chunk {
-                tris: Vec::with_capacity(indices.len()),
+                tris: recycle::take(indices.len()),
                 bins: Bins::default(),
                 object,
                 clipped_from: Vec::new(),

@@ -150,6 +150,17 @@ impl Attributes {
 /// several workers).
 const CHUNK: usize = 1024;
 
+/// Appends `src` to `dst`, or takes it whole when `dst` is empty: copying a million
+/// vertices' arrays into fresh ones cost a copy and the page faults of a second allocation
+/// each frame.
+fn adopt<T: Copy>(dst: &mut Vec<T>, src: Vec<T>) {
+    if dst.is_empty() {
+        *dst = src;
+    } else {
+        dst.extend_from_slice(&src);
+    }
+}
+
 /// Transforms every object's vertices. `view_proj` is world → clip in f64; each object's
 /// full matrix is composed in f64 and rounded once to f32. Each vertex is classified
 /// against the clip planes and snapped once here, not once per triangle that uses it.
@@ -166,7 +177,13 @@ pub(crate) fn transform(
         .iter()
         .map(|o| o.mesh().positions().len())
         .sum();
-    out.clip.reserve_exact(total);
+    // One object (the usual case) hands its arrays over whole (`adopt`); several are
+    // appended into arrays sized once.
+    if scene.objects().len() > 1 {
+        out.clip.reserve_exact(total);
+        out.outcode.reserve_exact(total);
+        out.screen.reserve_exact(total);
+    }
     out.world.reserve_exact(total);
     if attrs.normal {
         out.normal.reserve_exact(total);
@@ -199,9 +216,9 @@ pub(crate) fn transform(
                 }
             })
             .unzip();
-        out.clip.extend_from_slice(&clip);
-        out.outcode.extend_from_slice(&codes);
-        out.screen.extend_from_slice(&screen);
+        adopt(&mut out.clip, clip);
+        adopt(&mut out.outcode, codes);
+        adopt(&mut out.screen, screen);
         out.world.par_extend(
             pos.par_iter()
                 .with_min_len(CHUNK)
