@@ -7,8 +7,8 @@
 //! starts no threads. The renderer never uses rayon's global pool, so it does not fight
 //! other rayon users.
 //!
-//! On Linux the workers of a pool of two or more threads are each bound to one CPU of
-//! those the process may use ([`placement`]): unbound, a worker woken while another is busy
+//! On Linux the workers of a pool with one worker per CPU the process may use are each
+//! bound to their own CPU ([`placement`]): unbound, a worker woken while another was busy
 //! was queued behind it on the same CPU for milliseconds on a virtual machine, so frames
 //! drawn at intervals used one core (see the function).
 

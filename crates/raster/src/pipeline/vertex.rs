@@ -150,11 +150,11 @@ impl Attributes {
 /// several workers).
 const CHUNK: usize = 1024;
 
-/// Appends `src` to `dst`, or takes it whole when `dst` is empty: copying a million
-/// vertices' arrays into fresh ones cost a copy and the page faults of a second allocation
-/// each frame.
+/// Appends `src` to `dst`, or takes it whole when `dst` has no room yet (one object):
+/// copying a million vertices' arrays into fresh ones cost a copy and the page faults of a
+/// second allocation each frame.
 fn adopt<T: Copy>(dst: &mut Vec<T>, src: Vec<T>) {
-    if dst.is_empty() {
+    if dst.capacity() == 0 {
         *dst = src;
     } else {
         dst.extend_from_slice(&src);
