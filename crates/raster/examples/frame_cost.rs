@@ -13,8 +13,10 @@
 //! `shadows=map|plain|exact` (every light casts shadows: a default map, a map with
 //! `filter="none"`, or rays), `texture=nearest|bilinear|trilinear` (every object gets planar
 //! UVs, u = 4x, v = 4z, and a 64 × 64 checkerboard diffuse map with that filter) and
-//! `aniso=N` (its anisotropy); `explain=TOL` runs only `shading="auto"`'s estimate (at that
-//! tolerance) `frames` times. Prints a checksum of the last frame so the work cannot be optimised away.
+//! `aniso=N` (its anisotropy); `dump=PATH` writes the last frame's colour samples there (raw
+//! u8, or f32 little-endian with `f32`, row-major RGB), for comparing builds; `explain=TOL`
+//! runs only `shading="auto"`'s estimate (at that tolerance) `frames` times. Prints a
+//! checksum of the last frame so the work cannot be optimised away.
 
 use std::sync::Arc;
 
@@ -167,8 +169,19 @@ fn main() -> std::result::Result<(), Box<dyn std::error::Error>> {
         println!("checksum {sum}");
         return Ok(());
     }
-    for _ in 0..frames {
+    for f in 0..frames {
         let frame = render(&scene, &camera, &options, format, flag("depth"))?;
+        // The last frame's only: summing every frame was a quarter of a profile's samples.
+        if f + 1 < frames {
+            continue;
+        }
+        if let Some(path) = value("dump=") {
+            let bytes: Vec<u8> = match &frame.color {
+                ColorBuffer::U8(c) => c.clone(),
+                ColorBuffer::F32(c) => c.iter().flat_map(|v| v.to_le_bytes()).collect(),
+            };
+            std::fs::write(path, bytes)?;
+        }
         sum = match &frame.color {
             ColorBuffer::U8(c) => c.iter().map(|&v| v as f64).sum(),
             ColorBuffer::F32(c) => c.iter().map(|&v| v as f64).sum(),

@@ -3,7 +3,7 @@
 
 use glam::Vec3;
 
-use super::planes::{PlaneCache, RunPlanes, RunStart};
+use super::planes::{PlaneCache, RunColors, RunPlanes, RunStart};
 use super::store::{fill_out, put, store_out, Out, Pixel, RowColors, ROW_LANES};
 use super::{background_row, ShadeContext, FLAT, GOURAUD};
 use crate::lighting::LANES;
@@ -24,16 +24,12 @@ pub(super) fn run_length(ids: &[u32], id: u32) -> usize {
     n + ids[n..].iter().take_while(|&&v| v == id).count()
 }
 
-/// Gouraud runs up to this long are shaded a pixel at a time: a whole lane loop and row
-/// store would cost more than they save (small triangles).
-const SHORT_RUN: usize = 4;
-
 /// Entries of the per-tile flat colour cache.
 const FLAT_CACHE: usize = 64;
 
 /// Flat and Gouraud, a run of equal triangle ids at a time: the run's planes are evaluated
-/// once at its first pixel and stepped along it (f64 throughout, so stepping adds nothing
-/// measurable: 64 steps at most).
+/// once and stepped along it (1/w for the depth in f64 from the run's first pixel, the
+/// colour as [`RunColors`] from the row's first pixel, whatever the path).
 #[inline(always)]
 pub(super) fn shade_runs<P: Pixel, const MODE: u8, const FOG: bool, const AFFINE: bool>(
     ctx: &ShadeContext<'_>,
@@ -44,9 +40,11 @@ pub(super) fn shade_runs<P: Pixel, const MODE: u8, const FOG: bool, const AFFINE
 ) {
     // Fog needs every pixel's eye depth, like the depth output.
     let want_depth = depth.is_some() || FOG;
+    if MODE == GOURAUD && !want_depth {
+        return gouraud_rows::<P, AFFINE>(ctx, rect, buf, color);
+    }
     let mut planes = PlaneCache::<RunPlanes>::new();
     let background = background_row::<P>(ctx);
-    let mut lin: RowColors = [[0.0; ROW_LANES]; 3];
     // Stored samples of recently seen flat colours, direct-mapped by id: the rows of a
     // triangle alternate with its neighbours', so a last-id cache would miss on every row.
     let mut flat_cache = [(NO_TRIANGLE, [P::default(); 3]); FLAT_CACHE];
@@ -78,20 +76,9 @@ pub(super) fn shade_runs<P: Pixel, const MODE: u8, const FOG: bool, const AFFINE
             } else {
                 let t = ctx.tris.get(id);
                 let pl = planes.get(id, || RunPlanes::new::<MODE, AFFINE>(ctx, t));
-                let run = RunStart::new::<MODE>(&pl, (rect.x0 + i) as f64 + 0.5, y);
-                if MODE == GOURAUD && !want_depth && end - i > SHORT_RUN {
-                    // The common case, kept free of depth and fog: the run's colours into
-                    // a row buffer over whole [`LANES`] (SIMD), then stored.
-                    let n = (end - i).div_ceil(LANES) * LANES;
-                    let [lr, lg, lb] = &mut lin;
-                    let rows = lr[..n].iter_mut().zip(&mut lg[..n]).zip(&mut lb[..n]);
-                    for (k, ((cr, cg), cb)) in rows.enumerate() {
-                        // Via i32: one SIMD conversion (runs are at most 64 pixels).
-                        let kf = k as i32 as f64;
-                        [*cr, *cg, *cb] = run.color(kf, 1.0 / run.inv_w(kf));
-                    }
-                    P::store_row(out, &lin);
-                } else {
+                let run = RunStart::new(&pl, (rect.x0 + i) as f64 + 0.5, y);
+                let colors = RunColors::new(&pl, rect.x0 as f64 + 0.5, y);
+                {
                     for (k, px) in out.chunks_exact_mut(3).enumerate() {
                         let kf = k as f64;
                         let inv_w = run.inv_w(kf);
@@ -103,7 +90,7 @@ pub(super) fn shade_runs<P: Pixel, const MODE: u8, const FOG: bool, const AFFINE
                         let c = if MODE == FLAT {
                             t.flat
                         } else {
-                            Vec3::from_array(run.color(kf, 1.0 / inv_w))
+                            Vec3::from_array(colors.at((i + k) as f32))
                         };
                         let (px_x, px_y) = (rect.x0 + i + k, rect.y0 + j);
                         store_out(px, ctx.fogged::<FOG>(c, px_x, px_y, eye_depth));
@@ -112,6 +99,62 @@ pub(super) fn shade_runs<P: Pixel, const MODE: u8, const FOG: bool, const AFFINE
             }
             i = end;
         }
+    }
+}
+
+/// Gouraud without depth output or fog, the common case: each tile row's linear colours
+/// into a row buffer, every run (background ones too) over whole [`LANES`] (SIMD; a run's
+/// last lanes spill into the next run's pixels, which that run then overwrites), and the
+/// row stored once. Storing each run apart (and short runs a pixel at a time) cost more
+/// than the colours on meshes of small triangles.
+#[inline(always)]
+fn gouraud_rows<P: Pixel, const AFFINE: bool>(
+    ctx: &ShadeContext<'_>,
+    rect: TileRect,
+    buf: &TileBuffers,
+    color: &mut [&mut [Out<P>]],
+) {
+    let mut planes = PlaneCache::<RunPlanes>::new();
+    let bg = ctx.background.to_array();
+    let mut lin: RowColors = [[0.0; ROW_LANES]; 3];
+    for (j, row) in color[..rect.h].iter_mut().enumerate() {
+        let ids = &buf.id[j * TILE..j * TILE + rect.w];
+        let y = (rect.y0 + j) as f64 + 0.5;
+        let mut i = 0;
+        while i < rect.w {
+            let id = ids[i];
+            let end = i + run_length(&ids[i..], id);
+            // i + n ≤ TILE + LANES − 1 < ROW_LANES.
+            let n = (end - i).div_ceil(LANES) * LANES;
+            let [lr, lg, lb] = &mut lin;
+            let lanes = lr[i..i + n]
+                .chunks_exact_mut(LANES)
+                .zip(lg[i..i + n].chunks_exact_mut(LANES))
+                .zip(lb[i..i + n].chunks_exact_mut(LANES));
+            if id == NO_TRIANGLE {
+                for ((cr, cg), cb) in lanes {
+                    cr.fill(bg[0]);
+                    cg.fill(bg[1]);
+                    cb.fill(bg[2]);
+                }
+            } else {
+                // The triangle is read only when its planes are not cached (a chain of
+                // dependent loads, paid per run before).
+                let pl = planes.get(id, || {
+                    RunPlanes::new::<GOURAUD, AFFINE>(ctx, ctx.tris.get(id))
+                });
+                let colors = RunColors::new(&pl, rect.x0 as f64 + 0.5, y);
+                for (c, ((cr, cg), cb)) in lanes.enumerate() {
+                    for l in 0..LANES {
+                        // Via i32: one SIMD conversion (k < TILE + LANES).
+                        let k = (i + c * LANES + l) as i32 as f32;
+                        [cr[l], cg[l], cb[l]] = colors.at(k);
+                    }
+                }
+            }
+            i = end;
+        }
+        P::store_row(&mut row[..rect.w * 3], &lin);
     }
 }
 
