@@ -7,6 +7,7 @@
 /// absolute error stays below 1e-6 even at `f = 10 000`. Results below 2^-126 flush to 0;
 /// `0^0 = 1` as with `powf`.
 #[inline(always)]
+#[allow(clippy::manual_clamp)] // `clamp` keeps NaN; `max`/`min` send it to a bound, as wanted
 pub(crate) fn pow01(x: f32, f: f32) -> f32 {
     let bits = x.max(1e-30).to_bits();
     let mant = bits & 0x007f_ffff;
@@ -22,9 +23,12 @@ pub(crate) fn pow01(x: f32, f: f32) -> f32 {
     // Clamped to ≤ 0 too: a dot product of unit vectors can exceed 1 by rounding, and with a
     // huge exponent y then overflowed `i + 127` below (a NaN colour in release builds; found
     // by fuzzing). x ≥ 1 gives 1.
-    let y = (f * (e + log2m)).clamp(-126.0, 0.0);
+    // `max`/`min`, not `clamp`: they send NaN to a bound (no NaN reaches them from finite
+    // inputs, but the cast below then needs no saturation code: a plain SIMD conversion).
+    let y = (f * (e + log2m)).max(-126.0).min(0.0);
     // Round to nearest by truncating y − 0.5 (y ≤ ~0): no libm call on baseline x86-64.
-    let i = (y - 0.5) as i32;
+    // SAFETY: y − 0.5 is in [−126.5, −0.5], representable in i32.
+    let i = unsafe { (y - 0.5).to_int_unchecked::<i32>() };
     let z = (y - i as f32) * std::f32::consts::LN_2; // |z| ≤ ln2 / 2
                                                      // e^z by its Taylor series to degree 7 (relative error < 2e-8).
     let p = 1.0

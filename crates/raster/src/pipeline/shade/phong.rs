@@ -414,6 +414,17 @@ pub(super) fn shade_phong<
                         o.write(v);
                     }
                 }
+                if !SHADOWS && live == LANES {
+                    // A whole group of the run is lit where it was interpolated: no copy
+                    // into the batch and out again (same inputs, same pixels).
+                    let mut n = [[0.0; LANES]; 3];
+                    let raw = &lanes.n;
+                    normalize_lanes(&mut n, |k| (raw[0][k], raw[1][k], raw[2][k]));
+                    let lit = m.shade_lanes(&n, &lanes.p, ctx.eye);
+                    let at: [(usize, usize); LANES] = std::array::from_fn(|k| (j, s + k));
+                    finish_batch(ctx, lit, &at, &lanes.depth, rect, color);
+                    continue;
+                }
                 batch.extend::<P, SHADOWS>(ctx, rect, m, face, &lanes, live, (j, s), color);
             }
             i = end;

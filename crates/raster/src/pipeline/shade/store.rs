@@ -5,7 +5,7 @@ use std::mem::MaybeUninit;
 
 use glam::Vec3;
 
-use crate::lighting::LANES;
+use crate::lighting::{Lanes, LANES};
 use crate::pipeline::tiles::TILE;
 
 mod sealed {
@@ -28,6 +28,17 @@ pub trait Pixel: sealed::Sealed + Copy + Default + Send + Sync + 'static {
     fn store_row(dst: &mut [MaybeUninit<Self>], c: &RowColors) {
         for (k, px) in dst.chunks_exact_mut(3).enumerate() {
             store_out(px, Vec3::new(c[0][k], c[1][k], c[2][k]));
+        }
+    }
+
+    /// Writes lane `k` of `c` (`c[channel][lane]`) to tile slot `at[k]` = (row, column) of
+    /// the output rows `rows`, for every `k < at.len()`, as [`Pixel::store`] would one by one.
+    #[doc(hidden)]
+    #[inline(always)]
+    fn store_lanes(rows: &mut [&mut [Out<Self>]], at: &[(usize, usize)], c: &[Lanes; 3]) {
+        let [r, g, b] = c;
+        for (((&(j, i), r), g), b) in at.iter().zip(r).zip(g).zip(b) {
+            store_out(&mut rows[j][i * 3..i * 3 + 3], Vec3::new(*r, *g, *b));
         }
     }
 }
@@ -134,6 +145,23 @@ impl Pixel for u8 {
             &mut dst[3 * last..3 * last + 3],
             &packed[last].to_le_bytes()[..3],
         );
+    }
+
+    #[inline(always)]
+    fn store_lanes(rows: &mut [&mut [Out<u8>]], at: &[(usize, usize)], c: &[Lanes; 3]) {
+        // Quantised over all lanes at once (SIMD), then three bytes written per live lane
+        // (per lane, each channel was converted and bounds-checked apart).
+        let [r, g, b] = c;
+        let mut packed = [[0u8; 4]; LANES];
+        for k in 0..LANES {
+            packed[k] = (quantize_i32(r[k]) as u32
+                | (quantize_i32(g[k]) as u32) << 8
+                | (quantize_i32(b[k]) as u32) << 16)
+                .to_le_bytes();
+        }
+        for (&(j, i), p) in at.iter().zip(&packed) {
+            put(&mut rows[j][i * 3..i * 3 + 3], &p[..3]);
+        }
     }
 }
 
