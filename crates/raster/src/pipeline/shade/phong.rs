@@ -421,8 +421,13 @@ pub(super) fn shade_phong<
                     let raw = &lanes.n;
                     normalize_lanes(&mut n, |k| (raw[0][k], raw[1][k], raw[2][k]));
                     let lit = m.shade_lanes(&n, &lanes.p, ctx.eye);
-                    let at: [(usize, usize); LANES] = std::array::from_fn(|k| (j, s + k));
-                    finish_batch(ctx, lit, &at, &lanes.depth, rect, color);
+                    if ctx.program.is_empty() {
+                        // Consecutive pixels: stored as a row, not through per-pixel slots.
+                        P::store_group(&mut color[j][s * 3..(s + LANES) * 3], &lit);
+                    } else {
+                        let at: [(usize, usize); LANES] = std::array::from_fn(|k| (j, s + k));
+                        finish_batch(ctx, lit, &at, &lanes.depth, rect, color);
+                    }
                     continue;
                 }
                 batch.extend::<P, SHADOWS>(ctx, rect, m, face, &lanes, live, (j, s), color);

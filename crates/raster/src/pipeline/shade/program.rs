@@ -78,6 +78,11 @@ impl Program {
 }
 
 impl Program {
+    /// Whether the program has no stage (what is lit is stored as it is).
+    pub fn is_empty(&self) -> bool {
+        self.stages.is_empty()
+    }
+
     /// Whether a stage reads the fragments' eye depth.
     pub fn reads_depth(&self) -> bool {
         self.stages.iter().any(|s| match s {

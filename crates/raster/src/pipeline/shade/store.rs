@@ -31,6 +31,16 @@ pub trait Pixel: sealed::Sealed + Copy + Default + Send + Sync + 'static {
         }
     }
 
+    /// Writes the [`LANES`] colours `c` (`c[channel][lane]`) to the [`LANES`] consecutive
+    /// pixels of `dst` (`3 · LANES` samples), as [`Pixel::store`] would one by one.
+    #[doc(hidden)]
+    #[inline(always)]
+    fn store_group(dst: &mut [Out<Self>], c: &[Lanes; 3]) {
+        for (k, px) in dst.chunks_exact_mut(3).take(LANES).enumerate() {
+            store_out(px, Vec3::new(c[0][k], c[1][k], c[2][k]));
+        }
+    }
+
     /// Writes lane `k` of `c` (`c[channel][lane]`) to tile slot `at[k]` = (row, column) of
     /// the output rows `rows`, for every `k < at.len()`, as [`Pixel::store`] would one by one.
     #[doc(hidden)]
@@ -97,6 +107,21 @@ fn quantize_i32(v: f32) -> i32 {
     unsafe { x.to_int_unchecked::<i32>() }
 }
 
+/// Each lane of `c` quantised ([`quantize_i32`]), its three samples in the low bytes of four
+/// (SIMD over the lanes).
+#[inline(always)]
+fn pack_lanes(c: &[Lanes; 3]) -> [[u8; 4]; LANES] {
+    let [r, g, b] = c;
+    let mut packed = [[0u8; 4]; LANES];
+    for k in 0..LANES {
+        packed[k] = (quantize_i32(r[k]) as u32
+            | (quantize_i32(g[k]) as u32) << 8
+            | (quantize_i32(b[k]) as u32) << 16)
+            .to_le_bytes();
+    }
+    packed
+}
+
 impl Pixel for u8 {
     /// `round(clamp(c, 0, 1) · 255)`.
     #[inline]
@@ -148,17 +173,24 @@ impl Pixel for u8 {
     }
 
     #[inline(always)]
+    fn store_group(dst: &mut [Out<u8>], c: &[Lanes; 3]) {
+        let packed = pack_lanes(c);
+        let dst = &mut dst[..3 * LANES];
+        let out = dst.as_mut_ptr();
+        for (k, p) in packed[..LANES - 1].iter().enumerate() {
+            // SAFETY: k ≤ LANES − 2, so bytes 3k..3k + 4 lie within 0..3·LANES − 2 ⊆
+            // 0..dst.len(); `Out<u8>` has u8's layout. (The fourth byte is the next pixel's
+            // first, rewritten by it.)
+            unsafe { out.add(3 * k).cast::<[u8; 4]>().write_unaligned(*p) };
+        }
+        put(&mut dst[3 * (LANES - 1)..], &packed[LANES - 1][..3]);
+    }
+
+    #[inline(always)]
     fn store_lanes(rows: &mut [&mut [Out<u8>]], at: &[(usize, usize)], c: &[Lanes; 3]) {
         // Quantised over all lanes at once (SIMD), then three bytes written per live lane
         // (per lane, each channel was converted and bounds-checked apart).
-        let [r, g, b] = c;
-        let mut packed = [[0u8; 4]; LANES];
-        for k in 0..LANES {
-            packed[k] = (quantize_i32(r[k]) as u32
-                | (quantize_i32(g[k]) as u32) << 8
-                | (quantize_i32(b[k]) as u32) << 16)
-                .to_le_bytes();
-        }
+        let packed = pack_lanes(c);
         for (&(j, i), p) in at.iter().zip(&packed) {
             put(&mut rows[j][i * 3..i * 3 + 3], &p[..3]);
         }
