@@ -78,23 +78,20 @@ pub(super) fn shade_runs<P: Pixel, const MODE: u8, const FOG: bool, const AFFINE
                 let pl = planes.get(id, || RunPlanes::new::<MODE, AFFINE>(ctx, t));
                 let run = RunStart::new(&pl, (rect.x0 + i) as f64 + 0.5, y);
                 let colors = RunColors::new(&pl, rect.x0 as f64 + 0.5, y);
-                {
-                    for (k, px) in out.chunks_exact_mut(3).enumerate() {
-                        let kf = k as f64;
-                        let inv_w = run.inv_w(kf);
-                        let eye_depth =
-                            ctx.eye_depth::<AFFINE>(want_depth, zs[i + k], inv_w as f32);
-                        if let Some(d) = depth_row.as_deref_mut() {
-                            d[i + k].write(eye_depth);
-                        }
-                        let c = if MODE == FLAT {
-                            t.flat
-                        } else {
-                            Vec3::from_array(colors.at((i + k) as f32))
-                        };
-                        let (px_x, px_y) = (rect.x0 + i + k, rect.y0 + j);
-                        store_out(px, ctx.fogged::<FOG>(c, px_x, px_y, eye_depth));
+                for (k, px) in out.chunks_exact_mut(3).enumerate() {
+                    let kf = k as f64;
+                    let inv_w = run.inv_w(kf);
+                    let eye_depth = ctx.eye_depth::<AFFINE>(want_depth, zs[i + k], inv_w as f32);
+                    if let Some(d) = depth_row.as_deref_mut() {
+                        d[i + k].write(eye_depth);
                     }
+                    let c = if MODE == FLAT {
+                        t.flat
+                    } else {
+                        Vec3::from_array(colors.at((i + k) as f32))
+                    };
+                    let (px_x, px_y) = (rect.x0 + i + k, rect.y0 + j);
+                    store_out(px, ctx.fogged::<FOG>(c, px_x, px_y, eye_depth));
                 }
             }
             i = end;
