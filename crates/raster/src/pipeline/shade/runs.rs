@@ -77,7 +77,9 @@ pub(super) fn shade_runs<P: Pixel, const MODE: u8, const FOG: bool, const AFFINE
                 let t = ctx.tris.get(id);
                 let pl = planes.get(id, || RunPlanes::new::<MODE, AFFINE>(ctx, t));
                 let run = RunStart::new(&pl, (rect.x0 + i) as f64 + 0.5, y);
-                let colors = RunColors::new(&pl, rect.x0 as f64 + 0.5, y);
+                // Flat needs only the 1/w plane (its colour is the triangle's).
+                let colors =
+                    (MODE == GOURAUD).then(|| RunColors::new(&pl, rect.x0 as f64 + 0.5, y));
                 for (k, px) in out.chunks_exact_mut(3).enumerate() {
                     let kf = k as f64;
                     let inv_w = run.inv_w(kf);
@@ -85,10 +87,9 @@ pub(super) fn shade_runs<P: Pixel, const MODE: u8, const FOG: bool, const AFFINE
                     if let Some(d) = depth_row.as_deref_mut() {
                         d[i + k].write(eye_depth);
                     }
-                    let c = if MODE == FLAT {
-                        t.flat
-                    } else {
-                        Vec3::from_array(colors.at((i + k) as f32))
+                    let c = match &colors {
+                        Some(colors) => Vec3::from_array(colors.at((i + k) as f32)),
+                        None => t.flat,
                     };
                     let (px_x, px_y) = (rect.x0 + i + k, rect.y0 + j);
                     store_out(px, ctx.fogged::<FOG>(c, px_x, px_y, eye_depth));

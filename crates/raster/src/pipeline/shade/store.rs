@@ -107,19 +107,41 @@ fn quantize_i32(v: f32) -> i32 {
     unsafe { x.to_int_unchecked::<i32>() }
 }
 
-/// Each lane of `c` quantised ([`quantize_i32`]), its three samples in the low bytes of four
-/// (SIMD over the lanes).
+/// `LANES` colours quantised ([`quantize_i32`]), each pixel's three samples in the low
+/// bytes of a u32 (SIMD over the lanes).
 #[inline(always)]
-fn pack_lanes(c: &[Lanes; 3]) -> [[u8; 4]; LANES] {
-    let [r, g, b] = c;
-    let mut packed = [[0u8; 4]; LANES];
+fn pack_window(r: &[f32], g: &[f32], b: &[f32]) -> [u32; LANES] {
+    let (r, g, b) = (&r[..LANES], &g[..LANES], &b[..LANES]);
+    let mut packed = [0u32; LANES];
     for k in 0..LANES {
-        packed[k] = (quantize_i32(r[k]) as u32
+        packed[k] = quantize_i32(r[k]) as u32
             | (quantize_i32(g[k]) as u32) << 8
-            | (quantize_i32(b[k]) as u32) << 16)
-            .to_le_bytes();
+            | (quantize_i32(b[k]) as u32) << 16;
     }
     packed
+}
+
+/// Writes the packed pixels `packed` ([`pack_window`]) to the output `dst`, three samples
+/// each: four bytes a pixel (the fourth is the next pixel's first, rewritten by it) and the
+/// last pixel's three alone, so nothing past `3 · packed.len()` is touched.
+#[inline(always)]
+fn write_packed(dst: &mut [Out<u8>], packed: &[u32]) {
+    let Some((last, rest)) = packed.split_last() else {
+        return;
+    };
+    let dst = &mut dst[..3 * packed.len()];
+    let out = dst.as_mut_ptr();
+    for (k, p) in rest.iter().enumerate() {
+        // SAFETY: k < packed.len() − 1, so bytes 3k..3k + 4 lie within
+        // 0..3·packed.len() − 2 ⊆ 0..dst.len(); `Out<u8>` has u8's layout.
+        unsafe {
+            out.add(3 * k)
+                .cast::<[u8; 4]>()
+                .write_unaligned(p.to_le_bytes())
+        };
+    }
+    let tail = 3 * rest.len();
+    put(&mut dst[tail..tail + 3], &last.to_le_bytes()[..3]);
 }
 
 impl Pixel for u8 {
@@ -134,65 +156,30 @@ impl Pixel for u8 {
     #[inline(always)]
     fn store_row(dst: &mut [Out<u8>], c: &RowColors) {
         // Quantised over whole lanes (SIMD, in fixed windows so no scalar tail loop is
-        // made), each pixel's three samples packed into the low bytes of a u32, then
-        // written four bytes a pixel (the fourth is the next pixel's first, rewritten by
-        // it) and the last pixel's three alone, so nothing past `dst` is touched.
+        // made), then written four bytes a pixel.
         let px = dst.len() / 3;
         let n = px.div_ceil(LANES) * LANES;
         let mut packed = [0u32; ROW_LANES];
         let [cr, cg, cb] = c;
-        let windows = packed[..n]
-            .chunks_exact_mut(LANES)
-            .zip(cr[..n].chunks_exact(LANES))
-            .zip(cg[..n].chunks_exact(LANES))
-            .zip(cb[..n].chunks_exact(LANES));
-        for (((p, r), g), b) in windows {
-            for k in 0..LANES {
-                p[k] = quantize_i32(r[k]) as u32
-                    | (quantize_i32(g[k]) as u32) << 8
-                    | (quantize_i32(b[k]) as u32) << 16;
-            }
+        for (w, p) in packed[..n].chunks_exact_mut(LANES).enumerate() {
+            let s = w * LANES..(w + 1) * LANES;
+            p.copy_from_slice(&pack_window(&cr[s.clone()], &cg[s.clone()], &cb[s]));
         }
-        let Some(last) = px.checked_sub(1) else {
-            return;
-        };
-        let out = dst.as_mut_ptr();
-        for (k, p) in packed[..last].iter().enumerate() {
-            // SAFETY: k < last = px − 1, so bytes 3k..3k + 4 lie within
-            // 0..3·(px − 1) + 1 ⊆ 0..dst.len(); `Out<u8>` has u8's layout.
-            unsafe {
-                out.add(3 * k)
-                    .cast::<[u8; 4]>()
-                    .write_unaligned(p.to_le_bytes())
-            };
-        }
-        put(
-            &mut dst[3 * last..3 * last + 3],
-            &packed[last].to_le_bytes()[..3],
-        );
+        write_packed(dst, &packed[..px]);
     }
 
     #[inline(always)]
     fn store_group(dst: &mut [Out<u8>], c: &[Lanes; 3]) {
-        let packed = pack_lanes(c);
-        let dst = &mut dst[..3 * LANES];
-        let out = dst.as_mut_ptr();
-        for (k, p) in packed[..LANES - 1].iter().enumerate() {
-            // SAFETY: k ≤ LANES − 2, so bytes 3k..3k + 4 lie within 0..3·LANES − 2 ⊆
-            // 0..dst.len(); `Out<u8>` has u8's layout. (The fourth byte is the next pixel's
-            // first, rewritten by it.)
-            unsafe { out.add(3 * k).cast::<[u8; 4]>().write_unaligned(*p) };
-        }
-        put(&mut dst[3 * (LANES - 1)..], &packed[LANES - 1][..3]);
+        write_packed(dst, &pack_window(&c[0], &c[1], &c[2]));
     }
 
     #[inline(always)]
     fn store_lanes(rows: &mut [&mut [Out<u8>]], at: &[(usize, usize)], c: &[Lanes; 3]) {
         // Quantised over all lanes at once (SIMD), then three bytes written per live lane
         // (per lane, each channel was converted and bounds-checked apart).
-        let packed = pack_lanes(c);
+        let packed = pack_window(&c[0], &c[1], &c[2]);
         for (&(j, i), p) in at.iter().zip(&packed) {
-            put(&mut rows[j][i * 3..i * 3 + 3], &p[..3]);
+            put(&mut rows[j][i * 3..i * 3 + 3], &p.to_le_bytes()[..3]);
         }
     }
 }
@@ -242,6 +229,57 @@ mod tests {
             let mut out = [0u8; 3];
             u8::store(&mut out, Vec3::splat(v));
             assert_eq!(out, [reference(v); 3], "{v}");
+        }
+    }
+
+    /// The row, group and lane stores write what [`Pixel::store`] writes pixel by pixel,
+    /// for every row length, and nothing past the pixels they are given.
+    #[test]
+    fn packed_stores_match_store() {
+        let read = |v: &[Out<u8>]| -> Vec<u8> {
+            v.iter()
+                // SAFETY: every sample was initialised (7) before the stores wrote some.
+                .map(|v| unsafe { v.assume_init() })
+                .collect()
+        };
+        let value = |k: usize| ((k * 37 % 101) as f32 / 90.0) - 0.05; // −0.05..1.06
+        let mut c: RowColors = [[0.0; ROW_LANES]; 3];
+        for (ch, plane) in c.iter_mut().enumerate() {
+            for (k, v) in plane.iter_mut().enumerate() {
+                *v = value(3 * k + ch);
+            }
+        }
+        let want = |k: usize| {
+            let mut px = [0u8; 3];
+            u8::store(&mut px, Vec3::new(c[0][k], c[1][k], c[2][k]));
+            px
+        };
+        for px in 0..=TILE {
+            let mut dst = vec![Out::new(7u8); 3 * px + 4];
+            u8::store_row(&mut dst[..3 * px], &c);
+            let got = read(&dst);
+            for k in 0..px {
+                assert_eq!(got[3 * k..3 * k + 3], want(k), "row of {px}, pixel {k}");
+            }
+            assert_eq!(got[3 * px..], [7; 4], "row of {px} wrote past its end");
+        }
+        let lanes: [Lanes; 3] = std::array::from_fn(|ch| c[ch][..LANES].try_into().unwrap());
+        let mut dst = [Out::new(7u8); 3 * LANES + 1];
+        u8::store_group(&mut dst[..3 * LANES], &lanes);
+        let got = read(&dst);
+        for k in 0..LANES {
+            assert_eq!(got[3 * k..3 * k + 3], want(k), "group pixel {k}");
+        }
+        assert_eq!(got[3 * LANES], 7, "group wrote past its end");
+        let mut row = [Out::new(7u8); 3 * TILE];
+        let at: Vec<(usize, usize)> = (0..LANES - 1).map(|k| (0, 5 * k + 1)).collect();
+        u8::store_lanes(&mut [&mut row[..]], &at, &lanes);
+        let got = read(&row);
+        for (k, &(_, i)) in at.iter().enumerate() {
+            assert_eq!(got[3 * i..3 * i + 3], want(k), "lane {k}");
+        }
+        for i in (0..TILE).filter(|i| !at.iter().any(|&(_, a)| a == *i)) {
+            assert_eq!(got[3 * i..3 * i + 3], [7; 3], "pixel {i} is no lane's");
         }
     }
 }
