@@ -65,7 +65,9 @@ FUZZ_TARGETS := obj_loader pipeline
 
 # cargo-fuzz needs nightly; the crate in fuzz/ is its own workspace. New corpus entries go to
 # fuzz/corpus/<target> (not committed), crashes to fuzz/artifacts/<target>; the committed
-# seeds in fuzz/seeds/<target> are read too. No sanitizer: the renderer has no unsafe code.
+# seeds in fuzz/seeds/<target> are read too. No sanitizer (`-s none`), debug assertions on (`-a`):
+# the targets look for panics and wrong results; the crate's few `unsafe` blocks (unaligned
+# stores, unchecked float-to-int conversions, target-feature calls) each state why they are sound.
 fuzz:  ## run each cargo-fuzz target for FUZZ_SECONDS seconds (default 60; needs nightly)
 	@rustc +nightly --version >/dev/null 2>&1 || { echo "make fuzz: no nightly Rust toolchain (cargo-fuzz needs one): rustup toolchain install nightly" >&2; exit 1; }
 	@cargo fuzz --version >/dev/null 2>&1 || cargo install cargo-fuzz --locked

@@ -130,7 +130,7 @@ impl RowPlanes {
 }
 
 /// The normal of one pixel from its interpolated `n`: the face normal for a zero or unusable
-/// blend, flipped for the back of a two-sided surface (as [`Current::lanes`] per lane).
+/// blend, flipped for the back of a two-sided surface (as [`RowPlanes::lanes`] per lane).
 #[inline(always)]
 fn usable_normal(ctx: &ShadeContext<'_>, t: &SetupTri, n: [f32; 3]) -> Vec3 {
     let n = Vec3::from_array(n);
