@@ -133,17 +133,23 @@ impl RowPlanes {
 /// blend, flipped for the back of a two-sided surface (as [`RowPlanes::lanes`] per lane).
 #[inline(always)]
 fn usable_normal(ctx: &ShadeContext<'_>, t: &SetupTri, n: [f32; 3]) -> Vec3 {
-    let n = Vec3::from_array(n);
-    let len2 = n.length_squared();
-    let n = if len2 > 1e-30 && len2.is_finite() {
-        n
-    } else {
-        face_normal(t, &ctx.verts.world)
-    };
+    let n = or_face_normal(ctx, t, Vec3::from_array(n));
     if ctx.two_sided && !t.front {
         -n
     } else {
         n
+    }
+}
+
+/// `n`, or the face normal where `n` is zero or not finite (a blend of opposed or unusable
+/// vertex normals): one test for the one-pixel path and the lanes' fix-up.
+#[inline(always)]
+fn or_face_normal(ctx: &ShadeContext<'_>, t: &SetupTri, n: Vec3) -> Vec3 {
+    let len2 = n.length_squared();
+    if len2 > 1e-30 && len2.is_finite() {
+        n
+    } else {
+        face_normal(t, &ctx.verts.world)
     }
 }
 
@@ -288,12 +294,9 @@ impl RowPlanes {
         }
         if unusable != 0 {
             for k in 0..live {
-                let (x, y, z) = (out.n[0][k], out.n[1][k], out.n[2][k]);
-                let len2 = x * x + y * y + z * z;
-                if !(len2 > 1e-30 && len2.is_finite()) {
-                    let f = face_normal(t, &ctx.verts.world);
-                    (out.n[0][k], out.n[1][k], out.n[2][k]) = (f.x, f.y, f.z);
-                }
+                let n = Vec3::new(out.n[0][k], out.n[1][k], out.n[2][k]);
+                let f = or_face_normal(ctx, t, n);
+                (out.n[0][k], out.n[1][k], out.n[2][k]) = (f.x, f.y, f.z);
             }
         }
         if ctx.two_sided && !t.front {
