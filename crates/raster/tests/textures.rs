@@ -347,3 +347,53 @@ fn textured_frames_are_identical_on_every_instruction_set_and_thread_count() {
         }
     }
 }
+
+/// With no light (or only black ones, which add nothing and are dropped) a textured
+/// surface's lighting is its ambient term alone, so Phong shades it as flat does (once per
+/// triangle, no per-pixel normals): the three modes' pictures are bit for bit the same, and
+/// a black light changes no bit of any mode's picture.
+#[test]
+fn unlit_textured_surfaces_are_the_same_in_every_mode() {
+    let mut checks = Vec::new();
+    for j in 0..8 {
+        for i in 0..8 {
+            let c = if (i + j) % 2 == 0 { 0.9 } else { 0.1 };
+            checks.extend([c, c * 0.5, 1.0 - c]);
+        }
+    }
+    let img = texture::Image::from_top_rows(8, 8, 3, &checks, false).unwrap();
+    let maps = Maps {
+        diffuse: Some(Arc::new(Texture::from_image(
+            Arc::new(img),
+            Filter::Bilinear,
+            [Wrap::Repeat; 2],
+        ))),
+        ..Maps::default()
+    };
+    let gold = Material::preset("gold").unwrap();
+    let unlit = |black: bool| {
+        let mut s = Scene::new(Vec3::splat(0.4)).unwrap();
+        let obj = Object::new(Arc::new(primitives::plane()), gold, Mat4::IDENTITY)
+            .unwrap()
+            .with_maps(Some(Arc::new(maps.clone())))
+            .unwrap();
+        s.add_object(obj);
+        if black {
+            s.add_light(PointLight::new(Vec3::new(0.3, 1.0, 0.4), Vec3::ZERO, 1.0).unwrap());
+        }
+        s
+    };
+    let flat = f32_frame(&unlit(false), ShadingMode::Flat);
+    assert!(flat.iter().any(|&c| c > 0.0), "the plane is drawn");
+    for mode in MODES {
+        for black in [false, true] {
+            let got = f32_frame(&unlit(black), mode);
+            assert!(
+                got.iter()
+                    .zip(&flat)
+                    .all(|(a, b)| a.to_bits() == b.to_bits()),
+                "{mode:?} black light {black}"
+            );
+        }
+    }
+}

@@ -56,6 +56,7 @@ impl Terms for Folded {
 /// Ambient (with the constant base), diffuse and specular apart.
 // Read by the tests today; the texture stage (a per-point material) is its first user.
 #[allow(dead_code)]
+#[derive(Clone, Copy, Default)]
 pub(crate) struct Split {
     pub ambient: [Lanes; 3],
     pub diffuse: [Lanes; 3],

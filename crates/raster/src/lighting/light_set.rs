@@ -41,6 +41,14 @@ impl Source {
     pub fn scaled(&self) -> bool {
         self.attenuation.is_some() || matches!(self.geometry, Geometry::Spot { .. })
     }
+
+    /// Whether the source adds exactly nothing to any point: its ambient, diffuse and
+    /// specular colours all zero (every term it would add is a product with one of them, and
+    /// `x + 0 = x`, so dropping it leaves every pixel's bits as they were; a NaN colour is
+    /// not dark and stays).
+    pub fn dark(&self) -> bool {
+        self.diffuse == Vec3::ZERO && self.specular == Vec3::ZERO && self.ambient == Vec3::ZERO
+    }
 }
 
 /// A render's point sources, in the scene's order (area lights in place, as their points).
@@ -50,6 +58,8 @@ pub(crate) struct LightSet {
 }
 
 impl LightSet {
+    /// The sources of `lights`, without those that add nothing anywhere ([`Source::dark`]):
+    /// a black light costs no lighting, and no shadow map, per pixel.
     pub fn new(lights: &[Light]) -> Self {
         let mut sources = Vec::with_capacity(lights.len());
         for l in lights {
@@ -59,6 +69,7 @@ impl LightSet {
                 _ => sources.push(source(l)),
             }
         }
+        sources.retain(|s| !s.dark());
         LightSet { sources }
     }
 }
@@ -160,6 +171,24 @@ mod tests {
             assert_eq!(light.normal(), Vec3::Z, "scale {scale}");
             assert_eq!(area_points(&light).len(), 4);
         }
+    }
+
+    /// A light whose every colour is zero is dropped (it adds exactly nothing); a light with
+    /// only an ambient colour, or only a specular one, is not.
+    #[test]
+    fn dark_lights_are_dropped() {
+        use crate::lights::DirectionalLight;
+        let dir = |c: Vec3| DirectionalLight::new(Vec3::NEG_Y, c, 1.0).unwrap();
+        let black = dir(Vec3::ZERO);
+        let ambient_only = dir(Vec3::ZERO).with_ambient(Vec3::splat(0.1)).unwrap();
+        let lit = dir(Vec3::ONE);
+        let set = LightSet::new(&[black.into(), ambient_only.into(), lit.into()]);
+        assert_eq!(set.sources.len(), 2);
+        assert_eq!(set.sources[0].ambient, Vec3::splat(0.1));
+        assert_eq!(set.sources[1].diffuse, Vec3::ONE);
+        let dark_area = rect(2).with_color(Vec3::ZERO, 1.0).unwrap();
+        assert!(LightSet::new(&[dark_area.into()]).sources.is_empty());
+        assert_eq!(LightSet::new(&[rect(2).into()]).sources.len(), 4);
     }
 
     fn rect(samples: u32) -> AreaLight {

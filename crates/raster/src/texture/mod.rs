@@ -225,26 +225,21 @@ impl Texture {
 }
 
 impl Texture {
-    /// [`Texture::sample`] at several points (`uv[k]` seen with `fp[k]`, into `out[k]`),
-    /// the same values: the source and filter are dispatched once for all of them, and the
-    /// filters that read neither λ nor probes loop straight over the texel reads.
+    /// [`Texture::sample`] at several points (`uv[k]` seen with `fp[k]`, into lane `k` of
+    /// the channel-major `out`; lanes past `uv.len()` may be overwritten), the same values:
+    /// the source and filter are dispatched once for all of them, and the isotropic image
+    /// filters read all the points' texels at once (`sample::nearest_lanes`,
+    /// `bilinear_lanes`, `trilinear_lanes`).
     #[inline(always)]
-    pub fn sample_many(&self, uv: &[(f64, f64)], fp: &[Footprint], out: &mut [Vec3]) {
+    pub fn sample_many<const N: usize>(
+        &self,
+        uv: &[(f64, f64)],
+        fp: &[Footprint],
+        out: &mut [[f32; N]; 3],
+    ) {
         let (s, o) = (self.uv_scale, self.uv_offset);
         let at =
             |(u, v): (f64, f64)| (finite_or_zero(u * s.x + o.x), finite_or_zero(v * s.y + o.y));
-        // Level 0 read at each point by `read` (generic: inlined in each copy).
-        fn each(
-            uv: &[(f64, f64)],
-            at: impl Fn((f64, f64)) -> (f64, f64),
-            out: &mut [Vec3],
-            read: impl Fn(f64, f64) -> Vec3,
-        ) {
-            for (c, &p) in out.iter_mut().zip(uv) {
-                let (u, v) = at(p);
-                *c = read(u, v);
-            }
-        }
         match &self.source {
             Source::Image {
                 image,
@@ -252,8 +247,8 @@ impl Texture {
                 wrap,
                 aniso: 0 | 1,
             } => {
-                let l0 = &image.levels()[0];
-                each(uv, at, out, |u, v| sample::nearest(l0, *wrap, u, v));
+                let (u, v, n) = lanes::<N>(uv, at);
+                sample::nearest_lanes(&image.levels()[0], *wrap, &u, &v, n, out);
             }
             Source::Image {
                 image,
@@ -261,8 +256,8 @@ impl Texture {
                 wrap,
                 aniso: 0 | 1,
             } => {
-                let l0 = &image.levels()[0];
-                each(uv, at, out, |u, v| sample::bilinear(l0, *wrap, u, v));
+                let (u, v, n) = lanes::<N>(uv, at);
+                sample::bilinear_lanes(&image.levels()[0], *wrap, &u, &v, n, out);
             }
             Source::Image {
                 image,
@@ -272,19 +267,41 @@ impl Texture {
             } => {
                 // As `sample`: the footprint scaled with the coordinates, then λ.
                 let (w, h) = (image.width(), image.height());
-                for ((c, &p), fp) in out.iter_mut().zip(uv).zip(fp) {
-                    let (u, v) = at(p);
-                    let lambda = scale_footprint(fp, s).lod(w, h);
-                    *c = sample::trilinear(image.levels(), *wrap, u, v, lambda);
+                let (u, v, n) = lanes::<N>(uv, at);
+                let mut lambda = [0.0; N];
+                for (l, fp) in lambda.iter_mut().zip(fp).take(n) {
+                    *l = scale_footprint(fp, s).lod(w, h);
                 }
+                sample::trilinear_lanes(image.levels(), *wrap, &u, &v, &lambda, n, out);
             }
             _ => {
-                for ((c, &(u, v)), fp) in out.iter_mut().zip(uv).zip(fp) {
-                    *c = self.sample(u, v, fp);
+                for (k, (&(u, v), fp)) in uv.iter().zip(fp).enumerate().take(N) {
+                    put_lane(out, k, self.sample(u, v, fp));
                 }
             }
         }
     }
+}
+
+/// The first `N` points of `uv` through `at` as coordinate lanes (zero past the points),
+/// and how many there are.
+#[inline(always)]
+fn lanes<const N: usize>(
+    uv: &[(f64, f64)],
+    at: impl Fn((f64, f64)) -> (f64, f64),
+) -> ([f64; N], [f64; N], usize) {
+    let n = uv.len().min(N);
+    let (mut u, mut v) = ([0.0; N], [0.0; N]);
+    for k in 0..n {
+        (u[k], v[k]) = at(uv[k]);
+    }
+    (u, v, n)
+}
+
+/// Writes `c` into lane `k` of channel-major lanes.
+#[inline(always)]
+fn put_lane<const N: usize>(out: &mut [[f32; N]; 3], k: usize, c: Vec3) {
+    (out[0][k], out[1][k], out[2][k]) = (c.x, c.y, c.z);
 }
 
 /// The footprint of coordinates scaled by `s` (itself when `s` is 1, bit for bit).

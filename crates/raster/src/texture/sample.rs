@@ -191,11 +191,239 @@ pub(super) fn trilinear(levels: &[Level], wrap: [Wrap; 2], u: f64, v: f64, lambd
     a * (1.0 - f) + b * f
 }
 
+/// One axis of a level as the filters index it: the wrap mode and size, and for `Repeat`
+/// on a power-of-two size (most textures) the mask that wraps an integer coordinate, so
+/// the common case is a truncation and an AND (made per call; inlined into a loop over
+/// points, it is made once for the loop).
+#[derive(Clone, Copy)]
+struct Axis {
+    wrap: Wrap,
+    size: usize,
+    mask: Option<i64>,
+}
+
+/// 2⁵²: below it an f64 truncates exactly through an i64 and `t + 1` stays exact.
+const EXACT_INT: f64 = 4_503_599_627_370_496.0;
+
+impl Axis {
+    #[inline(always)]
+    fn new(wrap: Wrap, size: usize) -> Self {
+        let mask = (wrap == Wrap::Repeat && size.is_power_of_two()).then_some(size as i64 - 1);
+        Axis { wrap, size, mask }
+    }
+
+    /// ⌊x⌋ through an i64 where |x| < 2⁵² (as [`floor`] computes it), or `None`.
+    #[inline(always)]
+    fn floor_int(x: f64) -> Option<i64> {
+        if x.abs() < EXACT_INT {
+            // SAFETY: |x| < 2⁵² (so not NaN) fits an i64.
+            let t = unsafe { x.to_int_unchecked::<i64>() };
+            Some(t - ((t as f64) > x) as i64)
+        } else {
+            None
+        }
+    }
+
+    /// The texel that ⌊x⌋ reads: [`Wrap::index`] of [`floor`]`(x)`, the same index.
+    #[inline(always)]
+    fn nearest(&self, x: f64) -> usize {
+        if let (Some(m), Some(t)) = (self.mask, Self::floor_int(x)) {
+            // The Euclidean remainder by a power of two, in two's complement.
+            return (t & m) as usize;
+        }
+        self.wrap.index(floor(x), self.size)
+    }
+
+    /// The texels ⌊x⌋ and ⌊x⌋ + 1 read and the fraction x − ⌊x⌋: [`Wrap::pair`] of
+    /// [`floor`]`(x)`, the same values.
+    #[inline(always)]
+    fn pair(&self, x: f64) -> (usize, usize, f32) {
+        if let (Some(m), Some(t)) = (self.mask, Self::floor_int(x)) {
+            return (
+                (t & m) as usize,
+                ((t + 1) & m) as usize,
+                (x - t as f64) as f32,
+            );
+        }
+        let x0 = floor(x);
+        let (i0, i1) = self.wrap.pair(x0, self.size);
+        (i0, i1, (x - x0) as f32)
+    }
+}
+
+/// Below 2³¹ an f64 truncates exactly through an i32, which SIMD converts eight lanes at
+/// a time (an i64 conversion has no AVX2 instruction).
+const LANE_INT: f64 = 2_147_483_648.0;
+
+/// The lanes' texel indices ⌊x⌋ (`BILINEAR`: ⌊x⌋ and ⌊x⌋ + 1, and the fraction) along
+/// `axis` for the first `n` of `x`: under `Repeat` on a power-of-two size, a truncation
+/// and an AND over all lanes at once (lanes beyond 2³¹ then per lane), otherwise per lane;
+/// the same values as [`Axis::nearest`] and [`Axis::pair`].
+#[inline(always)]
+fn lane_indices<const N: usize, const BILINEAR: bool>(
+    axis: Axis,
+    x: &[f64; N],
+    n: usize,
+) -> ([usize; N], [usize; N], [f32; N]) {
+    let mut i0 = [0usize; N];
+    let mut i1 = [0usize; N];
+    let mut frac = [0.0f32; N];
+    let mut rest = 0..n;
+    if let Some(m) = axis.mask {
+        let m = m as i32; // sizes are at most MAX_TEXTURE_SIZE
+        let mut fits = true;
+        for k in 0..N {
+            let ok = x[k].abs() < LANE_INT;
+            fits &= ok || k >= n;
+            let xk = if ok { x[k] } else { 0.0 };
+            // SAFETY: |xk| < 2³¹ (NaN fails the test and reads 0).
+            let t = unsafe { xk.to_int_unchecked::<i32>() };
+            let t = t - ((t as f64) > xk) as i32;
+            i0[k] = (t & m) as usize;
+            if BILINEAR {
+                i1[k] = (t.wrapping_add(1) & m) as usize;
+                frac[k] = (xk - t as f64) as f32;
+            }
+        }
+        if fits {
+            rest = 0..0;
+        }
+    }
+    for k in rest {
+        if BILINEAR {
+            (i0[k], i1[k], frac[k]) = axis.pair(x[k]);
+        } else {
+            i0[k] = axis.nearest(x[k]);
+        }
+    }
+    (i0, i1, frac)
+}
+
+/// [`nearest`] at the first `n` of the points (`u`, `v`) (finite), into lane k of `out`.
+#[inline(always)]
+pub(super) fn nearest_lanes<const N: usize>(
+    l: &Level,
+    wrap: [Wrap; 2],
+    u: &[f64; N],
+    v: &[f64; N],
+    n: usize,
+    out: &mut [[f32; N]; 3],
+) {
+    let scaled = |c: &[f64; N], s: usize| c.map(|c| c * s as f64);
+    let (i, _, _) = lane_indices::<N, false>(Axis::new(wrap[0], l.width), &scaled(u, l.width), n);
+    let (j, _, _) = lane_indices::<N, false>(Axis::new(wrap[1], l.height), &scaled(v, l.height), n);
+    for k in 0..n.min(N) {
+        let t = l.texel(i[k], j[k]);
+        (out[0][k], out[1][k], out[2][k]) = (t[0], t[1], t[2]);
+    }
+}
+
+/// [`bilinear`] at the first `n` of the points (`u`, `v`) (finite), into lane k of `out`:
+/// the weights and the blend channel by channel over all lanes, in [`bilinear`]'s order
+/// of operations.
+#[inline(always)]
+pub(super) fn bilinear_lanes<const N: usize>(
+    l: &Level,
+    wrap: [Wrap; 2],
+    u: &[f64; N],
+    v: &[f64; N],
+    n: usize,
+    out: &mut [[f32; N]; 3],
+) {
+    let centred = |c: &[f64; N], s: usize| c.map(|c| c * s as f64 - 0.5);
+    let (i0, i1, a) = lane_indices::<N, true>(Axis::new(wrap[0], l.width), &centred(u, l.width), n);
+    let (j0, j1, b) =
+        lane_indices::<N, true>(Axis::new(wrap[1], l.height), &centred(v, l.height), n);
+    let mut tex = [[[0.0f32; N]; 3]; 4];
+    for k in 0..n.min(N) {
+        for (q, (i, j)) in [
+            (i0[k], j0[k]),
+            (i1[k], j0[k]),
+            (i0[k], j1[k]),
+            (i1[k], j1[k]),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let t = l.texel(i, j);
+            (tex[q][0][k], tex[q][1][k], tex[q][2][k]) = (t[0], t[1], t[2]);
+        }
+    }
+    for ch in 0..3 {
+        for k in 0..N {
+            let (a, b) = (a[k], b[k]);
+            out[ch][k] = tex[0][ch][k] * ((1.0 - a) * (1.0 - b))
+                + tex[1][ch][k] * (a * (1.0 - b))
+                + tex[2][ch][k] * ((1.0 - a) * b)
+                + tex[3][ch][k] * (a * b);
+        }
+    }
+}
+
+/// [`trilinear`] at the first `n` of the points (`u`, `v`) (finite) with levels of detail
+/// `lambda`, into lane k of `out`. Where every lane reads the same level or pair of levels
+/// (the common case: a batch is neighbouring pixels), the whole batch is read by
+/// [`bilinear_lanes`] once per level and blended per channel over all lanes; otherwise each
+/// lane by [`trilinear`]. The same values either way.
+#[inline(always)]
+pub(super) fn trilinear_lanes<const N: usize>(
+    levels: &[Level],
+    wrap: [Wrap; 2],
+    u: &[f64; N],
+    v: &[f64; N],
+    lambda: &[f64; N],
+    n: usize,
+    out: &mut [[f32; N]; 3],
+) {
+    let n = n.min(N);
+    if n == 0 {
+        return;
+    }
+    let last = levels.len() - 1;
+    // As `trilinear`: level 0 when magnified or NaN, the last level beyond it, else the
+    // pair ⌊λ⌋, ⌊λ⌋ + 1 (`usize::MAX` marks the single-level cases).
+    let pick = |l: f64| -> (usize, usize) {
+        if l.is_nan() || l <= 0.0 {
+            (0, usize::MAX)
+        } else if l >= last as f64 {
+            (last, usize::MAX)
+        } else {
+            (floor(l) as usize, 0)
+        }
+    };
+    let first = pick(lambda[0]);
+    if (1..n).any(|k| pick(lambda[k]) != first) {
+        for k in 0..n {
+            let c = trilinear(levels, wrap, u[k], v[k], lambda[k]);
+            (out[0][k], out[1][k], out[2][k]) = (c.x, c.y, c.z);
+        }
+        return;
+    }
+    let (d1, single) = first;
+    if single == usize::MAX {
+        bilinear_lanes(&levels[d1], wrap, u, v, n, out);
+        return;
+    }
+    let mut a = [[0.0f32; N]; 3];
+    let mut b = [[0.0f32; N]; 3];
+    bilinear_lanes(&levels[d1], wrap, u, v, n, &mut a);
+    bilinear_lanes(&levels[d1 + 1], wrap, u, v, n, &mut b);
+    let mut f = [0.0f32; N];
+    for k in 0..n {
+        f[k] = (lambda[k] - d1 as f64) as f32;
+    }
+    for ch in 0..3 {
+        for k in 0..N {
+            out[ch][k] = a[ch][k] * (1.0 - f[k]) + b[ch][k] * f[k];
+        }
+    }
+}
+
 /// `GL_NEAREST` on one level: the texel (⌊u·w⌋, ⌊v·h⌋), wrapped.
 #[inline(always)]
 pub(super) fn nearest(l: &Level, wrap: [Wrap; 2], u: f64, v: f64) -> Vec3 {
-    let i = wrap[0].index(floor(u * l.width as f64), l.width);
-    let j = wrap[1].index(floor(v * l.height as f64), l.height);
+    let i = Axis::new(wrap[0], l.width).nearest(u * l.width as f64);
+    let j = Axis::new(wrap[1], l.height).nearest(v * l.height as f64);
     Vec3::from_array(l.texel(i, j))
 }
 
@@ -205,10 +433,8 @@ pub(super) fn nearest(l: &Level, wrap: [Wrap; 2], u: f64, v: f64) -> Vec3 {
 pub(super) fn bilinear(l: &Level, wrap: [Wrap; 2], u: f64, v: f64) -> Vec3 {
     let x = u * l.width as f64 - 0.5;
     let y = v * l.height as f64 - 0.5;
-    let (x0, y0) = (floor(x), floor(y));
-    let (a, b) = ((x - x0) as f32, (y - y0) as f32);
-    let (i0, i1) = wrap[0].pair(x0, l.width);
-    let (j0, j1) = wrap[1].pair(y0, l.height);
+    let (i0, i1, a) = Axis::new(wrap[0], l.width).pair(x);
+    let (j0, j1, b) = Axis::new(wrap[1], l.height).pair(y);
     let t = |i, j| Vec3::from_array(l.texel(i, j));
     t(i0, j0) * ((1.0 - a) * (1.0 - b))
         + t(i1, j0) * (a * (1.0 - b))
@@ -334,7 +560,85 @@ mod tests {
 
     use proptest::prelude::*;
 
+    /// `nearest_lanes` and `bilinear_lanes` against `nearest` and `bilinear` per point, bit
+    /// for bit, on `n` of 8 lanes; `trilinear_lanes` against `trilinear` with levels of
+    /// detail all alike (one level or one pair for the batch) and mixed.
+    fn lanes_match_scalar(img: &Image, wrap: [Wrap; 2], pts: &[(f64, f64)]) {
+        let l = &img.levels()[0];
+        for chunk in pts.chunks(8) {
+            let n = chunk.len();
+            let (mut u, mut v) = ([0.0; 8], [0.0; 8]);
+            for (k, &(a, b)) in chunk.iter().enumerate() {
+                (u[k], v[k]) = (a, b);
+            }
+            let mut near = [[-7.0f32; 8]; 3];
+            let mut bil = [[-7.0f32; 8]; 3];
+            nearest_lanes(l, wrap, &u, &v, n, &mut near);
+            bilinear_lanes(l, wrap, &u, &v, n, &mut bil);
+            let levels = img.levels();
+            let mixed = [-1.0, 0.3, 1.7, 2.2, f64::NAN, 9.0, 0.0, 1.2];
+            for lambda in [[-0.5; 8], [0.25; 8], [1.5; 8], [1.01; 8], [30.0; 8], mixed] {
+                let mut tri = [[-7.0f32; 8]; 3];
+                trilinear_lanes(levels, wrap, &u, &v, &lambda, n, &mut tri);
+                for k in 0..n {
+                    let want = trilinear(levels, wrap, u[k], v[k], lambda[k]).to_array();
+                    let got = [tri[0][k], tri[1][k], tri[2][k]];
+                    assert_eq!(got.map(f32::to_bits), want.map(f32::to_bits), "{lambda:?}");
+                }
+            }
+            for k in 0..8 {
+                let got = |o: &[[f32; 8]; 3]| [o[0][k], o[1][k], o[2][k]];
+                if k < n {
+                    let want_n = nearest(l, wrap, u[k], v[k]).to_array();
+                    let want_b = bilinear(l, wrap, u[k], v[k]).to_array();
+                    assert_eq!(got(&near).map(f32::to_bits), want_n.map(f32::to_bits));
+                    assert_eq!(got(&bil).map(f32::to_bits), want_b.map(f32::to_bits));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn lanes_read_what_one_point_reads_at_every_magnitude() {
+        let mut pts = Vec::new();
+        for &m in &[0.3, 1.0, 7.5, 1e3, 2.2e9, 3.3e7, 1e15, 5e15, 1e17, 1e300] {
+            for &f in &[-1.0, -0.37, 0.0, 0.61, 1.0] {
+                pts.push((m * f, m * (0.5 - f)));
+                pts.push((m * f + 0.5 / 8.0, -m * f));
+            }
+        }
+        // 2³¹ / 8 and its neighbours: where the i32 lanes stop and the per-lane path starts.
+        let edge = 268_435_456.0;
+        pts.extend([
+            (edge, 0.1),
+            (-edge, 0.2),
+            (edge - 1e-6, -edge + 1e-6),
+            (0.999, 1.0),
+        ]);
+        for (w, h) in [(8, 4), (5, 3), (1, 1), (16, 7)] {
+            let img = ramp(w, h);
+            for a in [Wrap::Repeat, Wrap::Clamp, Wrap::Mirror] {
+                for b in [Wrap::Repeat, Wrap::Clamp, Wrap::Mirror] {
+                    lanes_match_scalar(&img, [a, b], &pts);
+                }
+            }
+        }
+    }
+
     proptest! {
+        /// The lane samplers read what the one-point filters read, bit for bit, at any
+        /// finite coordinates, sizes and wraps.
+        #[test]
+        fn lanes_match_one_point_filters(
+            pts in prop::collection::vec((-1e10f64..1e10, -1e4f64..1e4), 1..20),
+            w in 1usize..9, h in 1usize..9, a in 0usize..3, b in 0usize..3,
+        ) {
+            let modes = [Wrap::Repeat, Wrap::Clamp, Wrap::Mirror];
+            let size = |s: usize| if s > 4 { 1 << (s - 4) } else { s };
+            lanes_match_scalar(&ramp(size(w) * 2, size(h)), [modes[a], modes[b]], &pts);
+        }
+
+
         /// Every filter is a convex combination of texels: each channel stays within the
         /// image's range, for any finite coordinates and footprint, in every wrap mode.
         #[test]

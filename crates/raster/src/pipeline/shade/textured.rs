@@ -90,6 +90,8 @@ struct Current {
     tangent: [Vec4; 3],
     /// (object, back side) of the material.
     key: (u32, bool),
+    /// The mode this triangle is shaded in ([`shaded_as`]).
+    mode: ShadingMode,
     /// The object's [`TexturedObject::colors`] and [`TexturedObject::footprint`].
     colors: bool,
     footprint: bool,
@@ -147,6 +149,7 @@ impl Current {
         let back = ctx.two_sided && !t.front;
         let verts = ctx.verts;
         let unit = &tex.units[t.object as usize][back as usize];
+        let mode = shaded_as(mode, unit);
         let mut cur = Current {
             id,
             plane: planes.get(id, || weight_planes::<AFFINE>(ctx, t)),
@@ -166,6 +169,7 @@ impl Current {
             face: Vec3::ZERO,
             tangent: [Vec4::ZERO; 3],
             key: (t.object, back),
+            mode,
             colors: tex.objects[t.object as usize].colors,
             footprint: tex.objects[t.object as usize].footprint,
         };
@@ -202,6 +206,21 @@ impl Current {
     }
 }
 
+/// The mode a surface is shaded in. A surface no light reaches ([`Surface::lights`] empty:
+/// no source, or only dark ones, which `LightSet::new` drops) is lit by its constant
+/// ambient term alone ([`Surface::base`]; diffuse and specular 0), which flat computes once
+/// per triangle: Phong's per-pixel normals and lighting and Gouraud's per-vertex lighting
+/// and interpolation (which gives the constant back up to f32 rounding) add nothing but
+/// cost, so such a surface is shaded flat in every mode, and every mode gives the same
+/// picture. Normal and bump maps change only the lighting, so nothing there either.
+fn shaded_as(mode: ShadingMode, unit: &Surface) -> ShadingMode {
+    if unit.lights.is_empty() {
+        ShadingMode::Flat
+    } else {
+        mode
+    }
+}
+
 /// What a batch is shaded with: the render, the textured scene, the mode and the tile.
 #[derive(Clone, Copy)]
 struct Tile<'a, 'b> {
@@ -211,15 +230,27 @@ struct Tile<'a, 'b> {
     rect: TileRect,
 }
 
+/// Where a chunk of a run goes: tile row `j`, from tile column `s` (pixel centre row `y`;
+/// tile origin column `x0`), into the batch from lane `k0`.
+struct Chunk {
+    j: usize,
+    s: usize,
+    y: f64,
+    x0: usize,
+    k0: usize,
+}
+
 /// Pixels waiting to be lit and textured together, all of one material.
 struct Batch {
     len: usize,
     at: [(usize, usize); LANES],
     uv: [(f64, f64); LANES],
     fp: [Footprint; LANES],
-    vcolor: [Vec3; LANES],
+    /// Channel-major lanes (as the lighting's and the stores' are), so the flush's
+    /// combination is one loop per channel over all lanes.
+    vcolor: [Lanes; 3],
     /// Flat and Gouraud: the interpolated terms; Phong: filled at the flush.
-    terms: [Terms3; LANES],
+    terms: Split,
     /// Phong: the interpolated normal (not normalised) and position.
     n: [Lanes; 3],
     p: [Lanes; 3],
@@ -283,6 +314,136 @@ impl Batch {
         }
     }
 
+    /// Takes pixels `at.s ..` of tile row `at.j` (eye depths `zs`) of triangle `c` (`t`)
+    /// into lanes `lanes` (`at.k0 ..`), writing their eye depths to `depth_row` if given:
+    /// each lane's interpolation in lane loops over the chunk, per pixel the same
+    /// operations (and so the same bits) as evaluating it alone.
+    #[allow(clippy::too_many_arguments, clippy::needless_range_loop)] // lane k of several arrays
+    #[inline(always)]
+    fn take<const AFFINE: bool, const PERTURB: bool>(
+        &mut self,
+        ctx: &ShadeContext<'_>,
+        c: &Current,
+        t: &SetupTri,
+        at: &Chunk,
+        lanes: std::ops::Range<usize>,
+        zs: &[f32],
+        want_depth: bool,
+        depth_row: Option<&mut [Out<f32>]>,
+    ) {
+        let pl = &c.plane;
+        let (lo, hi) = (lanes.start, lanes.end);
+        // Pixel of lane k: at.s + (k − at.k0); its centre x is an integer plus ½ (exact).
+        let x_of = |k: usize| (at.x0 + at.s + k - at.k0) as f64 + 0.5;
+        let by = [0, 1, 2].map(|m| pl[m][1] * at.y);
+        let us = c.uv.map(|t| t.x as f64);
+        let vs = c.uv.map(|t| t.y as f64);
+        let mut w = [0.0f64; LANES];
+        let mut r = [0.0f64; LANES];
+        let mut b = [[0.0f64; LANES]; 3];
+        for k in lo..hi {
+            let x = x_of(k);
+            let q = [0, 1, 2].map(|m| pl[m][0] * x + by[m] + pl[m][2]);
+            w[k] = q[0] + q[1] + q[2];
+            r[k] = 1.0 / w[k];
+            for m in 0..3 {
+                b[m][k] = q[m] * r[k];
+            }
+        }
+        let mut u = [0.0f64; LANES];
+        let mut v = [0.0f64; LANES];
+        for k in lo..hi {
+            u[k] = us[0] * b[0][k] + us[1] * b[1][k] + us[2] * b[2][k];
+            v[k] = vs[0] * b[0][k] + vs[1] * b[1][k] + vs[2] * b[2][k];
+            self.uv[k] = (u[k], v[k]);
+            self.at[k] = (at.j, at.s + k - at.k0);
+        }
+        if c.footprint {
+            // ∂(Σ q_k·a_k / W)/∂x = (Σ ∂q_k/∂x·a_k − a·∂W/∂x) / W.
+            let da = |a: [f64; 3], axis: usize| {
+                pl[0][axis] * a[0] + pl[1][axis] * a[1] + pl[2][axis] * a[2]
+            };
+            let dw = [0, 1].map(|axis| pl[0][axis] + pl[1][axis] + pl[2][axis]);
+            let (dux, dvx, duy, dvy) = (da(us, 0), da(vs, 0), da(us, 1), da(vs, 1));
+            for k in lo..hi {
+                self.fp[k] = Footprint {
+                    du_dx: (dux - u[k] * dw[0]) * r[k],
+                    dv_dx: (dvx - v[k] * dw[0]) * r[k],
+                    du_dy: (duy - u[k] * dw[1]) * r[k],
+                    dv_dy: (dvy - v[k] * dw[1]) * r[k],
+                };
+            }
+        }
+        let mut bf = [[0.0f32; LANES]; 3];
+        for m in 0..3 {
+            for k in lo..hi {
+                bf[m][k] = b[m][k] as f32;
+            }
+        }
+        // Channel `ch` of three vertex values blended into lanes, as `Vec3` arithmetic
+        // does it per component: a₀·b₀ + a₁·b₁ + a₂·b₂.
+        let blend = |a: [f32; 3], out: &mut Lanes| {
+            for k in lo..hi {
+                out[k] = a[0] * bf[0][k] + a[1] * bf[1][k] + a[2] * bf[2][k];
+            }
+        };
+        if c.colors {
+            for ch in 0..3 {
+                blend(c.vcolor.map(|vc| vc[ch]), &mut self.vcolor[ch]);
+            }
+        }
+        match c.mode {
+            ShadingMode::Flat => {
+                let f = &c.terms[0];
+                for ch in 0..3 {
+                    self.terms.ambient[ch][lo..hi].fill(f.a[ch]);
+                    self.terms.diffuse[ch][lo..hi].fill(f.d[ch]);
+                    self.terms.specular[ch][lo..hi].fill(f.s[ch]);
+                }
+            }
+            ShadingMode::Gouraud => {
+                let tt = &c.terms;
+                for ch in 0..3 {
+                    blend(tt.map(|x| x.a[ch]), &mut self.terms.ambient[ch]);
+                    blend(tt.map(|x| x.d[ch]), &mut self.terms.diffuse[ch]);
+                    blend(tt.map(|x| x.s[ch]), &mut self.terms.specular[ch]);
+                }
+            }
+            ShadingMode::Phong => {
+                for k in lo..hi {
+                    let bk = [bf[0][k], bf[1][k], bf[2][k]];
+                    let blend3 = |a: &[Vec3; 3]| a[0] * bk[0] + a[1] * bk[1] + a[2] * bk[2];
+                    let mut n = blend3(&c.normal);
+                    let len2 = n.length_squared();
+                    if !(len2 > 1e-30 && len2.is_finite()) {
+                        n = face_normal(t, &ctx.verts.world);
+                    }
+                    if ctx.two_sided && !t.front {
+                        n = -n;
+                    }
+                    let p = blend3(&c.pos);
+                    if PERTURB {
+                        let tg = &c.tangent;
+                        self.tan[k] = tg[0] * bk[0] + tg[1] * bk[1] + tg[2] * bk[2];
+                    }
+                    for ax in 0..3 {
+                        self.n[ax][k] = n[ax];
+                        self.p[ax][k] = p[ax];
+                        self.g[ax][k] = c.face[ax];
+                    }
+                }
+            }
+        }
+        for k in lo..hi {
+            self.depth[k] = ctx.eye_depth::<AFFINE>(want_depth, zs[k - lo], w[k] as f32);
+        }
+        if let Some(d) = depth_row {
+            for (k, out) in (lo..hi).zip(d) {
+                out.write(self.depth[k]);
+            }
+        }
+    }
+
     /// [`Batch::flush`] compiled for AVX2 + FMA when `WIDE` (the lighting's lane loops
     /// widen), for the baseline otherwise: one out-of-line copy per instruction set.
     #[inline(always)]
@@ -340,8 +501,8 @@ impl Batch {
         let (object, back) = self.key;
         let obj = &tex.objects[object as usize];
         let m = &obj.material[back as usize];
-        if mode == ShadingMode::Phong {
-            let unit = &tex.units[object as usize][back as usize];
+        let unit = &tex.units[object as usize][back as usize];
+        if shaded_as(mode, unit) == ShadingMode::Phong {
             let mut n = [[0.0; LANES]; 3];
             let raw = &self.n;
             normalize_lanes(&mut n, |k| (raw[0][k], raw[1][k], raw[2][k]));
@@ -374,22 +535,20 @@ impl Batch {
                     t
                 }
             };
-            for k in 0..self.len {
-                self.terms[k] = split_at(&t, k);
-            }
+            self.terms = t;
         }
         // Each map read for all lanes at once (one dispatch per map); 1 without a map.
         let n = self.len;
         let (uv, fp) = (&self.uv[..n], &self.fp[..n]);
-        let read = |t: &Option<std::sync::Arc<Texture>>, out: &mut [Vec3; LANES]| {
+        let read = |t: &Option<std::sync::Arc<Texture>>, out: &mut [Lanes; 3]| {
             if let Some(t) = t {
-                t.sample_many(uv, fp, &mut out[..n]);
+                t.sample_many(uv, fp, out);
             }
         };
-        let mut td = [Vec3::ONE; LANES];
-        let mut ts = [Vec3::ONE; LANES];
-        let mut te = [Vec3::ONE; LANES];
-        let mut ta = [Vec3::ONE; LANES];
+        let mut td = [[1.0; LANES]; 3];
+        let mut ts = [[1.0; LANES]; 3];
+        let mut te = [[1.0; LANES]; 3];
+        let mut ta = [[1.0; LANES]; 3];
         let mut own_ambient = false;
         if let Some(maps) = obj.maps {
             read(&maps.diffuse, &mut td);
@@ -403,18 +562,29 @@ impl Batch {
             }
         }
         let ta = if own_ambient { &ta } else { &td };
+        // Channel by channel over all lanes (dead lanes compute garbage nobody stores), in
+        // the order of the per-pixel expression `ke·Te + ka·Ta·A + kd·Td·D + ks·Ts·S`, so
+        // each lane's value is what the per-lane Vec3 arithmetic gave.
         let mut c = [[0.0; LANES]; 3];
-        #[allow(clippy::needless_range_loop)] // lane k of several arrays
-        for k in 0..n {
-            let (ka, kd) = if obj.colors {
-                (self.vcolor[k], self.vcolor[k])
+        let t = &self.terms;
+        for ch in 0..3 {
+            let (ke, ks) = (m.emission[ch], m.specular[ch]);
+            let k_ad = if obj.colors {
+                self.vcolor[ch]
             } else {
-                (m.ambient, m.diffuse)
+                [m.ambient[ch]; LANES]
             };
-            let t = &self.terms[k];
-            let out =
-                m.emission * te[k] + ka * ta[k] * t.a + kd * td[k] * t.d + m.specular * ts[k] * t.s;
-            (c[0][k], c[1][k], c[2][k]) = (out.x, out.y, out.z);
+            let k_d = if obj.colors {
+                self.vcolor[ch]
+            } else {
+                [m.diffuse[ch]; LANES]
+            };
+            for k in 0..LANES {
+                c[ch][k] = ke * te[ch][k]
+                    + k_ad[k] * ta[ch][k] * t.ambient[ch][k]
+                    + k_d[k] * td[ch][k] * t.diffuse[ch][k]
+                    + ks * ts[ch][k] * t.specular[ch][k];
+            }
         }
         finish_batch(ctx, c, &self.at[..self.len], &self.depth, rect, color);
         self.len = 0;
@@ -500,8 +670,8 @@ fn shade_textured_body<P: Pixel, const AFFINE: bool, const PERTURB: bool, const 
         at: [(0, 0); LANES],
         uv: [(0.0, 0.0); LANES],
         fp: [Footprint::default(); LANES],
-        vcolor: [Vec3::ZERO; LANES],
-        terms: [Terms3::default(); LANES],
+        vcolor: [[0.0; LANES]; 3],
+        terms: Split::default(),
         n: [[0.0; LANES]; 3],
         p: [[0.0; LANES]; 3],
         g: [[0.0; LANES]; 3],
@@ -546,79 +716,49 @@ fn shade_textured_body<P: Pixel, const AFFINE: bool, const PERTURB: bool, const 
                 batch.flush_on::<P, PERTURB, WIDE>(&on, color);
             }
             batch.key = c.key;
-            for s in i..end {
-                let x = (rect.x0 + s) as f64 + 0.5;
-                let pl = &c.plane;
-                let q = [0, 1, 2].map(|k| pl[k][0] * x + pl[k][1] * y + pl[k][2]);
-                let w = q[0] + q[1] + q[2];
-                let r = 1.0 / w;
-                let b = q.map(|qk| qk * r);
-                let interp = |a: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-                let us = c.uv.map(|t| t.x as f64);
-                let vs = c.uv.map(|t| t.y as f64);
-                let (u, v) = (interp(us), interp(vs));
-                // ∂(Σ q_k·a_k / W)/∂x = (Σ ∂q_k/∂x·a_k − a·∂W/∂x) / W.
-                let d = |a: [f64; 3], val: f64, axis: usize| {
-                    let da = pl[0][axis] * a[0] + pl[1][axis] * a[1] + pl[2][axis] * a[2];
-                    let dw = pl[0][axis] + pl[1][axis] + pl[2][axis];
-                    (da - val * dw) * r
+            // The run in chunks that fill the batch: a whole batch at once where the batch
+            // is empty and the run has LANES pixels left (constant bounds: lane loops), the
+            // rest lane by lane.
+            let mut s = i;
+            while s < end {
+                let k0 = batch.len;
+                let n = (LANES - k0).min(end - s);
+                let at = Chunk {
+                    j,
+                    s,
+                    y,
+                    x0: rect.x0,
+                    k0,
                 };
-                let k = batch.len;
-                batch.at[k] = (j, s);
-                batch.uv[k] = (u, v);
-                if c.footprint {
-                    batch.fp[k] = Footprint {
-                        du_dx: d(us, u, 0),
-                        dv_dx: d(vs, v, 0),
-                        du_dy: d(us, u, 1),
-                        dv_dy: d(vs, v, 1),
-                    };
+                let dr = depth.as_deref_mut().map(|d| &mut d[j][s..s + n]);
+                if n == LANES {
+                    batch.take::<AFFINE, PERTURB>(
+                        ctx,
+                        c,
+                        t,
+                        &at,
+                        0..LANES,
+                        &zs[s..s + n],
+                        want_depth,
+                        dr,
+                    );
+                } else {
+                    batch.take::<AFFINE, PERTURB>(
+                        ctx,
+                        c,
+                        t,
+                        &at,
+                        k0..k0 + n,
+                        &zs[s..s + n],
+                        want_depth,
+                        dr,
+                    );
                 }
-                let bf = b.map(|x| x as f32);
-                let blend3 = |a: &[Vec3; 3]| a[0] * bf[0] + a[1] * bf[1] + a[2] * bf[2];
-                if c.colors {
-                    batch.vcolor[k] = blend3(&c.vcolor);
-                }
-                match mode {
-                    ShadingMode::Flat => batch.terms[k] = c.terms[0],
-                    ShadingMode::Gouraud => {
-                        let tt = &c.terms;
-                        batch.terms[k] = Terms3 {
-                            a: blend3(&[tt[0].a, tt[1].a, tt[2].a]),
-                            d: blend3(&[tt[0].d, tt[1].d, tt[2].d]),
-                            s: blend3(&[tt[0].s, tt[1].s, tt[2].s]),
-                        };
-                    }
-                    ShadingMode::Phong => {
-                        let mut n = blend3(&c.normal);
-                        let len2 = n.length_squared();
-                        if !(len2 > 1e-30 && len2.is_finite()) {
-                            n = face_normal(t, &ctx.verts.world);
-                        }
-                        if ctx.two_sided && !t.front {
-                            n = -n;
-                        }
-                        let p = blend3(&c.pos);
-                        if PERTURB {
-                            let t = &c.tangent;
-                            batch.tan[k] = t[0] * bf[0] + t[1] * bf[1] + t[2] * bf[2];
-                        }
-                        for ax in 0..3 {
-                            batch.n[ax][k] = n[ax];
-                            batch.p[ax][k] = p[ax];
-                            batch.g[ax][k] = c.face[ax];
-                        }
-                    }
-                }
-                let eye_depth = ctx.eye_depth::<AFFINE>(want_depth, zs[s], w as f32);
-                batch.depth[k] = eye_depth;
-                if let Some(dr) = depth.as_deref_mut() {
-                    dr[j][s].write(eye_depth);
-                }
-                batch.len += 1;
+                batch.len += n;
                 if batch.len == LANES {
                     batch.flush_on::<P, PERTURB, WIDE>(&on, color);
                 }
+                s += n;
             }
             i = end;
         }
