@@ -225,18 +225,21 @@ impl Texture {
 }
 
 impl Texture {
-    /// [`Texture::sample`] at several points (`uv[k]` seen with `fp[k]`, into lane `k` of
-    /// the channel-major `out`; lanes past `uv.len()` may be overwritten), the same values:
-    /// the source and filter are dispatched once for all of them, and the isotropic image
-    /// filters read all the points' texels at once (`sample::nearest_lanes`,
-    /// `bilinear_lanes`, `trilinear_lanes`).
+    /// [`Texture::sample`] at the first `n` of the points (`uv[k]` seen with `fp[k]`, into
+    /// lane `k` of the channel-major `out`; lanes from `n` on may be overwritten; `n` is
+    /// at most `N`), the same values: the source and filter are dispatched once for all of
+    /// them, and the isotropic image filters read all the points' texels at once
+    /// (`sample::nearest_lanes`, `bilinear_lanes`, `trilinear_lanes`). The points past `n`
+    /// may hold anything (they are computed on and dropped: whole-width lane loops).
     #[inline(always)]
     pub fn sample_many<const N: usize>(
         &self,
-        uv: &[(f64, f64)],
-        fp: &[Footprint],
+        uv: &[(f64, f64); N],
+        fp: &[Footprint; N],
+        n: usize,
         out: &mut [[f32; N]; 3],
     ) {
+        let n = n.min(N);
         let (s, o) = (self.uv_scale, self.uv_offset);
         let at =
             |(u, v): (f64, f64)| (finite_or_zero(u * s.x + o.x), finite_or_zero(v * s.y + o.y));
@@ -247,7 +250,7 @@ impl Texture {
                 wrap,
                 aniso: 0 | 1,
             } => {
-                let (u, v, n) = lanes::<N>(uv, at);
+                let (u, v) = lanes(uv, at);
                 sample::nearest_lanes(&image.levels()[0], *wrap, &u, &v, n, out);
             }
             Source::Image {
@@ -256,7 +259,7 @@ impl Texture {
                 wrap,
                 aniso: 0 | 1,
             } => {
-                let (u, v, n) = lanes::<N>(uv, at);
+                let (u, v) = lanes(uv, at);
                 sample::bilinear_lanes(&image.levels()[0], *wrap, &u, &v, n, out);
             }
             Source::Image {
@@ -267,7 +270,7 @@ impl Texture {
             } => {
                 // As `sample`: the footprint scaled with the coordinates, then λ.
                 let (w, h) = (image.width(), image.height());
-                let (u, v, n) = lanes::<N>(uv, at);
+                let (u, v) = lanes(uv, at);
                 let mut lambda = [0.0; N];
                 for (l, fp) in lambda.iter_mut().zip(fp).take(n) {
                     *l = scale_footprint(fp, s).lod(w, h);
@@ -275,7 +278,7 @@ impl Texture {
                 sample::trilinear_lanes(image.levels(), *wrap, &u, &v, &lambda, n, out);
             }
             _ => {
-                for (k, (&(u, v), fp)) in uv.iter().zip(fp).enumerate().take(N) {
+                for (k, (&(u, v), fp)) in uv.iter().zip(fp).enumerate().take(n) {
                     put_lane(out, k, self.sample(u, v, fp));
                 }
             }
@@ -283,19 +286,18 @@ impl Texture {
     }
 }
 
-/// The first `N` points of `uv` through `at` as coordinate lanes (zero past the points),
-/// and how many there are.
+/// The `N` points of `uv` through `at` as coordinate lanes (all of them: a loop of fixed
+/// length, which vectorises).
 #[inline(always)]
 fn lanes<const N: usize>(
-    uv: &[(f64, f64)],
+    uv: &[(f64, f64); N],
     at: impl Fn((f64, f64)) -> (f64, f64),
-) -> ([f64; N], [f64; N], usize) {
-    let n = uv.len().min(N);
+) -> ([f64; N], [f64; N]) {
     let (mut u, mut v) = ([0.0; N], [0.0; N]);
-    for k in 0..n {
+    for k in 0..N {
         (u[k], v[k]) = at(uv[k]);
     }
-    (u, v, n)
+    (u, v)
 }
 
 /// Writes `c` into lane `k` of channel-major lanes.
@@ -318,13 +320,11 @@ fn scale_footprint(fp: &Footprint, s: DVec2) -> Footprint {
     }
 }
 
+/// `x`, or 0 where it is NaN or infinite (a select, no branch: lane loops of it widen).
 #[inline(always)]
 fn finite_or_zero(x: f64) -> f64 {
-    if x.is_finite() {
-        x
-    } else {
-        0.0
-    }
+    let finite = x.abs() < f64::INFINITY;
+    f64::from_bits(x.to_bits() & (finite as u64).wrapping_neg())
 }
 
 /// The texture maps of a material; each colour multiplies its coefficient per point.
@@ -486,5 +486,29 @@ impl PartialEq for Maps {
             && same(&self.bump, &other.bump)
             && self.normal_scale.to_bits() == other.normal_scale.to_bits()
             && self.bump_scale.to_bits() == other.bump_scale.to_bits()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finite_or_zero_keeps_finite_values_bit_for_bit() {
+        for x in [
+            0.0,
+            -0.0,
+            1.5,
+            -2.25,
+            f64::MAX,
+            f64::MIN,
+            f64::MIN_POSITIVE,
+            5e-324,
+        ] {
+            assert_eq!(finite_or_zero(x).to_bits(), x.to_bits(), "{x}");
+        }
+        for x in [f64::NAN, -f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            assert_eq!(finite_or_zero(x).to_bits(), 0, "{x}");
+        }
     }
 }

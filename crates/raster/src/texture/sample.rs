@@ -274,7 +274,7 @@ fn lane_indices<const N: usize, const BILINEAR: bool>(
         let mut fits = true;
         for k in 0..N {
             let ok = x[k].abs() < LANE_INT;
-            fits &= ok || k >= n;
+            fits &= ok | (k >= n);
             let xk = if ok { x[k] } else { 0.0 };
             // SAFETY: |xk| < 2³¹ (NaN fails the test and reads 0).
             let t = unsafe { xk.to_int_unchecked::<i32>() };

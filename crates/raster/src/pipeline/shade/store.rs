@@ -175,9 +175,25 @@ impl Pixel for u8 {
 
     #[inline(always)]
     fn store_lanes(rows: &mut [&mut [Out<u8>]], at: &[(usize, usize)], c: &[Lanes; 3]) {
-        // Quantised over all lanes at once (SIMD), then three bytes written per live lane
-        // (per lane, each channel was converted and bounds-checked apart).
+        // Quantised over all lanes at once (SIMD), then written: four bytes a pixel when
+        // the lanes are consecutive pixels of one row (a run's chunk, the usual case),
+        // else three bytes per live lane (per lane, each channel was converted and
+        // bounds-checked apart).
         let packed = pack_window(&c[0], &c[1], &c[2]);
+        let Some(&(j0, i0)) = at.first() else {
+            return;
+        };
+        let run = at
+            .iter()
+            .enumerate()
+            .fold(true, |ok, (k, &(j, i))| ok & (j == j0) & (i == i0 + k));
+        if run {
+            write_packed(
+                &mut rows[j0][i0 * 3..(i0 + at.len()) * 3],
+                &packed[..at.len()],
+            );
+            return;
+        }
         for (&(j, i), p) in at.iter().zip(&packed) {
             put(&mut rows[j][i * 3..i * 3 + 3], &p.to_le_bytes()[..3]);
         }
@@ -271,15 +287,36 @@ mod tests {
             assert_eq!(got[3 * k..3 * k + 3], want(k), "group pixel {k}");
         }
         assert_eq!(got[3 * LANES], 7, "group wrote past its end");
-        let mut row = [Out::new(7u8); 3 * TILE];
-        let at: Vec<(usize, usize)> = (0..LANES - 1).map(|k| (0, 5 * k + 1)).collect();
-        u8::store_lanes(&mut [&mut row[..]], &at, &lanes);
-        let got = read(&row);
-        for (k, &(_, i)) in at.iter().enumerate() {
-            assert_eq!(got[3 * i..3 * i + 3], want(k), "lane {k}");
+        // Scattered lanes, consecutive runs of every length (one ending at the row's end,
+        // where four-byte writes must not run past it), and runs broken by a row or a gap.
+        let mut cases: Vec<Vec<(usize, usize)>> =
+            vec![(0..LANES - 1).map(|k| (0, 5 * k + 1)).collect()];
+        for n in 1..=LANES {
+            cases.push((0..n).map(|k| (0, 3 + k)).collect());
+            cases.push((0..n).map(|k| (1, TILE - n + k)).collect());
         }
-        for i in (0..TILE).filter(|i| !at.iter().any(|&(_, a)| a == *i)) {
-            assert_eq!(got[3 * i..3 * i + 3], [7; 3], "pixel {i} is no lane's");
+        cases.push(
+            (0..LANES)
+                .map(|k| (usize::from(k == LANES - 1), 2 + k))
+                .collect(),
+        );
+        cases.push(
+            (0..LANES)
+                .map(|k| (1, 2 + k + usize::from(k > 3)))
+                .collect(),
+        );
+        for at in cases {
+            let mut rows = [[Out::new(7u8); 3 * TILE]; 2];
+            let [r0, r1] = &mut rows;
+            u8::store_lanes(&mut [&mut r0[..], &mut r1[..]], &at, &lanes);
+            for (j, row) in rows.iter().enumerate() {
+                let got = read(row);
+                for i in 0..TILE {
+                    let lane = at.iter().position(|&a| a == (j, i));
+                    let expect = lane.map_or([7; 3], want);
+                    assert_eq!(got[3 * i..3 * i + 3], expect, "{at:?}: row {j} pixel {i}");
+                }
+            }
         }
     }
 }

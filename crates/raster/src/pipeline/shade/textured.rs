@@ -333,16 +333,19 @@ impl Batch {
     ) {
         let pl = &c.plane;
         let (lo, hi) = (lanes.start, lanes.end);
-        // Pixel of lane k: at.s + (k − at.k0); its centre x is an integer plus ½ (exact).
-        let x_of = |k: usize| (at.x0 + at.s + k - at.k0) as f64 + 0.5;
+        // Pixel of lane k: at.s + (k − at.k0); its centre x is an integer plus ½ (exact:
+        // small integers, so the same bits as summing in usize first). Lanes outside
+        // `lo..hi` get a pixel off the chunk: the loops below run over all lanes (a fixed
+        // trip count, so they widen) and only `lo..hi` is kept.
+        let base = (at.x0 + at.s) as f64 - at.k0 as f64;
         let by = [0, 1, 2].map(|m| pl[m][1] * at.y);
         let us = c.uv.map(|t| t.x as f64);
         let vs = c.uv.map(|t| t.y as f64);
         let mut w = [0.0f64; LANES];
         let mut r = [0.0f64; LANES];
         let mut b = [[0.0f64; LANES]; 3];
-        for k in lo..hi {
-            let x = x_of(k);
+        for k in 0..LANES {
+            let x = base + k as f64 + 0.5;
             let q = [0, 1, 2].map(|m| pl[m][0] * x + by[m] + pl[m][2]);
             w[k] = q[0] + q[1] + q[2];
             r[k] = 1.0 / w[k];
@@ -352,9 +355,11 @@ impl Batch {
         }
         let mut u = [0.0f64; LANES];
         let mut v = [0.0f64; LANES];
-        for k in lo..hi {
+        for k in 0..LANES {
             u[k] = us[0] * b[0][k] + us[1] * b[1][k] + us[2] * b[2][k];
             v[k] = vs[0] * b[0][k] + vs[1] * b[1][k] + vs[2] * b[2][k];
+        }
+        for k in lo..hi {
             self.uv[k] = (u[k], v[k]);
             self.at[k] = (at.j, at.s + k - at.k0);
         }
@@ -376,7 +381,7 @@ impl Batch {
         }
         let mut bf = [[0.0f32; LANES]; 3];
         for m in 0..3 {
-            for k in lo..hi {
+            for k in 0..LANES {
                 bf[m][k] = b[m][k] as f32;
             }
         }
@@ -538,11 +543,10 @@ impl Batch {
             self.terms = t;
         }
         // Each map read for all lanes at once (one dispatch per map); 1 without a map.
-        let n = self.len;
-        let (uv, fp) = (&self.uv[..n], &self.fp[..n]);
+        let (uv, fp, n) = (&self.uv, &self.fp, self.len);
         let read = |t: &Option<std::sync::Arc<Texture>>, out: &mut [Lanes; 3]| {
             if let Some(t) = t {
-                t.sample_many(uv, fp, out);
+                t.sample_many(uv, fp, n, out);
             }
         };
         let mut td = [[1.0; LANES]; 3];
