@@ -271,10 +271,8 @@ impl Texture {
                 // As `sample`: the footprint scaled with the coordinates, then λ.
                 let (w, h) = (image.width(), image.height());
                 let (u, v) = lanes(uv, at);
-                let mut lambda = [0.0; N];
-                for (l, fp) in lambda.iter_mut().zip(fp).take(n) {
-                    *l = scale_footprint(fp, s).lod(w, h);
-                }
+                let scaled = std::array::from_fn(|k| scale_footprint(&fp[k], s));
+                let lambda = sample::lod_lanes(&scaled, n, w, h);
                 sample::trilinear_lanes(image.levels(), *wrap, &u, &v, &lambda, n, out);
             }
             _ => {
