@@ -21,6 +21,19 @@ pub trait Pixel: sealed::Sealed + Copy + Default + Send + Sync + 'static {
     /// Writes `c` into `dst[0..3]`.
     fn store(dst: &mut [Self], c: Vec3);
 
+    /// A pixel's three stored samples as one value (`u8`: the low three bytes of a u32),
+    /// for rows filled a run at a time ([`Pixel::stored`], [`Pixel::put_stored`]).
+    #[doc(hidden)]
+    type Stored: Copy + Default;
+
+    /// The samples [`Pixel::store`] writes for `c`, as one [`Pixel::Stored`].
+    #[doc(hidden)]
+    fn stored(c: Vec3) -> Self::Stored;
+
+    /// Writes the pixels `row` into the output `dst` (its first `3 · row.len()` samples).
+    #[doc(hidden)]
+    fn put_stored(dst: &mut [Out<Self>], row: &[Self::Stored]);
+
     /// Writes the first `dst.len() / 3` colours of the row `c` (`c[channel][pixel]`) into
     /// the output `dst`, as [`Pixel::store`] would one by one.
     #[doc(hidden)]
@@ -153,6 +166,20 @@ impl Pixel for u8 {
         dst[2] = quantize(c.z);
     }
 
+    type Stored = u32;
+
+    #[inline(always)]
+    fn stored(c: Vec3) -> u32 {
+        let mut px = [0u8; 3];
+        Self::store(&mut px, c);
+        u32::from_le_bytes([px[0], px[1], px[2], 0])
+    }
+
+    #[inline(always)]
+    fn put_stored(dst: &mut [Out<u8>], row: &[u32]) {
+        write_packed(dst, row);
+    }
+
     #[inline(always)]
     fn store_row(dst: &mut [Out<u8>], c: &RowColors) {
         // Quantised over whole lanes (SIMD, in fixed windows so no scalar tail loop is
@@ -207,6 +234,20 @@ impl Pixel for f32 {
         dst[0] = c.x;
         dst[1] = c.y;
         dst[2] = c.z;
+    }
+
+    type Stored = [f32; 3];
+
+    #[inline(always)]
+    fn stored(c: Vec3) -> [f32; 3] {
+        c.to_array()
+    }
+
+    #[inline(always)]
+    fn put_stored(dst: &mut [Out<f32>], row: &[[f32; 3]]) {
+        for (px, c) in dst.chunks_exact_mut(3).zip(row) {
+            put(px, c);
+        }
     }
 }
 
@@ -317,6 +358,47 @@ mod tests {
                     assert_eq!(got[3 * i..3 * i + 3], expect, "{at:?}: row {j} pixel {i}");
                 }
             }
+        }
+        // Rows of stored pixels (flat's runs), every length, for both sample types.
+        let colors: Vec<Vec3> = (0..TILE)
+            .map(|k| Vec3::new(c[0][k], c[1][k], c[2][k]))
+            .collect();
+        for px in 0..=TILE {
+            let stored: Vec<u32> = colors[..px].iter().map(|&v| u8::stored(v)).collect();
+            let mut dst = vec![Out::new(7u8); 3 * px + 4];
+            u8::put_stored(&mut dst[..3 * px], &stored);
+            let got = read(&dst);
+            for k in 0..px {
+                assert_eq!(
+                    got[3 * k..3 * k + 3],
+                    want(k),
+                    "stored row of {px}, pixel {k}"
+                );
+            }
+            assert_eq!(
+                got[3 * px..],
+                [7; 4],
+                "stored row of {px} wrote past its end"
+            );
+            let stored: Vec<[f32; 3]> = colors[..px].iter().map(|&v| f32::stored(v)).collect();
+            let mut dst = vec![Out::new(7.0f32); 3 * px + 1];
+            f32::put_stored(&mut dst[..3 * px], &stored);
+            // SAFETY: every sample was initialised (7) before the stores wrote some.
+            let got: Vec<f32> = dst.iter().map(|v| unsafe { v.assume_init() }).collect();
+            for (k, v) in colors[..px].iter().enumerate() {
+                let mut want = [0.0f32; 3];
+                f32::store(&mut want, *v);
+                assert_eq!(
+                    got[3 * k..3 * k + 3],
+                    want,
+                    "f32 stored row of {px}, pixel {k}"
+                );
+            }
+            assert_eq!(
+                got[3 * px],
+                7.0,
+                "f32 stored row of {px} wrote past its end"
+            );
         }
     }
 }
