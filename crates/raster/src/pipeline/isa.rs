@@ -110,7 +110,16 @@ pub(crate) fn run_tile<P: Pixel>(
         if ctx.secondary.is_some() {
             // The secondary stage on the multi-sample target: a body of its own, so the
             // multi-sample bodies below compile as without it.
-            tile_secondary_samples(ctx, mode, screen, work, job);
+            // Screen-space weights stay on the baseline instructions, as `tile_screen`.
+            match isa {
+                _ if screen && mode != ShadingMode::Flat => {
+                    tile_secondary_samples(ctx, mode, screen, work, job)
+                }
+                Isa::Baseline => tile_secondary_samples(ctx, mode, screen, work, job),
+                #[cfg(target_arch = "x86_64")]
+                // SAFETY: as for `tile_avx2` below.
+                Isa::Avx2 => unsafe { tile_secondary_samples_avx2(ctx, mode, screen, work, job) },
+            }
             return;
         }
         multi_sample_tile(isa, ctx, mode, screen, &mut work.target, job);
@@ -119,7 +128,15 @@ pub(crate) fn run_tile<P: Pixel>(
     if ctx.secondary.is_some() {
         // Reflections, refraction, transparency, environment background: a tile body of
         // its own, so the bodies below compile as without them.
-        tile_secondary(ctx, mode, screen, work, job);
+        match isa {
+            _ if screen && mode != ShadingMode::Flat => {
+                tile_secondary(ctx, mode, screen, work, job)
+            }
+            Isa::Baseline => tile_secondary(ctx, mode, screen, work, job),
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: as for `tile_avx2` below.
+            Isa::Avx2 => unsafe { tile_secondary_avx2(ctx, mode, screen, work, job) },
+        }
         return;
     }
     let buf = &mut work.buf;
@@ -240,10 +257,39 @@ fn samples_body<P: Pixel, const AFFINE: bool>(
     samples::sample_tile::<P, AFFINE>(ctx, mode, job.index, job.rect, target, job.color, job.depth);
 }
 
-/// The tile body of scenes with the secondary stage (baseline instructions: its rays and
-/// lookups are scalar).
+/// The tile body of scenes with the secondary stage, for the baseline instruction set.
 #[inline(never)]
 fn tile_secondary<P: Pixel>(
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    screen: bool,
+    work: &mut Workspace,
+    job: TileJob<'_, '_, P>,
+) {
+    secondary_body::<P, false>(ctx, mode, screen, work, job);
+}
+
+/// The same on AVX2 + FMA: its rays and look-ups are scalar, but the opaque layer's local
+/// colour is shaded by the lane loops (and `floor` and the like are single instructions,
+/// not calls); Rust fuses no multiply-add unasked, so the bits are the baseline's.
+///
+/// # Safety
+/// The CPU must support AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline(never)]
+unsafe fn tile_secondary_avx2<P: Pixel>(
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    screen: bool,
+    work: &mut Workspace,
+    job: TileJob<'_, '_, P>,
+) {
+    secondary_body::<P, true>(ctx, mode, screen, work, job);
+}
+
+#[inline(always)]
+fn secondary_body<P: Pixel, const WIDE: bool>(
     ctx: &ShadeContext<'_>,
     mode: ShadingMode,
     screen: bool,
@@ -253,16 +299,48 @@ fn tile_secondary<P: Pixel>(
     let (buf, sec) = (&mut work.buf, &mut work.secondary);
     let (i, rect) = (job.index, job.rect);
     if screen && mode != ShadingMode::Flat {
-        shade::shade_secondary_tile::<P, true>(ctx, mode, i, rect, buf, sec, job.color, job.depth);
+        shade::shade_secondary_tile::<P, true, WIDE>(
+            ctx, mode, i, rect, buf, sec, job.color, job.depth,
+        );
     } else {
-        shade::shade_secondary_tile::<P, false>(ctx, mode, i, rect, buf, sec, job.color, job.depth);
+        shade::shade_secondary_tile::<P, false, WIDE>(
+            ctx, mode, i, rect, buf, sec, job.color, job.depth,
+        );
     }
 }
 
 /// The tile body of scenes with the secondary stage and several samples per pixel
-/// (`secondary_samples.rs`; baseline instructions, as `tile_secondary`).
+/// (`secondary_samples.rs`), for the baseline instruction set.
 #[inline(never)]
 fn tile_secondary_samples<P: Pixel>(
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    screen: bool,
+    work: &mut Workspace,
+    job: TileJob<'_, '_, P>,
+) {
+    secondary_samples_body::<P, false>(ctx, mode, screen, work, job);
+}
+
+/// The same on AVX2 + FMA (as [`tile_secondary_avx2`]).
+///
+/// # Safety
+/// The CPU must support AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline(never)]
+unsafe fn tile_secondary_samples_avx2<P: Pixel>(
+    ctx: &ShadeContext<'_>,
+    mode: ShadingMode,
+    screen: bool,
+    work: &mut Workspace,
+    job: TileJob<'_, '_, P>,
+) {
+    secondary_samples_body::<P, true>(ctx, mode, screen, work, job);
+}
+
+#[inline(always)]
+fn secondary_samples_body<P: Pixel, const WIDE: bool>(
     ctx: &ShadeContext<'_>,
     mode: ShadingMode,
     screen: bool,
@@ -272,9 +350,13 @@ fn tile_secondary_samples<P: Pixel>(
     let (target, sec) = (&mut work.target, &mut work.secondary_samples);
     let (i, rect) = (job.index, job.rect);
     if screen && mode != ShadingMode::Flat {
-        shade_secondary_samples::<P, true>(ctx, mode, i, rect, target, sec, job.color, job.depth);
+        shade_secondary_samples::<P, true, WIDE>(
+            ctx, mode, i, rect, target, sec, job.color, job.depth,
+        );
     } else {
-        shade_secondary_samples::<P, false>(ctx, mode, i, rect, target, sec, job.color, job.depth);
+        shade_secondary_samples::<P, false, WIDE>(
+            ctx, mode, i, rect, target, sec, job.color, job.depth,
+        );
     }
 }
 

@@ -60,9 +60,11 @@ pub(crate) struct SecondarySamplesWork {
 }
 
 /// One tile of a scene with the secondary stage at `N = target.per_pixel() > 1` samples.
-/// `AFFINE` as for [`shade::shade_tile`].
+/// `AFFINE` as for [`shade::shade_tile`], `WIDE` as for [`shade::shade_textured_tile`]
+/// (inlined into each instruction set's body, `isa.rs`).
+#[inline(always)]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn shade_secondary_samples<P: Pixel, const AFFINE: bool>(
+pub(crate) fn shade_secondary_samples<P: Pixel, const AFFINE: bool, const WIDE: bool>(
     ctx: &ShadeContext<'_>,
     mode: ShadingMode,
     index: usize,
@@ -99,6 +101,7 @@ pub(crate) fn shade_secondary_samples<P: Pixel, const AFFINE: bool>(
         layer.resize(used * TILE * TILE, Vec3::ZERO);
     }
     let world = shade::secondary_world(ctx, mode);
+    let mut cache = shade::PointCache::new();
     let mut depth = depth;
     for k in 0..used {
         let buf = target.layer_buffer(k);
@@ -111,7 +114,7 @@ pub(crate) fn shade_secondary_samples<P: Pixel, const AFFINE: bool>(
         // depth output, the opaque majority surface's, as without the secondary stage.
         let layer_depth = if k == 0 { depth.take() } else { None };
         if ctx.textured.is_some() {
-            shade::shade_textured_tile::<f32, AFFINE, false>(
+            shade::shade_textured_tile::<f32, AFFINE, WIDE>(
                 ctx,
                 mode,
                 rect,
@@ -139,8 +142,9 @@ pub(crate) fn shade_secondary_samples<P: Pixel, const AFFINE: bool>(
                 };
                 let (id, z) = (buf.id[slot], buf.depth[slot]);
                 let (x, y) = (rect.x0 + i, rect.y0 + j);
-                colors[slot] =
-                    shade::opaque_color::<AFFINE>(ctx, sec, &world, mode, id, z, local, x, y);
+                colors[slot] = shade::opaque_color::<AFFINE>(
+                    ctx, sec, &world, mode, id, z, local, x, y, &mut cache,
+                );
             }
         }
     }
@@ -222,8 +226,9 @@ pub(crate) fn shade_secondary_samples<P: Pixel, const AFFINE: bool>(
                         } else {
                             0.0
                         };
-                        let (a, t) =
-                            shade::fragment_mix::<AFFINE>(ctx, sec, &world, mode, fr.id, z, x, y);
+                        let (a, t) = shade::fragment_mix::<AFFINE>(
+                            ctx, sec, &world, mode, fr.id, z, x, y, &mut cache,
+                        );
                         mixes.push((fr.id, a, t));
                         (a, t)
                     });

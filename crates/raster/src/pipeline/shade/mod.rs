@@ -21,7 +21,7 @@ pub(crate) use mixed::{shade_mixed_tile, MixedWork};
 pub(crate) use program::Program;
 pub(crate) use secondary::{
     composite, fragment_mix, opaque_color, shade_secondary_tile, world as secondary_world, Collect,
-    SecondaryWork,
+    PointCache, SecondaryWork,
 };
 pub use store::Pixel;
 pub(crate) use store::{fill_out, put, store_out, Out, RowColors, ROW_LANES};

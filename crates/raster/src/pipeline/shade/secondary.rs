@@ -19,7 +19,7 @@
 use glam::Vec3;
 
 use super::phong::face_normal;
-use super::planes::weight_planes;
+use super::planes::{weight_planes, PlaneCache};
 use super::store::{store_out, Out, Pixel};
 use super::{shade_textured_tile, shade_tile, ShadeContext};
 use crate::options::ShadingMode;
@@ -66,9 +66,11 @@ impl<T, F: Fn(usize, f32, u32) -> T> SpanSink for Collect<'_, T, F> {
     }
 }
 
-/// One tile of a scene with the secondary stage. `AFFINE` as for [`shade_tile`].
+/// One tile of a scene with the secondary stage. `AFFINE` as for [`shade_tile`]; `WIDE`
+/// as for [`shade_textured_tile`] (inlined into each instruction set's body, `isa.rs`).
+#[inline(always)]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool>(
+pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: bool>(
     ctx: &ShadeContext<'_>,
     mode: ShadingMode,
     index: usize,
@@ -103,7 +105,7 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool>(
         .map(|r| &mut r[..rect.w * 3])
         .collect();
     if ctx.textured.is_some() {
-        shade_textured_tile::<f32, AFFINE, false>(ctx, mode, rect, buf, &mut rows, depth);
+        shade_textured_tile::<f32, AFFINE, WIDE>(ctx, mode, rect, buf, &mut rows, depth);
     } else {
         shade_tile::<f32, AFFINE>(ctx, mode, rect, buf, &mut rows, depth);
     }
@@ -132,6 +134,7 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool>(
         });
     }
     let world = world(ctx, mode);
+    let mut cache = PointCache::new();
     let mut next = 0;
     for (j, out) in color.iter_mut().enumerate().take(rect.h) {
         for i in 0..rect.w {
@@ -147,22 +150,33 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool>(
             };
             // 3. The opaque layer's colour.
             let (id, z) = (buf.id[slot], buf.depth[slot]);
-            let c = opaque_color::<AFFINE>(ctx, sec, &world, mode, id, z, local, x, y);
+            let c = opaque_color::<AFFINE>(ctx, sec, &world, mode, id, z, local, x, y, &mut cache);
             // 4. The transparent fragments over it, front to back.
             let first = next;
             while next < work.frags.len() && work.frags[next].slot as usize == slot {
                 next += 1;
             }
             let c = if next > first {
-                let layers = work.frags[first..next]
-                    .iter()
-                    .map(|f| fragment_mix::<AFFINE>(ctx, sec, &world, mode, f.id, f.z, x, y));
+                let layers = work.frags[first..next].iter().map(|f| {
+                    fragment_mix::<AFFINE>(ctx, sec, &world, mode, f.id, f.z, x, y, &mut cache)
+                });
                 composite(layers, c)
             } else {
                 c
             };
             store_out(&mut out[i * 3..i * 3 + 3], c);
         }
+    }
+}
+
+/// A tile's perspective weight planes and face normals of recently seen triangles: a
+/// pixel's surface point ([`point_at`]) needs both, and they are the triangle's, so they
+/// are made once per triangle and tile instead of once per pixel (the same values).
+pub(crate) struct PointCache(PlaneCache<([[f64; 3]; 3], Vec3)>);
+
+impl PointCache {
+    pub(crate) fn new() -> Self {
+        PointCache(PlaneCache::new())
     }
 }
 
@@ -196,6 +210,7 @@ pub(crate) fn opaque_color<const AFFINE: bool>(
     local: Vec3,
     x: usize,
     y: usize,
+    cache: &mut PointCache,
 ) -> Vec3 {
     if id == NO_TRIANGLE {
         return if sec.env_background {
@@ -207,7 +222,7 @@ pub(crate) fn opaque_color<const AFFINE: bool>(
     let t = ctx.tris.get(id);
     let c = match sec.kinds[t.object as usize] {
         Kind::Optical => {
-            let pt = point_at::<AFFINE>(ctx, sec, mode, t, x, y);
+            let pt = point_at::<AFFINE>(ctx, sec, mode, id, x, y, cache);
             sec.mix(world, &pt.0, local, 0, Vec3::ZERO, false).color
         }
         _ => local,
@@ -232,9 +247,10 @@ pub(crate) fn fragment_mix<const AFFINE: bool>(
     z: f32,
     x: usize,
     y: usize,
+    cache: &mut PointCache,
 ) -> (Vec3, f32) {
     let t = ctx.tris.get(id);
-    let (pt, b) = point_at::<AFFINE>(ctx, sec, mode, t, x, y);
+    let (pt, b) = point_at::<AFFINE>(ctx, sec, mode, id, x, y, cache);
     let own = fragment_color(ctx, mode, t, &pt, b);
     let m = sec.mix(world, &pt, own, 0, Vec3::ZERO, true);
     let a = match &sec.fog {
@@ -265,26 +281,29 @@ pub(crate) fn composite(layers: impl Iterator<Item = (Vec3, f32)>, behind: Vec3)
     acc + through * behind
 }
 
-/// The surface point of triangle `t` at the centre of pixel (x, y) and its barycentrics:
+/// The surface point of triangle `id` at the centre of pixel (x, y) and its barycentrics:
 /// position and normal interpolated with the perspective weights (flat, or a mesh without
 /// usable normals: the face normal), both turned toward the viewer.
 fn point_at<const AFFINE: bool>(
     ctx: &ShadeContext<'_>,
     sec: &SecondaryEffect,
     mode: ShadingMode,
-    t: &SetupTri,
+    id: u32,
     x: usize,
     y: usize,
+    cache: &mut PointCache,
 ) -> (Point, [f32; 3]) {
-    let pl = weight_planes::<AFFINE>(ctx, t);
+    let t = ctx.tris.get(id);
+    let w = &ctx.verts.world;
+    let (pl, face) = cache
+        .0
+        .get(id, || (weight_planes::<AFFINE>(ctx, t), face_normal(t, w)));
     let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
     let q = pl.map(|p| p[0] * px + p[1] * py + p[2]);
     let sum = q[0] + q[1] + q[2];
     let b = q.map(|v| (v / sum) as f32);
     let v = t.v.map(|k| k as usize);
-    let w = &ctx.verts.world;
     let p = w[v[0]] * b[0] + w[v[1]] * b[1] + w[v[2]] * b[2];
-    let face = face_normal(t, w);
     let n_out = if mode == ShadingMode::Flat || ctx.verts.normal.is_empty() {
         face
     } else {
