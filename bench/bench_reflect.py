@@ -9,8 +9,14 @@ bent behind it). Truth: ``shadelab_ref.reflect.trace`` with rays at every interf
 (``reflections="ray"``, ``refractions="ray"``, depth 5) at 160 x 120; each of our
 techniques is compared with it there (RMSE in 8-bit levels over all pixels, and the share
 within 1 level), and timed at 800 x 600 and 1920 x 1080 (median of frames, uint8 with
-readback). "none" is the same scene with opaque, non-reflective materials: the price of the
-effect is the difference.
+readback) at 1 and at 2 threads, a process per thread count. "none" is the same scene with
+opaque, non-reflective materials: the price of the effect is the difference.
+
+Mesa's llvmpipe draws the "none" and "environment" rows with the same technique in GLSL
+(``bench/peers/llvmpipe_reflect.py``: one equirectangular look-up per pixel along the
+mirror and refracted directions, Schlick's Fresnel), its frames alternating with ours at the
+same thread count; its error is measured against the same truth. Ray tracing has no
+llvmpipe counterpart. ``--no-peers`` leaves it out (it needs ``make bench-peers``).
 
     python bench/bench_reflect.py --write docs/BENCHMARKS.md   # replaces its section there
     python bench/bench_reflect.py --quick                      # smoke run
@@ -19,9 +25,12 @@ effect is the difference.
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import statistics
+import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -112,72 +121,226 @@ def techniques(name: str) -> list[tuple[str, dict]]:
     ]
 
 
-def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--quick", action="store_true", help="smoke run: small images, few frames")
-    ap.add_argument("--write", metavar="PATH", help="replace this script's section of the file")
-    ap.add_argument("--threads", type=int, default=os.cpu_count() or 1)
-    args = ap.parse_args(argv)
-    t0, load0 = time.perf_counter(), os.getloadavg()[0]
-    ew, eh = (64, 48) if args.quick else (160, 120)
-    sizes = [(160, 120)] if args.quick else [(800, 600), (1920, 1080)]
-    frames = 2 if args.quick else 7
+def peer_objects(name: str, optics: bool) -> list:
+    """The scene for :class:`peers.llvmpipe_reflect.EnvironmentScene`: the same meshes,
+    materials and optics as :func:`sl_scene`."""
+    from peers.llvmpipe_reflect import Optics
+
+    sphere, red, t, mirror, (fv, ff) = T.mirror_scene()
+    up = np.tile([0.0, 1.0, 0.0], (len(fv), 1))  # the quad's normals, as ours generates
+    floor = Optics(reflectivity=mirror.reflectivity) if optics else Optics()
+    objects = [
+        (sphere.vertices, sphere.normals, sphere.faces, t, red, Optics()),
+        (fv, up, ff, np.eye(4), mirror, floor),
+    ]
+    if name == "glass ball":
+        m, bt = ball()
+        g = glass_material()
+        glass = Optics(transparency=g.transparency, ior=g.ior, fresnel=g.fresnel)
+        objects.append((m.vertices, m.normals, m.faces, bt, g, glass if optics else Optics()))
+    return objects
+
+
+def measure(threads: int, quick: bool, peers: bool) -> dict:
+    """Every (scene, technique): error against the tracer and frame times at ``threads``,
+    ours and (for the techniques it has) llvmpipe's, alternating frame by frame."""
+    peer = None
+    if peers:
+        from peers.llvmpipe import LlvmpipeRenderer
+        from peers.llvmpipe_reflect import EnvironmentScene
+
+        gl = LlvmpipeRenderer(threads)  # first GL context of this process
+        peer = EnvironmentScene(gl)
+    ew, eh = (64, 48) if quick else (160, 120)
+    sizes = [(160, 120)] if quick else [(800, 600), (1920, 1080)]
+    frames = 2 if quick else 7
     cam = T.sl_cam()
+    sun = T.SUN
+    lights = [("directional", sun.direction, tuple(np.asarray(sun.color) * sun.intensity))]
     rows = []
     for name in ("mirror", "glass ball"):
         want = ref.to_uint8(rr.trace(ref_scene(name), T.CAM, ew, eh)).astype(int)
         for label, kw in [("none (opaque)", None), *techniques(name)]:
             scene = sl_scene(name, optics=kw is not None)
+            with_peer = peer is not None and label != "ray"
+            optics = kw is not None
             kw = kw or {}
-            got = sl.render(scene, cam, width=ew, height=eh, **kw).astype(int)
-            diff = got - want
-            rmse = float(np.sqrt(np.mean(diff.astype(float) ** 2)))
-            within = float(np.mean(np.abs(diff).max(axis=-1) <= 1))
-            times = {}
+
+            def peer_at(w: int, h: int, name=name, optics=optics) -> None:
+                peer.set_scene(
+                    peer_objects(name, optics),
+                    environment=T.sky(),
+                    lights=lights,
+                    ambient=(0.15, 0.15, 0.15),
+                    camera=T.CAM,
+                    aspect=w / h,
+                )
+
+            def rmse_of(img: np.ndarray, want=want) -> tuple[float, float]:
+                diff = img.astype(int) - want
+                return (
+                    float(np.sqrt(np.mean(diff.astype(float) ** 2))),
+                    float(np.mean(np.abs(diff).max(axis=-1) <= 1)),
+                )
+
+            rmse, within = rmse_of(sl.render(scene, cam, width=ew, height=eh, **kw))
+            gl_rmse = gl_within = None
+            if with_peer:
+                peer_at(ew, eh)
+                gl_rmse, gl_within = rmse_of(peer.render(ew, eh))
+            times, gl_times = {}, {}
             for w, h in sizes:
-                ts = []
+                if with_peer:
+                    peer_at(w, h)
+                    peer.render(w, h)  # llvmpipe compiles its shaders at the first draw
+                ours, theirs = [], []
                 for _ in range(frames):
                     t1 = time.perf_counter()
-                    sl.render(scene, cam, width=w, height=h, threads=args.threads, **kw)
-                    ts.append((time.perf_counter() - t1) * 1e3)
-                times[(w, h)] = statistics.median(ts)
-            rows.append((name, label, rmse, within, times))
+                    sl.render(scene, cam, width=w, height=h, threads=threads, **kw)
+                    ours.append((time.perf_counter() - t1) * 1e3)
+                    if with_peer:
+                        t1 = time.perf_counter()
+                        peer.render(w, h)
+                        theirs.append((time.perf_counter() - t1) * 1e3)
+                times[f"{w}x{h}"] = statistics.median(ours)
+                gl_times[f"{w}x{h}"] = statistics.median(theirs) if theirs else None
+            rows.append(
+                dict(
+                    scene=name,
+                    technique=label,
+                    rmse=rmse,
+                    within=within,
+                    gl_rmse=gl_rmse,
+                    gl_within=gl_within,
+                    ms=times,
+                    gl_ms=gl_times,
+                )
+            )
             print(
-                f"{name:10} {label:14} RMSE {rmse:6.2f} within1 {within:.4f} {times}",
+                f"[{threads}t] {name:10} {label:14} RMSE {rmse:6.2f} {times} "
+                f"llvmpipe RMSE {gl_rmse} {gl_times}",
                 file=sys.stderr,
             )
-    ctx = run_context(sl.__version__, t0, load0)
-    head = " | ".join(f"ms at {w}×{h}" for w, h in sizes)
-    lines = [
-        MARKER,
-        "",
-        "# Reflection and refraction: environment lookup against Whitted rays",
-        "",
-        f"Generated by `bench/bench_reflect.py` on {ctx['date']} (source tree "
-        f"{ctx['machine']['source tree (git)']}; {args.threads} threads; load average "
-        f"{ctx['load'][0]:.2f} / {ctx['load'][1]:.2f}). Reproduce: `make bench-reflect`.",
-        "",
-        "Scenes of `tests/test_reflect.py`: a mirror floor (reflectivity 0.8) under a red "
-        "sphere, and the same with a glass ball (transparency 0.9, ior 1.5, Fresnel) in front. "
-        "Truth: the float64 tracer (`shadelab_ref/reflect.py`) with rays at every interface, "
-        f"{ew} × {eh}; error over all pixels (uint8). 'none' is the same geometry opaque and "
-        "not reflective (its error is what leaving the effect out costs). Times: median of "
-        f"{frames} frames, uint8 with readback.",
-        "",
-        f"| scene | technique | RMSE (levels) | within 1 level | {head} |",
-        "|---|---|---:|---:|" + "---:|" * len(sizes),
+    return {
+        "threads": threads,
+        "error_size": [ew, eh],
+        "sizes": [list(s) for s in sizes],
+        "frames": frames,
+        "renderer": None if peer is None else peer.gl.info["renderer"],
+        "rows": rows,
+    }
+
+
+def _ms(x: float | None) -> str:
+    return "–" if x is None else f"{x:.1f}"
+
+
+def markdown(ctx: dict, runs: list[dict]) -> str:
+    ew, eh = runs[0]["error_size"]
+    sizes = [tuple(s) for s in runs[0]["sizes"]]
+    renderer = next((r["renderer"] for r in runs if r["renderer"]), None)
+    errors = [
+        "| scene | technique | RMSE ours (levels) | ours within 1 level | RMSE llvmpipe "
+        "| llvmpipe within 1 level |",
+        "|---|---|---:|---:|---:|---:|",
     ]
-    for name, label, rmse, within, times in rows:
-        ms = " | ".join(f"{times[s]:.1f}" for s in sizes)
-        lines.append(f"| {name} | {label} | {rmse:.2f} | {100 * within:.2f} % | {ms} |")
-    lines += [
-        "",
-        "The environment technique is one lookup per pixel: it cannot show the sphere in the "
-        "mirror or the scene through the ball, which its error measures; rays show both, "
-        "at the price in the time columns.",
-        "",
-    ]
-    report(args.write, "\n".join(lines), MARKER)
+    for r in runs[0]["rows"]:
+        gl = (
+            ("–", "–")
+            if r["gl_rmse"] is None
+            else (f"{r['gl_rmse']:.2f}", f"{100 * r['gl_within']:.2f} %")
+        )
+        errors.append(
+            f"| {r['scene']} | {r['technique']} | {r['rmse']:.2f} | "
+            f"{100 * r['within']:.2f} % | {gl[0]} | {gl[1]} |"
+        )
+    head, rule = "| scene | technique | size ", "|---|---|---"
+    for run in runs:
+        t = run["threads"]
+        n = f"{t} thread" + ("s" if t > 1 else "")
+        head += f"| ms ours, {n} | ms llvmpipe, {n} | ours / llvmpipe, {n} "
+        rule += "|---:|---:|---:"
+    times = [head + "|", rule + "|"]
+    for i, r in enumerate(runs[0]["rows"]):
+        for w, h in sizes:
+            line = f"| {r['scene']} | {r['technique']} | {w}×{h} "
+            for run in runs:
+                q = run["rows"][i]
+                ours, gl = q["ms"][f"{w}x{h}"], q["gl_ms"][f"{w}x{h}"]
+                ratio = "–" if gl is None else f"{ours / gl:.2f}"
+                line += f"| {_ms(ours)} | {_ms(gl)} | {ratio} "
+            times.append(line + "|")
+    return "\n".join(
+        [
+            MARKER,
+            "",
+            "# Reflection and refraction: environment lookup against Whitted rays",
+            "",
+            f"Generated by `bench/bench_reflect.py` on {ctx['date']} (source tree "
+            f"{ctx['machine']['source tree (git)']}; load average "
+            f"{ctx['load'][0]:.2f} / {ctx['load'][1]:.2f}). Reproduce: `make bench-reflect`.",
+            "",
+            "Scenes of `tests/test_reflect.py`: a mirror floor (reflectivity 0.8) under a red "
+            "sphere, and the same with a glass ball (transparency 0.9, ior 1.5, Fresnel) in "
+            "front. Truth: the float64 tracer (`shadelab_ref/reflect.py`) with rays at every "
+            f"interface, {ew} × {eh}; error over all pixels (uint8). 'none' is the same "
+            "geometry opaque and not reflective (its error is what leaving the effect out "
+            f"costs). Times: median of {runs[0]['frames']} frames, uint8 with readback, each "
+            "thread count in a process of its own.",
+            "",
+            "llvmpipe draws the 'none' and 'environment' rows with the same technique in GLSL "
+            "(`bench/peers/llvmpipe_reflect.py`: Blinn-Phong per pixel, one equirectangular "
+            "GL_LINEAR look-up along the mirror direction and, for the glass, the refracted "
+            "one, weighted by Schlick's Fresnel as ours), its frames alternating with ours, "
+            "same thread count (LP_NUM_THREADS)"
+            + ("" if renderer is None else f" ({renderer})")
+            + "; rays have no llvmpipe counterpart.",
+            "",
+            "## Error",
+            "",
+            *errors,
+            "",
+            "## Time",
+            "",
+            *times,
+            "",
+            "The environment technique is one lookup per pixel: it cannot show the sphere in "
+            "the mirror or the scene through the ball, which its error measures; rays show "
+            "both, at the price in the time columns. Time ratio below 1: ours is faster. Ours "
+            "runs the environment technique in the secondary stage, a pixel at a time in "
+            "scalar code (the view ray, the surface point, the split and two libm calls per "
+            "look-up), where llvmpipe runs its shader over SIMD lanes.",
+            "",
+        ]
+    )
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--quick", action="store_true", help="smoke run: small images, few frames")
+    ap.add_argument("--write", metavar="PATH", help="replace this script's section of the file")
+    ap.add_argument(
+        "--threads", type=int, nargs="+", default=[1, 2], help="thread counts (default 1 2)"
+    )
+    ap.add_argument("--no-peers", action="store_true", help="leave llvmpipe out")
+    ap.add_argument("--child", type=int, help=argparse.SUPPRESS)
+    ap.add_argument("--out", help=argparse.SUPPRESS)
+    args = ap.parse_args(argv)
+    if args.child is not None:
+        data = measure(args.child, args.quick, not args.no_peers)
+        Path(args.out).write_text(json.dumps(data))
+        return 0
+    t0, load0 = time.perf_counter(), os.getloadavg()[0]
+    runs = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for t in args.threads:  # a process each: llvmpipe reads LP_NUM_THREADS once
+            out = Path(tmp) / f"{t}.json"
+            cmd = [sys.executable, __file__, "--child", str(t), "--out", str(out)]
+            cmd += ["--quick"] if args.quick else []
+            cmd += ["--no-peers"] if args.no_peers else []
+            subprocess.run(cmd, check=True)
+            runs.append(json.loads(out.read_text()))
+    report(args.write, markdown(run_context(sl.__version__, t0, load0), runs), MARKER)
     return 0
 
 
