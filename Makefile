@@ -115,7 +115,7 @@ bench-shadows: build $(BENCH_DEPS)  ## shadow maps against llvmpipe's (GLSL dept
 bench-textures: build $(BENCH_DEPS)  ## texture filters against the exact area-filtered checkerboard, ours and llvmpipe's: RMSE and time per filter -> docs/BENCHMARKS.md (~2 min)
 	$(BENCH_ENV) $(PY) bench/bench_textures.py --write docs/BENCHMARKS.md
 
-bench-reflect: build  ## reflections and refractions: environment lookup vs Whitted rays, error against the float64 tracer and time -> docs/BENCHMARKS.md (~3 min)
+bench-reflect: build $(BENCH_DEPS)  ## reflections and refractions: environment lookup vs Whitted rays, error against the float64 tracer and time, llvmpipe's environment lookup at 1 and 2 threads -> docs/BENCHMARKS.md (~5 min)
 	$(BENCH_ENV) $(PY) bench/bench_reflect.py --write docs/BENCHMARKS.md
 
 bench-batch: build  ## many views only: render_batch vs loop vs 2 processes, pickling -> docs/BENCHMARKS.md (~2 min)
