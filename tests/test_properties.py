@@ -188,3 +188,49 @@ def test_rendering_twice_is_identical_and_culling_only_removes(scene, camera, op
         scene, camera, dtype="float32", return_depth=True, **{**opts, "cull_backfaces": True}
     )
     assert not np.any(np.isfinite(culled["depth"]) & np.isinf(a[1]))
+
+
+def test_depth_stays_within_the_planes_where_a_snap_extrapolates():
+    """A case hypothesis found: in a 1 x 11 image at a 112 degree field of view (pixels of
+    about 10 degrees) a triangle cut by the near plane covers a pixel centre that lies a snap
+    outside it, where its interpolated depth extrapolated 0.3 % before the near plane. The
+    depth output is clamped to [near, far]."""
+    vertices = np.array(
+        [[0.0, 0.0, 0.0], [0.0, 2.53125, -0.17578125], [0.0, 0.0, 0.0], [1.5, -1.625, 1.0488281]],
+        np.float32,
+    )
+    normals = np.tile(np.array([0.5284646, -0.058813587, -0.84691566], np.float32), (4, 1))
+    transform = np.array(
+        [
+            [2.8131487369537354, -0.5359146595001221, -0.05683762952685356, 0.0],
+            [0.4366205334663391, 2.848540782928467, -0.2116093784570694, 0.1953125],
+            [0.3410577178001404, 0.7736998200416565, 0.739715576171875, 0.462890625],
+            [0.0, 0.0, 0.0, 1.0],
+        ]
+    )
+    scene = sl.Scene(ambient=(0.0, 0.0, 0.0))
+    scene.add(sl.Mesh(vertices, [[0, 1, 3]], normals), transform=transform)
+    camera = sl.Camera.look_at(
+        (-0.4014816282053353, 1.7951459199487365, 0.7589310834980609),
+        (-0.703125, 0.0, 0.7589310834980609),
+        up=(0.0, 1.0, 0.0),
+        fov_y=111.8125,
+        near=1.234375,
+        far=3.234375,
+    )
+    out = sl.render_frame(
+        scene,
+        camera,
+        width=1,
+        height=11,
+        shading="flat",
+        cull_backfaces=False,
+        dtype="float32",
+        return_depth=True,
+    )
+    depth = out["depth"]
+    covered = depth[np.isfinite(depth)]
+    assert covered.size > 0, "the case covers a pixel"
+    assert out["stats"]["triangles_clipped"] == 1
+    assert covered.min() >= np.float32(camera.near)
+    assert covered.max() <= np.float32(camera.far)

@@ -408,21 +408,32 @@ impl Camera {
         let (n, f, z) = (self.near, self.far, z_ndc as f64);
         match self.projection {
             Projection::Perspective { .. } | Projection::Pinhole(_) => {
-                (n * f / (z * (f - n) + n)) as f32
+                self.within_planes((n * f / (z * (f - n) + n)) as f32)
             }
             Projection::Orthographic { .. } => self.eye_depth(z_ndc, 1.0),
         }
     }
 
     /// Eye-space depth (distance along the view axis) from a stored reversed-Z value and,
-    /// for perspective, the interpolated 1/w.
+    /// for perspective, the interpolated 1/w; within the near and far planes
+    /// ([`Camera::within_planes`]).
     pub(crate) fn eye_depth(&self, z_ndc: f32, inv_w: f32) -> f32 {
-        match self.projection {
+        self.within_planes(match self.projection {
             Projection::Perspective { .. } | Projection::Pinhole(_) => 1.0 / inv_w,
             Projection::Orthographic { .. } => {
                 (self.far - z_ndc as f64 * (self.far - self.near)) as f32
             }
-        }
+        })
+    }
+
+    /// `depth` clamped to `[near, far]` (a NaN, which no valid input makes, becomes `near`).
+    /// Every drawn surface lies between the planes (triangles are clipped to them), but a
+    /// covered pixel centre can lie a snap (up to 1/512 pixel) outside its triangle, where
+    /// the interpolated depth extrapolates past a triangle cut at a plane: with huge pixels
+    /// (a 1 × 11 image at a 112° field of view) 0.3 % before the near plane was seen.
+    #[inline(always)]
+    pub(crate) fn within_planes(&self, depth: f32) -> f32 {
+        depth.max(self.near as f32).min(self.far as f32)
     }
 }
 
@@ -497,6 +508,30 @@ mod tests {
             50.0,
         )
         .unwrap()
+    }
+
+    #[test]
+    fn eye_depth_is_clamped_to_the_planes() {
+        let c = cam();
+        let (n, f) = (c.near() as f32, c.far() as f32);
+        // Perspective: 1/w extrapolated past either plane.
+        assert_eq!(c.eye_depth(0.0, 1.0 / (0.99 * n)), n);
+        assert_eq!(c.eye_depth(0.0, 1.0 / (1.01 * f)), f);
+        assert_eq!(c.eye_depth(0.0, 0.25), 4.0);
+        // Reversed-Z beyond [0, 1], as the screen-space path reads it.
+        assert_eq!(c.eye_depth_from_z(1.001), n);
+        assert_eq!(c.eye_depth_from_z(-0.001), f);
+        let o = Camera::orthographic(
+            DVec3::new(0.0, 0.0, 5.0),
+            DVec3::ZERO,
+            DVec3::Y,
+            2.0,
+            0.5,
+            50.0,
+        )
+        .unwrap();
+        assert_eq!(o.eye_depth(1.01, 1.0), 0.5);
+        assert_eq!(o.eye_depth(-0.01, 1.0), 50.0);
     }
 
     #[test]
