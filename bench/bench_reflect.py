@@ -308,8 +308,8 @@ def markdown(ctx: dict, runs: list[dict]) -> str:
             "the mirror or the scene through the ball, which its error measures; rays show "
             "both, at the price in the time columns. Time ratio below 1: ours is faster. Ours "
             "runs the environment technique in the secondary stage, a pixel at a time in "
-            "scalar code (the view ray, the surface point, the split and two libm calls per "
-            "look-up), where llvmpipe runs its shader over SIMD lanes.",
+            "scalar f64 code (the view ray, the surface point, the split and a bilinear "
+            "look-up per direction), where llvmpipe runs its shader over SIMD lanes.",
             "",
         ]
     )

@@ -20,6 +20,7 @@ use std::sync::Arc;
 use glam::{DVec3, Vec3};
 
 use crate::error::{RasterError, Result};
+use crate::trig;
 
 /// Largest environment side in texels.
 pub const MAX_ENVIRONMENT_SIZE: usize = 16384;
@@ -258,11 +259,13 @@ impl Environment {
     }
 
     /// The equirectangular (u, v) of a direction (any length; zero or non-finite gives the
-    /// centre column at the horizon), after the rotation.
+    /// centre column at the horizon), after the rotation. The angles come from
+    /// [`trig`]'s polynomials (within 3·10⁻⁸ rad of libm's: under 10⁻⁴ of a texel of a
+    /// 4096 × 2048 image in v, far less in u).
     pub fn uv(&self, d: Vec3) -> (f64, f64) {
         let d = self.unrotated(d);
-        let u = 0.5 + d.x.atan2(-d.z) / std::f64::consts::TAU;
-        let v = d.y.clamp(-1.0, 1.0).acos() / std::f64::consts::PI;
+        let u = 0.5 + trig::atan2(d.x, -d.z) / std::f64::consts::TAU;
+        let v = trig::acos(d.y) / std::f64::consts::PI;
         (u, v)
     }
 
@@ -278,8 +281,10 @@ impl Environment {
         let y = (v * h - 0.5).clamp(0.0, h - 1.0);
         let (x0, y0) = (x.floor(), y.floor());
         let (fx, fy) = ((x - x0) as f32, (y - y0) as f32);
-        let wrap = |i: f64| (i.rem_euclid(w) as usize).min(self.width - 1);
-        let (c0, c1) = (wrap(x0), wrap(x0 + 1.0));
+        // x0 is a whole number in [−1, width − 1] (u is in [0, 1]): wrapped in integers,
+        // the same columns as f64's rem_euclid without its libm call.
+        let wrap = |i: i64| (i.rem_euclid(self.width as i64) as usize).min(self.width - 1);
+        let (c0, c1) = (wrap(x0 as i64), wrap(x0 as i64 + 1));
         let r0 = y0 as usize;
         let r1 = (r0 + 1).min(self.height - 1);
         let t = |r: usize, c: usize| self.texels[r * self.width + c];

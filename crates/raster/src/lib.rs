@@ -52,6 +52,7 @@ mod scene;
 mod shadows;
 mod tangents;
 pub mod texture;
+mod trig;
 
 pub use auto_shading::{explain_shading, ShadingEstimate, DEFAULT_TOLERANCE};
 pub use camera::{Camera, Intrinsics, Projection};

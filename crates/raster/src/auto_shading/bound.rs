@@ -7,8 +7,8 @@
 
 use std::f64::consts::FRAC_PI_2;
 
-use super::trig;
 use crate::lighting::pow01;
+use crate::trig;
 
 /// How the lighting's arguments vary over one triangle (radians).
 #[derive(Debug, Clone, Copy)]

@@ -10,7 +10,7 @@
 mod bound;
 mod cost;
 mod nodal;
-mod trig;
+use crate::trig;
 
 use glam::{DVec3, DVec4};
 use rayon::prelude::*;

@@ -84,10 +84,9 @@ pub(crate) struct SecondaryEffect {
     rays: Option<RayScene>,
     /// The fog, applied by the secondary stage after the mix (the loops then run without).
     pub fog: Option<FogEffect>,
-    /// Clip → world, for each pixel's view ray.
-    inv_view_proj: DMat4,
-    /// Image size in pixels.
-    size: (f64, f64),
+    /// The view ray through pixel centre (px, py), not normalised: `ray[0]·px + ray[1]·py +
+    /// ray[2]` ([`view_ray_planes`]).
+    ray: [DVec3; 3],
     /// Unit direction the camera looks along.
     forward: DVec3,
 }
@@ -146,8 +145,7 @@ impl SecondaryEffect {
             any_blended,
             rays,
             fog,
-            inv_view_proj: view_proj.inverse(),
-            size: (w, h),
+            ray: view_ray_planes(view_proj.inverse(), w, h),
             forward: (camera.target() - camera.eye()).normalize(),
         }
     }
@@ -164,15 +162,10 @@ impl SecondaryEffect {
 
     /// Unit direction of the view ray through the centre of pixel (x, y) (away from the
     /// camera; parallel rays for an orthographic camera).
+    #[inline]
     pub fn view_ray(&self, x: usize, y: usize) -> Vec3 {
-        let (w, h) = self.size;
-        let nx = (x as f64 + 0.5) / w * 2.0 - 1.0;
-        let ny = 1.0 - (y as f64 + 0.5) / h * 2.0;
-        let at = |z: f64| {
-            let p = self.inv_view_proj * DVec4::new(nx, ny, z, 1.0);
-            p.truncate() / p.w
-        };
-        let d = (at(0.25) - at(0.75)).normalize();
+        let [dx, dy, d0] = self.ray;
+        let d = (dx * (x as f64 + 0.5) + dy * (y as f64 + 0.5) + d0).normalize();
         let d = if d.dot(self.forward) < 0.0 { -d } else { d };
         d.as_vec3()
     }
@@ -259,10 +252,90 @@ impl SecondaryEffect {
     }
 }
 
+/// The view ray through a pixel centre as an affine function of it. A pixel's ray is the
+/// line of clip points `A + z·C` (`A = M·(nx, ny, 0, 1)`, `C` the clip → world matrix `M`'s
+/// z column, (nx, ny) the centre's normalised device coordinates); its world points
+/// `(A + z·C).xyz / (A + z·C).w` run along `A.xyz·C.w − C.xyz·A.w` (the derivative's
+/// numerator, negated: from the far plane toward the near one, sign fixed by the caller).
+/// `A` is affine in (nx, ny) and they in the pixel centre, so the direction is too: the
+/// three planes returned, for pixel coordinates in an image of `w × h`. Orthographic
+/// cameras come out constant (their `C.w` and the x and y columns' w are zero).
+fn view_ray_planes(m: DMat4, w: f64, h: f64) -> [DVec3; 3] {
+    let c = m.z_axis;
+    let k = |a: DVec4| a.truncate() * c.w - c.truncate() * a.w;
+    let (kx, ky, k0) = (k(m.x_axis), k(m.y_axis), k(m.w_axis));
+    // nx = px·2/w − 1, ny = 1 − py·2/h.
+    [kx * (2.0 / w), ky * (-2.0 / h), k0 - kx + ky]
+}
+
 /// Beer–Lambert: the share of light left after `d` through a medium absorbing `sigma` per
 /// unit distance, `exp(−σ·d)` per channel (1 where σ = 0, even over an infinite distance).
 #[inline]
 fn absorb(sigma: Vec3, d: f32) -> Vec3 {
     let f = |s: f32| if s == 0.0 { 1.0 } else { (-s * d).exp() };
     Vec3::new(f(sigma.x), f(sigma.y), f(sigma.z))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::Intrinsics;
+
+    /// The view ray as two clip points a pixel apart in depth: the definition
+    /// [`view_ray_planes`] stands for.
+    fn two_points(m: DMat4, forward: DVec3, w: f64, h: f64, x: usize, y: usize) -> DVec3 {
+        let nx = (x as f64 + 0.5) / w * 2.0 - 1.0;
+        let ny = 1.0 - (y as f64 + 0.5) / h * 2.0;
+        let at = |z: f64| {
+            let p = m * DVec4::new(nx, ny, z, 1.0);
+            p.truncate() / p.w
+        };
+        let d = (at(0.25) - at(0.75)).normalize();
+        if d.dot(forward) < 0.0 {
+            -d
+        } else {
+            d
+        }
+    }
+
+    #[test]
+    fn view_ray_planes_follow_every_projection() {
+        let (eye, target, up) = (
+            DVec3::new(0.3, 1.6, 3.4),
+            DVec3::new(-0.2, 0.3, 0.1),
+            DVec3::Y,
+        );
+        let k = Intrinsics {
+            fx: 300.0,
+            fy: 280.0,
+            cx: 90.0,
+            cy: 40.0,
+            skew: 3.0,
+            width: 160,
+            height: 120,
+        };
+        let cameras = [
+            Camera::look_at(eye, target, up, 45.0, 0.1, 100.0).unwrap(),
+            Camera::look_at(eye, target, up, 150.0, 1e-3, 1e5).unwrap(),
+            Camera::orthographic(eye, target, up, 2.5, -4.0, 20.0).unwrap(),
+            Camera::from_intrinsics(eye, target, up, k, 0.05, 50.0).unwrap(),
+        ];
+        let (w, h) = (160.0, 120.0);
+        for cam in cameras {
+            let m = (cam.projection_matrix(w / h) * cam.view_matrix()).inverse();
+            let forward = (cam.target() - cam.eye()).normalize();
+            let planes = view_ray_planes(m, w, h);
+            for (x, y) in [(0, 0), (159, 0), (0, 119), (159, 119), (80, 60), (17, 101)] {
+                let want = two_points(m, forward, w, h, x, y);
+                let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
+                let got = (planes[0] * px + planes[1] * py + planes[2]).normalize();
+                let got = if got.dot(forward) < 0.0 { -got } else { got };
+                assert!(
+                    (got - want).length() < 1e-9,
+                    "{:?} at ({x}, {y}): {got} vs {want}",
+                    cam.projection()
+                );
+            }
+        }
+    }
 }
