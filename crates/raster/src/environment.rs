@@ -20,6 +20,7 @@ use std::sync::Arc;
 use glam::{DVec3, Vec3};
 
 use crate::error::{RasterError, Result};
+use crate::lighting::{Lanes, LANES};
 use crate::trig;
 
 /// Largest environment side in texels.
@@ -247,15 +248,24 @@ impl Environment {
     /// The unit direction of the unrotated image that `d` (any length; zero or non-finite
     /// gives −z) looks along: `R_y(−θ)·d`.
     fn unrotated(&self, d: Vec3) -> DVec3 {
-        let d = d.as_dvec3();
-        let len = d.length();
-        let d = if len > 0.0 && len.is_finite() {
-            d / len
+        let (x, y, z) = self.unrotated_xyz(d.x, d.y, d.z);
+        DVec3::new(x, y, z)
+    }
+
+    /// [`Environment::unrotated`] of (x, y, z) as plain arithmetic and a select, so that it
+    /// vectorises over lanes.
+    #[inline(always)]
+    fn unrotated_xyz(&self, x: f32, y: f32, z: f32) -> (f64, f64, f64) {
+        let (x, y, z) = (x as f64, y as f64, z as f64);
+        let len = (x * x + y * y + z * z).sqrt();
+        let ok = len > 0.0 && len.is_finite();
+        let (x, y, z) = if ok {
+            (x / len, y / len, z / len)
         } else {
-            DVec3::NEG_Z
+            (0.0, 0.0, -1.0)
         };
         let (c, s) = self.cos_sin;
-        DVec3::new(c * d.x - s * d.z, d.y, s * d.x + c * d.z)
+        (c * x - s * z, y, s * x + c * z)
     }
 
     /// The equirectangular (u, v) of a direction (any length; zero or non-finite gives the
@@ -263,9 +273,9 @@ impl Environment {
     /// [`trig`]'s polynomials (within 3·10⁻⁸ rad of libm's: under 10⁻⁴ of a texel of a
     /// 4096 × 2048 image in v, far less in u).
     pub fn uv(&self, d: Vec3) -> (f64, f64) {
-        let d = self.unrotated(d);
-        let u = 0.5 + trig::atan2(d.x, -d.z) / std::f64::consts::TAU;
-        let v = trig::acos(d.y) / std::f64::consts::PI;
+        let (x, y, z) = self.unrotated_xyz(d.x, d.y, d.z);
+        let u = 0.5 + trig::atan2(x, -z) / std::f64::consts::TAU;
+        let v = trig::acos(y) / std::f64::consts::PI;
         (u, v)
     }
 
@@ -276,6 +286,47 @@ impl Environment {
             return self.sample_cube(self.unrotated(d)) * self.intensity;
         }
         let (u, v) = self.uv(d);
+        self.bilinear(u, v)
+    }
+
+    /// [`Environment::sample`] along the directions `d` (channel-major) of lanes `..n`,
+    /// into `out`: the same values, bit for bit, with the direction, the angles and the
+    /// texel coordinates computed over all lanes at once (they vectorise; the texel reads
+    /// and the blend stay a lane at a time).
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
+    pub(crate) fn sample_lanes(&self, d: &[Lanes; 3], n: usize, out: &mut [Lanes; 3]) {
+        let n = n.min(LANES);
+        let lane = |k: usize| Vec3::new(d[0][k], d[1][k], d[2][k]);
+        let put = |out: &mut [Lanes; 3], k: usize, c: Vec3| {
+            (out[0][k], out[1][k], out[2][k]) = (c.x, c.y, c.z);
+        };
+        if self.layout == Layout::Cube {
+            for k in 0..n {
+                put(out, k, self.sample(lane(k)));
+            }
+            return;
+        }
+        let (mut u, mut v) = ([0.0f64; LANES], [0.0f64; LANES]);
+        let mut exact = [false; LANES];
+        for k in 0..LANES {
+            let (x, y, z) = self.unrotated_xyz(d[0][k], d[1][k], d[2][k]);
+            u[k] = 0.5 + trig::atan2_core(x, -z) / std::f64::consts::TAU;
+            exact[k] = trig::atan2_in_range(x, -z);
+            v[k] = trig::acos(y) / std::f64::consts::PI;
+        }
+        for k in 0..n {
+            if !exact[k] {
+                u[k] = self.uv(lane(k)).0;
+            }
+            put(out, k, self.bilinear(u[k], v[k]));
+        }
+    }
+
+    /// The bilinear look-up of an equirectangular image at (u, v) (u in [0, 1]), times the
+    /// intensity.
+    #[inline(always)]
+    fn bilinear(&self, u: f64, v: f64) -> Vec3 {
         let (w, h) = (self.width as f64, self.height as f64);
         let x = u * w - 0.5;
         let y = (v * h - 0.5).clamp(0.0, h - 1.0);
@@ -387,6 +438,76 @@ mod tests {
         // Straight up reads row 0 (clamped), whatever u.
         assert_eq!(e.sample(Vec3::Y).x, 0.0);
         assert_eq!(e.sample(-Vec3::Y).x, 7.0);
+    }
+
+    /// Directions for comparing paths: a spread over the sphere (a fixed LCG) and the ones
+    /// where the look-up has edges (axes, poles, the seam, zero, NaN, infinity, tiny).
+    fn directions() -> Vec<Vec3> {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            ((state >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
+        };
+        let mut d: Vec<Vec3> = (0..4000)
+            .map(|_| Vec3::new(next(), next(), next()))
+            .collect();
+        d.extend([
+            Vec3::X,
+            -Vec3::X,
+            Vec3::Y,
+            -Vec3::Y,
+            Vec3::Z,
+            -Vec3::Z,
+            Vec3::new(1e-7, 0.0, 1.0),
+            Vec3::new(-1e-7, 0.0, 1.0),
+            Vec3::new(0.0, 1.0, -0.0),
+            Vec3::new(-0.0, -1.0, 0.0),
+            Vec3::ZERO,
+            Vec3::new(f32::NAN, 0.0, 1.0),
+            Vec3::new(f32::INFINITY, 1.0, 0.0),
+            Vec3::splat(1e-30),
+            Vec3::splat(3e38),
+        ]);
+        d
+    }
+
+    #[test]
+    fn lanes_look_up_what_one_direction_does_bit_for_bit() {
+        let e = env(16);
+        let data: Vec<f32> = e.texels().iter().flat_map(|t| t.to_array()).collect();
+        let rotated = Environment::new(&data, 16, 32, 37.5, 1.5).unwrap();
+        let cube_data: Vec<f32> = (0..6 * 4 * 4)
+            .flat_map(|k| [k as f32, (k % 7) as f32, 0.5])
+            .collect();
+        let cube = Environment::cube(&cube_data, 4, -20.0, 1.0).unwrap();
+        let dirs = directions();
+        for e in [&e, &rotated, &cube] {
+            for (c, chunk) in dirs.chunks(LANES).enumerate() {
+                // Partial groups too: lanes past `n` are not written.
+                let n = chunk.len() - (c % 3).min(chunk.len() - 1);
+                let mut d = [[0.0; LANES]; 3];
+                for (k, v) in chunk.iter().enumerate() {
+                    (d[0][k], d[1][k], d[2][k]) = (v.x, v.y, v.z);
+                }
+                let mut out = [[-1.0; LANES]; 3];
+                e.sample_lanes(&d, n, &mut out);
+                for (k, v) in chunk.iter().enumerate() {
+                    let got = Vec3::new(out[0][k], out[1][k], out[2][k]);
+                    if k < n {
+                        let want = e.sample(*v);
+                        assert_eq!(
+                            got.to_array().map(f32::to_bits),
+                            want.to_array().map(f32::to_bits),
+                            "{v} in lane {k}"
+                        );
+                    } else {
+                        assert_eq!(got, Vec3::splat(-1.0));
+                    }
+                }
+            }
+        }
     }
 
     #[test]

@@ -15,6 +15,8 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 /// `acos x` for `x` in [-1, 1] (clamped), within 3·10⁻⁸ rad (Abramowitz & Stegun 4.4.46:
 /// `√(1 − x)` times a degree-7 polynomial on [0, 1], `π − acos(−x)` below 0). Exact at 1.
+/// Branch-free: it vectorises over lanes.
+#[inline(always)]
 pub(crate) fn acos(x: f64) -> f64 {
     let x = x.clamp(-1.0, 1.0);
     let a = x.abs();
@@ -37,11 +39,27 @@ pub(crate) fn acos(x: f64) -> f64 {
 /// Chebyshev fit of `atan(t)/t`), placed in its octant. Exact on the axes (0, ±π/2, ±π);
 /// where both are zero, NaN or infinite, libm's.
 pub(crate) fn atan2(y: f64, x: f64) -> f64 {
+    if atan2_in_range(y, x) {
+        atan2_core(y, x)
+    } else {
+        y.atan2(x)
+    }
+}
+
+/// Whether [`atan2_core`] is [`atan2`] at (x, y): the larger magnitude is positive and
+/// finite.
+#[inline(always)]
+pub(crate) fn atan2_in_range(y: f64, x: f64) -> bool {
+    let hi = x.abs().max(y.abs());
+    hi > 0.0 && hi < f64::INFINITY
+}
+
+/// [`atan2`] without its guard, branch-free (it vectorises over lanes): meaningless where
+/// [`atan2_in_range`] is false.
+#[inline(always)]
+pub(crate) fn atan2_core(y: f64, x: f64) -> f64 {
     let (ax, ay) = (x.abs(), y.abs());
     let (lo, hi) = if ay > ax { (ax, ay) } else { (ay, ax) };
-    if !(hi > 0.0 && hi < f64::INFINITY) {
-        return y.atan2(x);
-    }
     let t = lo / hi;
     let z = t * t;
     let p = 0.999_999_999_614_525_5

@@ -181,6 +181,38 @@ fn optics_scene() -> (Scene, Camera) {
     (scene, cam)
 }
 
+/// The single-sample body looks bare background pixels up a run of lanes at a time and
+/// the others (behind a transparent fragment, or without the environment background) a
+/// pixel at a time: both, on both instruction sets and any thread count, give the same
+/// bits.
+#[test]
+fn single_sample_secondary_is_identical_for_any_thread_count_and_instruction_set() {
+    let (scene, cam) = optics_scene();
+    for mode in [ShadingMode::Flat, ShadingMode::Gouraud, ShadingMode::Phong] {
+        for env_background in [true, false] {
+            let mut o = RenderOptions::new(97, 61);
+            o.shading = mode;
+            o.environment_background = env_background;
+            o.threads = Some(1);
+            let base = render(&scene, &cam, &o, ColorFormat::F32, false).unwrap();
+            let ColorBuffer::F32(c) = &base.color else {
+                unreachable!()
+            };
+            assert!(c.iter().all(|v| v.is_finite()));
+            for (threads, baseline) in [(2, false), (1, true), (3, true)] {
+                let mut p = o.clone();
+                p.threads = Some(threads);
+                p.baseline_isa = baseline;
+                let f = render(&scene, &cam, &p, ColorFormat::F32, false).unwrap();
+                assert_eq!(
+                    f.color, base.color,
+                    "{mode:?} {env_background} {threads} {baseline}"
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn multi_sample_secondary_is_identical_for_any_thread_count_and_instruction_set() {
     let (scene, cam) = optics_scene();

@@ -21,6 +21,7 @@ use glam::{DMat4, DVec3, DVec4, Vec3};
 use crate::camera::Camera;
 use crate::effects::FogEffect;
 use crate::environment::Environment;
+use crate::lighting::{Lanes, LANES};
 use crate::material::Material;
 use crate::options::{RenderOptions, Technique};
 use crate::scene::Scene;
@@ -81,6 +82,9 @@ pub(crate) struct SecondaryEffect {
     pub kinds: Vec<Kind>,
     /// Whether any object is [`Kind::Blended`].
     pub any_blended: bool,
+    /// Per object: whether its mix at a first surface is one environment look-up
+    /// ([`SecondaryEffect::mix_lookup`]).
+    lookup_only: Vec<bool>,
     rays: Option<RayScene>,
     /// The fog, applied by the secondary stage after the mix (the loops then run without).
     pub fog: Option<FogEffect>,
@@ -131,6 +135,17 @@ impl SecondaryEffect {
             && (options.reflections == Technique::Ray
                 || options.refractions == Some(Technique::Ray));
         let rays = uses_rays.then(|| RayScene::new(scene, world));
+        // Nothing transmitted on either side, and the reflected direction read from the
+        // environment (not followed by a ray) at the first surface.
+        let lookup_only = optics
+            .iter()
+            .zip(&kinds)
+            .map(|(ms, &k)| {
+                k == Kind::Optical
+                    && ms.iter().all(|m| !m.is_transparent())
+                    && !(rays.is_some() && options.reflections == Technique::Ray)
+            })
+            .collect();
         let (w, h) = (options.width as f64, options.height as f64);
         let view_proj = camera.projection_matrix(w / h) * camera.view_matrix();
         SecondaryEffect {
@@ -143,6 +158,7 @@ impl SecondaryEffect {
             optics,
             kinds,
             any_blended,
+            lookup_only,
             rays,
             fog,
             ray: view_ray_planes(view_proj.inverse(), w, h),
@@ -160,14 +176,68 @@ impl SecondaryEffect {
         }
     }
 
+    /// [`SecondaryEffect::sky`] along the directions `d` (channel-major) of lanes `..n`:
+    /// the same values, bit for bit.
+    #[inline(always)]
+    pub(crate) fn sky_dirs(&self, d: &[Lanes; 3], n: usize, out: &mut [Lanes; 3]) {
+        match &self.environment {
+            Some(e) => e.sample_lanes(d, n, out),
+            None => {
+                for (o, c) in out.iter_mut().zip(self.background.to_array()) {
+                    o[..n].fill(c);
+                }
+            }
+        }
+    }
+
+    /// [`SecondaryEffect::sky`] along the view rays of pixels `(x0 + k, y)` for lanes
+    /// `k < n`, channel-major: the same values, bit for bit.
+    #[inline(always)]
+    pub(crate) fn sky_lanes(&self, x0: usize, y: usize, n: usize, out: &mut [Lanes; 3]) {
+        let mut d = [[0.0; LANES]; 3];
+        if self.environment.is_some() {
+            self.view_rays(x0, y, &mut d);
+        }
+        self.sky_dirs(&d, n, out);
+    }
+
     /// Unit direction of the view ray through the centre of pixel (x, y) (away from the
     /// camera; parallel rays for an orthographic camera).
     #[inline]
     pub fn view_ray(&self, x: usize, y: usize) -> Vec3 {
+        Vec3::from(self.ray_at(x as f64 + 0.5, y as f64 + 0.5))
+    }
+
+    /// [`SecondaryEffect::view_ray`] of pixels `(x0 + k, y)`, `k` over the lanes,
+    /// channel-major: the same values, bit for bit, computed over the lanes at once.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
+    pub(crate) fn view_rays(&self, x0: usize, y: usize, out: &mut [Lanes; 3]) {
+        let py = y as f64 + 0.5;
+        for k in 0..LANES {
+            let d = self.ray_at((x0 + k) as f64 + 0.5, py);
+            (out[0][k], out[1][k], out[2][k]) = (d[0], d[1], d[2]);
+        }
+    }
+
+    /// The unit view ray through pixel coordinates (px, py): plain arithmetic and a select
+    /// (glam's `normalize` and `dot` written out in their order), so that it vectorises.
+    #[inline(always)]
+    fn ray_at(&self, px: f64, py: f64) -> [f32; 3] {
+        // Written out: array `map`s here stayed calls to `try_map` in the tile body.
         let [dx, dy, d0] = self.ray;
-        let d = (dx * (x as f64 + 0.5) + dy * (y as f64 + 0.5) + d0).normalize();
-        let d = if d.dot(self.forward) < 0.0 { -d } else { d };
-        d.as_vec3()
+        let x = dx.x * px + dy.x * py + d0.x;
+        let y = dx.y * px + dy.y * py + d0.y;
+        let z = dx.z * px + dy.z * py + d0.z;
+        let inv = 1.0 / (x * x + y * y + z * z).sqrt();
+        let (x, y, z) = (x * inv, y * inv, z * inv);
+        let f = self.forward;
+        let s = if x * f.x + y * f.y + z * f.z < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        [(x * s) as f32, (y * s) as f32, (z * s) as f32]
     }
 
     /// The material of a point's side.
@@ -191,14 +261,7 @@ impl SecondaryEffect {
         composite: bool,
     ) -> Mixed {
         let m = self.material(pt.object, pt.side);
-        // Without a refraction technique transparency is a see-through blend: no
-        // interface is modelled (no bending, no Fresnel, no total internal reflection).
-        let (n1, n2) = match (self.refractions, pt.entering) {
-            (None, _) => (1.0, 1.0),
-            (Some(_), true) => (1.0, m.ior),
-            (Some(_), false) => (m.ior, 1.0),
-        };
-        let s = optics::split(m, pt.n, pt.v, n1, n2);
+        let s = self.split(m, pt);
         let mut c = local * s.local;
         if s.reflect != Vec3::ZERO {
             let r = self.follow(self.reflections, w, pt, s.reflected, depth, medium);
@@ -224,6 +287,37 @@ impl SecondaryEffect {
             }
         }
         Mixed { color: c, behind }
+    }
+
+    /// How `pt`'s material `m` splits the light ([`optics::split`]) at the interface its
+    /// side and the refraction technique make.
+    #[inline]
+    fn split(&self, m: &Material, pt: &Point) -> optics::Split {
+        // Without a refraction technique transparency is a see-through blend: no
+        // interface is modelled (no bending, no Fresnel, no total internal reflection).
+        let (n1, n2) = match (self.refractions, pt.entering) {
+            (None, _) => (1.0, 1.0),
+            (Some(_), true) => (1.0, m.ior),
+            (Some(_), false) => (m.ior, 1.0),
+        };
+        optics::split(m, pt.n, pt.v, n1, n2)
+    }
+
+    /// Whether `object`'s mix at a first surface is one environment look-up:
+    /// [`SecondaryEffect::mix_lookup`] may stand in for [`SecondaryEffect::mix`].
+    #[inline]
+    pub(crate) fn lookup_only(&self, object: u32) -> bool {
+        self.lookup_only[object as usize]
+    }
+
+    /// For a point of an object with [`SecondaryEffect::lookup_only`]: `(base, weight,
+    /// dir)` such that `mix(w, pt, local, 0, 0, false).color` is `base` where `weight` is
+    /// zero and `base + weight·sky(dir)` otherwise, bit for bit (the same operations in
+    /// the same order), so that the caller can look `dir` up with other pixels' over lanes.
+    #[inline]
+    pub(crate) fn mix_lookup(&self, pt: &Point, local: Vec3) -> (Vec3, Vec3, Vec3) {
+        let s = self.split(self.material(pt.object, pt.side), pt);
+        (local * s.local, s.reflect, s.reflected)
     }
 
     /// The light arriving at `pt` along `dir` by technique `tech`: the environment, or a
@@ -295,6 +389,158 @@ mod tests {
             -d
         } else {
             d
+        }
+    }
+
+    #[test]
+    fn lanes_give_the_view_rays_and_sky_of_one_pixel_bit_for_bit() {
+        let sky: Vec<f32> = (0..8 * 16)
+            .flat_map(|k| [k as f32 / 128.0, 0.5, 1.0 - k as f32 / 256.0])
+            .collect();
+        let cam = Camera::look_at(
+            DVec3::new(0.3, 1.6, 3.4),
+            DVec3::new(-0.2, 0.3, 0.1),
+            DVec3::Y,
+            60.0,
+            0.1,
+            100.0,
+        )
+        .unwrap();
+        let mut options = RenderOptions::new(37, 23);
+        options.environment_background = true;
+        options.background = Vec3::new(0.25, 0.5, 0.75);
+        for environment in [
+            Some(Environment::new(&sky, 8, 16, 30.0, 1.0).unwrap()),
+            None,
+        ] {
+            let mut scene = Scene::new(Vec3::splat(0.1)).unwrap();
+            scene.set_environment(environment);
+            let sec = SecondaryEffect::new(&scene, &cam, &options, &[], None);
+            for y in 0..23 {
+                for x0 in 0..30 {
+                    let mut rays = [[0.0; LANES]; 3];
+                    sec.view_rays(x0, y, &mut rays);
+                    let n = 1 + (x0 + y) % LANES;
+                    let mut c = [[-1.0; LANES]; 3];
+                    sec.sky_lanes(x0, y, n, &mut c);
+                    for k in 0..LANES {
+                        let want = sec.view_ray(x0 + k, y);
+                        let got = Vec3::new(rays[0][k], rays[1][k], rays[2][k]);
+                        assert_eq!(
+                            got.to_array().map(f32::to_bits),
+                            want.to_array().map(f32::to_bits)
+                        );
+                        let got = Vec3::new(c[0][k], c[1][k], c[2][k]);
+                        let want = if k < n {
+                            sec.sky(want)
+                        } else {
+                            Vec3::splat(-1.0)
+                        };
+                        assert_eq!(
+                            got.to_array().map(f32::to_bits),
+                            want.to_array().map(f32::to_bits)
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_lookup_only_mix_is_base_plus_weight_times_the_sky_bit_for_bit() {
+        use crate::material::Material;
+        use glam::Mat4;
+        use std::sync::Arc;
+        let sky: Vec<f32> = (0..8 * 16)
+            .flat_map(|k| [k as f32 / 128.0, 0.5, 1.0 - k as f32 / 256.0])
+            .collect();
+        let cam = Camera::look_at(
+            DVec3::new(0.0, 2.0, 3.0),
+            DVec3::ZERO,
+            DVec3::Y,
+            50.0,
+            0.1,
+            50.0,
+        )
+        .unwrap();
+        let base = Material::new(
+            Vec3::splat(0.1),
+            Vec3::new(0.6, 0.3, 0.2),
+            Vec3::splat(0.4),
+            20.0,
+        )
+        .unwrap();
+        let mirror = |r: Vec3| base.with_optics(r, 0.0, 1.0, true, Vec3::ZERO).unwrap();
+        let glass = base
+            .with_optics(Vec3::ZERO, 0.5, 1.5, true, Vec3::ZERO)
+            .unwrap();
+        for (environment, technique) in [
+            (
+                Some(Environment::new(&sky, 8, 16, 10.0, 1.0).unwrap()),
+                Technique::Environment,
+            ),
+            (None, Technique::Environment),
+            (
+                Some(Environment::new(&sky, 8, 16, 0.0, 2.0).unwrap()),
+                Technique::Ray,
+            ),
+        ] {
+            let mut scene = Scene::new(Vec3::splat(0.1)).unwrap();
+            scene.set_environment(environment);
+            let plane = Arc::new(crate::primitives::plane());
+            for m in [
+                mirror(Vec3::new(0.8, 0.5, 0.0)),
+                mirror(Vec3::ZERO),
+                glass,
+                base,
+            ] {
+                scene.add(plane.clone(), m, Mat4::IDENTITY).unwrap();
+            }
+            let mut options = RenderOptions::new(16, 16);
+            options.reflections = technique;
+            options.refractions = Some(Technique::Environment);
+            // Every object's vertices in scene order, as the vertex stage gives them.
+            let world = plane.positions().repeat(4);
+            let sec = SecondaryEffect::new(&scene, &cam, &options, &world, None);
+            // Rays (max depth 5): no object is one look-up; otherwise the mirror only (a
+            // zero reflectivity is no mirror: opaque).
+            let ray = technique == Technique::Ray;
+            let want = [!ray, false, false, false];
+            assert_eq!((0..4).map(|o| sec.lookup_only(o)).collect::<Vec<_>>(), want);
+            let w = World {
+                world: &world,
+                normal: &[],
+                surfaces: &[],
+                two_sided: false,
+            };
+            for object in (0..2).filter(|&o| sec.lookup_only(o)) {
+                for k in 0..200 {
+                    let a = k as f32 * 0.37;
+                    let n = Vec3::new(a.sin() * 0.3, 1.0, a.cos() * 0.2).normalize();
+                    let v = Vec3::new(a.cos(), 0.4 + (k % 7) as f32 * 0.1, a.sin()).normalize();
+                    let pt = Point {
+                        p: Vec3::new(a.sin(), 0.0, a.cos()),
+                        n,
+                        g: Vec3::Y,
+                        v,
+                        entering: true,
+                        object,
+                        side: 0,
+                    };
+                    let local = Vec3::new(0.3, 0.6 * (k % 3) as f32, 0.9);
+                    let want = sec.mix(&w, &pt, local, 0, Vec3::ZERO, false).color;
+                    let (b, wt, d) = sec.mix_lookup(&pt, local);
+                    let got = if wt != Vec3::ZERO {
+                        b + wt * sec.sky(d)
+                    } else {
+                        b
+                    };
+                    assert_eq!(
+                        got.to_array().map(f32::to_bits),
+                        want.to_array().map(f32::to_bits)
+                    );
+                }
+            }
         }
     }
 

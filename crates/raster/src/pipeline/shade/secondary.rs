@@ -22,6 +22,7 @@ use super::phong::face_normal;
 use super::planes::{weight_planes, PlaneCache};
 use super::store::{store_out, Out, Pixel};
 use super::{shade_textured_tile, shade_tile, ShadeContext};
+use crate::lighting::LANES;
 use crate::options::ShadingMode;
 use crate::pipeline::raster::{self, Span, SpanSink, TileBuffers, NO_TRIANGLE};
 use crate::pipeline::setup::SetupTri;
@@ -137,9 +138,22 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
     let mut cache = PointCache::new();
     let mut next = 0;
     for (j, out) in color.iter_mut().enumerate().take(rect.h) {
+        let mut sky = SkyRun::default();
+        let mut lookups = Lookups::default();
         for i in 0..rect.w {
             let slot = j * TILE + i;
             let (x, y) = (rect.x0 + i, rect.y0 + j);
+            let (id, z) = (buf.id[slot], buf.depth[slot]);
+            let first = next;
+            while next < work.frags.len() && work.frags[next].slot as usize == slot {
+                next += 1;
+            }
+            // 3 (background). Runs of bare background pixels are looked up over lanes.
+            if id == NO_TRIANGLE && sec.env_background && next == first {
+                sky.push(i, sec, rect, j, out);
+                continue;
+            }
+            sky.flush(sec, rect, j, out);
             // SAFETY: the shading loops wrote every sample of the rows they were given.
             let local = unsafe {
                 Vec3::new(
@@ -148,14 +162,16 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
                     rows[j][i * 3 + 2].assume_init(),
                 )
             };
+            // 3 (mirrors). A mix that is one environment look-up waits for others.
+            if id != NO_TRIANGLE && next == first && sec.lookup_only(ctx.tris.get(id).object) {
+                let (pt, _) = point_at::<AFFINE>(ctx, sec, mode, id, x, y, &mut cache);
+                let (base, weight, dir) = sec.mix_lookup(&pt, local);
+                lookups.push(i, base, weight, dir, z, ctx, sec, rect, j, out);
+                continue;
+            }
             // 3. The opaque layer's colour.
-            let (id, z) = (buf.id[slot], buf.depth[slot]);
             let c = opaque_color::<AFFINE>(ctx, sec, &world, mode, id, z, local, x, y, &mut cache);
             // 4. The transparent fragments over it, front to back.
-            let first = next;
-            while next < work.frags.len() && work.frags[next].slot as usize == slot {
-                next += 1;
-            }
             let c = if next > first {
                 let layers = work.frags[first..next].iter().map(|f| {
                     fragment_mix::<AFFINE>(ctx, sec, &world, mode, f.id, f.z, x, y, &mut cache)
@@ -166,6 +182,143 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
             };
             store_out(&mut out[i * 3..i * 3 + 3], c);
         }
+        sky.flush(sec, rect, j, out);
+        lookups.flush(ctx, sec, rect, j, out);
+    }
+}
+
+/// Pixels of a tile row whose colour is `base + weight·sky(dir)` (mirrors read from the
+/// environment, [`SecondaryEffect::mix_lookup`]), waiting to be looked up [`LANES`] at a
+/// time; then fogged and stored as [`opaque_color`] does, the same bits.
+#[derive(Default)]
+struct Lookups {
+    col: [usize; LANES],
+    base: [Vec3; LANES],
+    weight: [Vec3; LANES],
+    dir: [[f32; LANES]; 3],
+    z: [f32; LANES],
+    len: usize,
+}
+
+impl Lookups {
+    /// Adds the pixel in column `i` of row `j` (window depth `z`), flushing a full batch.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn push<P: Pixel>(
+        &mut self,
+        i: usize,
+        base: Vec3,
+        weight: Vec3,
+        dir: Vec3,
+        z: f32,
+        ctx: &ShadeContext<'_>,
+        sec: &SecondaryEffect,
+        rect: TileRect,
+        j: usize,
+        out: &mut [Out<P>],
+    ) {
+        let k = self.len;
+        self.col[k] = i;
+        self.base[k] = base;
+        self.weight[k] = weight;
+        (self.dir[0][k], self.dir[1][k], self.dir[2][k]) = (dir.x, dir.y, dir.z);
+        self.z[k] = z;
+        self.len += 1;
+        if self.len == LANES {
+            self.flush(ctx, sec, rect, j, out);
+        }
+    }
+
+    /// Looks the batch up, mixes, fogs and stores it into row `j` of the tile's output.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // lane loops index several arrays
+    fn flush<P: Pixel>(
+        &mut self,
+        ctx: &ShadeContext<'_>,
+        sec: &SecondaryEffect,
+        rect: TileRect,
+        j: usize,
+        out: &mut [Out<P>],
+    ) {
+        if self.len == 0 {
+            return;
+        }
+        let mut r = [[0.0; LANES]; 3];
+        sec.sky_dirs(&self.dir, self.len, &mut r);
+        for k in 0..self.len {
+            let (i, w) = (self.col[k], self.weight[k]);
+            // As `mix`: the reflected term is added only where it weighs anything.
+            let c = if w != Vec3::ZERO {
+                self.base[k] + w * Vec3::new(r[0][k], r[1][k], r[2][k])
+            } else {
+                self.base[k]
+            };
+            let c = match &sec.fog {
+                Some(fog) => {
+                    let d = ctx.camera.eye_depth_from_z(self.z[k]);
+                    fog.apply(c, rect.x0 + i, rect.y0 + j, d)
+                }
+                None => c,
+            };
+            store_out(&mut out[i * 3..i * 3 + 3], c);
+        }
+        self.len = 0;
+    }
+}
+
+/// Consecutive background pixels of a tile row waiting for the environment: up to
+/// [`LANES`] of them are looked up at once ([`SecondaryEffect::sky_lanes`]), the same
+/// colours as one at a time.
+#[derive(Default)]
+struct SkyRun {
+    /// Column (in the tile) of the first pixel.
+    start: usize,
+    len: usize,
+}
+
+impl SkyRun {
+    /// Adds the pixel in column `i` (right after the run's last, or starting a run).
+    #[inline(always)]
+    fn push<P: Pixel>(
+        &mut self,
+        i: usize,
+        sec: &SecondaryEffect,
+        rect: TileRect,
+        j: usize,
+        out: &mut [Out<P>],
+    ) {
+        if self.len == LANES || (self.len > 0 && self.start + self.len != i) {
+            self.flush(sec, rect, j, out);
+        }
+        if self.len == 0 {
+            self.start = i;
+        }
+        self.len += 1;
+    }
+
+    /// Looks the run up and stores it into row `j` of the tile's output.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // lane loops index several arrays
+    fn flush<P: Pixel>(
+        &mut self,
+        sec: &SecondaryEffect,
+        rect: TileRect,
+        j: usize,
+        out: &mut [Out<P>],
+    ) {
+        if self.len == 0 {
+            return;
+        }
+        let mut c = [[0.0; LANES]; 3];
+        sec.sky_lanes(rect.x0 + self.start, rect.y0 + j, self.len, &mut c);
+        for k in 0..self.len {
+            let i = self.start + k;
+            store_out(
+                &mut out[i * 3..i * 3 + 3],
+                Vec3::new(c[0][k], c[1][k], c[2][k]),
+            );
+        }
+        self.len = 0;
     }
 }
 
