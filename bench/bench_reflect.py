@@ -307,10 +307,10 @@ def markdown(ctx: dict, runs: list[dict]) -> str:
             "The environment technique is one lookup per pixel: it cannot show the sphere in "
             "the mirror or the scene through the ball, which its error measures; rays show "
             "both, at the price in the time columns. Time ratio below 1: ours is faster. Ours "
-            "runs the environment technique in the secondary stage: the background's and a "
-            "mirror's look-ups eight at a time, the surface point, the split and a glass "
-            "pixel's two look-ups a pixel at a time in scalar f64; llvmpipe runs its shader "
-            "over SIMD lanes.",
+            "runs the environment technique in the secondary stage: the look-ups of the "
+            "background, the mirror and the glass eight at a time, the surface point and "
+            "the split a pixel at a time in scalar f64; llvmpipe runs its whole shader over "
+            "SIMD lanes.",
             "",
         ]
     )

@@ -126,15 +126,15 @@ fn parallel_mirrors_stop_at_max_depth_and_depth_zero_is_the_environment() {
     ));
 }
 
-/// A ray-traced mirror floor, a reflective sphere, a transparent sphere and a transparent
-/// pane over the environment, with fog.
+/// A mirror floor, a reflective sphere and a transparent one (index 1.5; blended unless the
+/// options refract) over the environment, with fog.
 fn optics_scene() -> (Scene, Camera) {
     let mut scene = Scene::new(Vec3::splat(0.1)).unwrap();
     let sky: Vec<f32> = (0..8 * 16)
         .flat_map(|k| [k as f32 / 128.0, 0.5, 1.0 - k as f32 / 256.0])
         .collect();
     scene.set_environment(Some(Environment::new(&sky, 8, 16, 0.0, 1.0).unwrap()));
-    let optic = |refl: f32, transp: f32| {
+    let optic = |refl: f32, transp: f32, ior: f32| {
         Material::new(
             Vec3::splat(0.1),
             Vec3::new(0.6, 0.3, 0.2),
@@ -142,7 +142,7 @@ fn optics_scene() -> (Scene, Camera) {
             20.0,
         )
         .unwrap()
-        .with_optics(Vec3::splat(refl), transp, 1.0, true, Vec3::ZERO)
+        .with_optics(Vec3::splat(refl), transp, ior, true, Vec3::ZERO)
         .unwrap()
     };
     let sphere = Arc::new(primitives::uv_sphere(10, 20));
@@ -150,13 +150,21 @@ fn optics_scene() -> (Scene, Camera) {
         Mat4::from_translation(Vec3::new(x, y, z)) * Mat4::from_scale(Vec3::splat(s))
     };
     scene
-        .add(Arc::new(quad(0.0, true)), optic(0.6, 0.0), Mat4::IDENTITY)
+        .add(
+            Arc::new(quad(0.0, true)),
+            optic(0.6, 0.0, 1.0),
+            Mat4::IDENTITY,
+        )
         .unwrap();
     scene
-        .add(sphere.clone(), optic(0.5, 0.0), at(0.5, -0.4, 0.5, 0.0))
+        .add(
+            sphere.clone(),
+            optic(0.5, 0.0, 1.0),
+            at(0.5, -0.4, 0.5, 0.0),
+        )
         .unwrap();
     scene
-        .add(sphere, optic(0.1, 0.6), at(0.4, 0.5, 0.4, 0.6))
+        .add(sphere, optic(0.1, 0.6, 1.5), at(0.4, 0.5, 0.4, 0.6))
         .unwrap();
     scene.add_light(DirectionalLight::new(Vec3::new(-1.0, -2.0, -1.0), Vec3::ONE, 1.0).unwrap());
     scene.set_fog(Some(
@@ -181,33 +189,45 @@ fn optics_scene() -> (Scene, Camera) {
     (scene, cam)
 }
 
-/// The single-sample body looks bare background pixels up a run of lanes at a time and
-/// the others (behind a transparent fragment, or without the environment background) a
-/// pixel at a time: both, on both instruction sets and any thread count, give the same
+/// Renders `o` at 1 thread, checks that 2 and 3 threads and the baseline instruction set
+/// give the same colour and depth bits, and returns the 1-thread frame.
+fn same_for_any_thread_count_and_isa(scene: &Scene, cam: &Camera, o: &RenderOptions) -> Frame {
+    let mut o = o.clone();
+    o.threads = Some(1);
+    let base = render(scene, cam, &o, ColorFormat::F32, true).unwrap();
+    let ColorBuffer::F32(c) = &base.color else {
+        unreachable!()
+    };
+    assert!(c.iter().all(|v| v.is_finite()));
+    let bits = |d: &Option<Vec<f32>>| d.iter().flatten().map(|v| v.to_bits()).collect::<Vec<_>>();
+    for (threads, baseline) in [(2, false), (1, true), (3, true)] {
+        let mut p = o.clone();
+        p.threads = Some(threads);
+        p.baseline_isa = baseline;
+        let f = render(scene, cam, &p, ColorFormat::F32, true).unwrap();
+        let what = format!("{:?} n={} {threads} {baseline}", o.shading, o.samples);
+        assert_eq!(f.color, base.color, "{what}");
+        assert_eq!(bits(&f.depth), bits(&base.depth), "{what}");
+    }
+    base
+}
+
+/// The single-sample body looks bare background pixels up a run of lanes at a time, and
+/// the mirrors and (refracting) glass reading the environment eight pixels at a time; the
+/// others (behind a transparent fragment, or without the environment background) a pixel
+/// at a time: all of them, on both instruction sets and any thread count, give the same
 /// bits.
 #[test]
 fn single_sample_secondary_is_identical_for_any_thread_count_and_instruction_set() {
     let (scene, cam) = optics_scene();
     for mode in [ShadingMode::Flat, ShadingMode::Gouraud, ShadingMode::Phong] {
         for env_background in [true, false] {
-            let mut o = RenderOptions::new(97, 61);
-            o.shading = mode;
-            o.environment_background = env_background;
-            o.threads = Some(1);
-            let base = render(&scene, &cam, &o, ColorFormat::F32, false).unwrap();
-            let ColorBuffer::F32(c) = &base.color else {
-                unreachable!()
-            };
-            assert!(c.iter().all(|v| v.is_finite()));
-            for (threads, baseline) in [(2, false), (1, true), (3, true)] {
-                let mut p = o.clone();
-                p.threads = Some(threads);
-                p.baseline_isa = baseline;
-                let f = render(&scene, &cam, &p, ColorFormat::F32, false).unwrap();
-                assert_eq!(
-                    f.color, base.color,
-                    "{mode:?} {env_background} {threads} {baseline}"
-                );
+            for refractions in [None, Some(Technique::Environment)] {
+                let mut o = RenderOptions::new(97, 61);
+                o.shading = mode;
+                o.environment_background = env_background;
+                o.refractions = refractions;
+                same_for_any_thread_count_and_isa(&scene, &cam, &o);
             }
         }
     }
@@ -223,23 +243,10 @@ fn multi_sample_secondary_is_identical_for_any_thread_count_and_instruction_set(
             o.samples = n;
             o.reflections = Technique::Ray;
             o.environment_background = true;
-            o.threads = Some(1);
-            let base = render(&scene, &cam, &o, ColorFormat::F32, true).unwrap();
+            let base = same_for_any_thread_count_and_isa(&scene, &cam, &o);
             let ColorBuffer::F32(c) = &base.color else {
                 unreachable!()
             };
-            assert!(c.iter().all(|v| v.is_finite()));
-            for (threads, baseline) in [(2, false), (1, true), (3, true)] {
-                let mut p = o.clone();
-                p.threads = Some(threads);
-                p.baseline_isa = baseline;
-                let f = render(&scene, &cam, &p, ColorFormat::F32, true).unwrap();
-                assert_eq!(f.color, base.color, "{mode:?} n={n} {threads} {baseline}");
-                let bits = |d: &Option<Vec<f32>>| {
-                    d.iter().flatten().map(|v| v.to_bits()).collect::<Vec<_>>()
-                };
-                assert_eq!(bits(&f.depth), bits(&base.depth));
-            }
             // The u8 output is the rounded f32 one.
             let f8 = render(&scene, &cam, &o, ColorFormat::U8, false).unwrap();
             let ColorBuffer::U8(q) = f8.color else {

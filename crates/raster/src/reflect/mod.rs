@@ -67,6 +67,50 @@ pub(crate) struct Mixed {
     pub behind: f32,
 }
 
+/// How the secondary stage mixes an object's first surface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum FirstSurface {
+    /// [`SecondaryEffect::mix`], a pixel at a time (not optical, or a secondary ray to follow).
+    Mix,
+    /// A mirror reading its reflected direction from the environment: one look-up
+    /// ([`SecondaryEffect::mix_lookup`]).
+    Mirror,
+    /// Glass reading its reflected and refracted directions from the environment: two.
+    Glass,
+}
+
+/// A first-surface mix that reads every direction it follows from the environment
+/// ([`SecondaryEffect::mix_lookup`]): `base + reflect·sky(reflected) +
+/// transmit·sky(refracted)`, so that callers can look the directions up over lanes.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Lookup {
+    /// The local colour's share, `L·local`.
+    pub base: Vec3,
+    /// Weight of the light along `reflected` (zero: nothing is reflected).
+    pub reflect: Vec3,
+    pub reflected: Vec3,
+    /// Weight of the light along `refracted` (zero: nothing is transmitted, or total
+    /// internal reflection; `refracted` is then zero).
+    pub transmit: f32,
+    pub refracted: Vec3,
+}
+
+impl Lookup {
+    /// The colour, given the light along `reflected` and along `refracted`:
+    /// [`SecondaryEffect::mix`]'s operations in its order, so the same bits.
+    #[inline(always)]
+    pub fn color(&self, reflected: Vec3, refracted: Vec3) -> Vec3 {
+        let mut c = self.base;
+        if self.reflect != Vec3::ZERO {
+            c += self.reflect * reflected;
+        }
+        if self.transmit > 0.0 {
+            c += self.transmit * refracted;
+        }
+        c
+    }
+}
+
 /// Everything the secondary stage reads that is constant per render.
 pub(crate) struct SecondaryEffect {
     environment: Option<Environment>,
@@ -82,9 +126,8 @@ pub(crate) struct SecondaryEffect {
     pub kinds: Vec<Kind>,
     /// Whether any object is [`Kind::Blended`].
     pub any_blended: bool,
-    /// Per object: whether its mix at a first surface is one environment look-up
-    /// ([`SecondaryEffect::mix_lookup`]).
-    lookup_only: Vec<bool>,
+    /// Per object.
+    first_surface: Vec<FirstSurface>,
     rays: Option<RayScene>,
     /// The fog, applied by the secondary stage after the mix (the loops then run without).
     pub fog: Option<FogEffect>,
@@ -135,15 +178,22 @@ impl SecondaryEffect {
             && (options.reflections == Technique::Ray
                 || options.refractions == Some(Technique::Ray));
         let rays = uses_rays.then(|| RayScene::new(scene, world));
-        // Nothing transmitted on either side, and the reflected direction read from the
-        // environment (not followed by a ray) at the first surface.
-        let lookup_only = optics
+        // Optical objects whose first surface follows no secondary ray: the reflected
+        // direction, and the refracted one of a transparent object, are read from the
+        // environment (an Optical transparent object always has a refraction technique).
+        let first_surface = optics
             .iter()
             .zip(&kinds)
             .map(|(ms, &k)| {
-                k == Kind::Optical
-                    && ms.iter().all(|m| !m.is_transparent())
-                    && !(rays.is_some() && options.reflections == Technique::Ray)
+                let transparent = ms.iter().any(|m| m.is_transparent());
+                let follows_rays = rays.is_some()
+                    && (options.reflections == Technique::Ray
+                        || (transparent && options.refractions == Some(Technique::Ray)));
+                match (k == Kind::Optical && !follows_rays, transparent) {
+                    (false, _) => FirstSurface::Mix,
+                    (true, false) => FirstSurface::Mirror,
+                    (true, true) => FirstSurface::Glass,
+                }
             })
             .collect();
         let (w, h) = (options.width as f64, options.height as f64);
@@ -158,7 +208,7 @@ impl SecondaryEffect {
             optics,
             kinds,
             any_blended,
-            lookup_only,
+            first_surface,
             rays,
             fog,
             ray: view_ray_planes(view_proj.inverse(), w, h),
@@ -303,21 +353,34 @@ impl SecondaryEffect {
         optics::split(m, pt.n, pt.v, n1, n2)
     }
 
-    /// Whether `object`'s mix at a first surface is one environment look-up:
-    /// [`SecondaryEffect::mix_lookup`] may stand in for [`SecondaryEffect::mix`].
+    /// How `object`'s first surface is mixed: where it only looks directions up in the
+    /// environment, [`SecondaryEffect::mix_lookup`] may stand in for
+    /// [`SecondaryEffect::mix`].
     #[inline]
-    pub(crate) fn lookup_only(&self, object: u32) -> bool {
-        self.lookup_only[object as usize]
+    pub(crate) fn first_surface(&self, object: u32) -> FirstSurface {
+        self.first_surface[object as usize]
     }
 
-    /// For a point of an object with [`SecondaryEffect::lookup_only`]: `(base, weight,
-    /// dir)` such that `mix(w, pt, local, 0, 0, false).color` is `base` where `weight` is
-    /// zero and `base + weight·sky(dir)` otherwise, bit for bit (the same operations in
-    /// the same order), so that the caller can look `dir` up with other pixels' over lanes.
+    /// For a first-surface point of a [`FirstSurface::Mirror`] or [`FirstSurface::Glass`]: the
+    /// [`Lookup`] whose colour, given `sky` along its two directions, is `mix(w, pt, local,
+    /// 0, 0, false).color` bit for bit (the same operations in the same order), so that the
+    /// caller can look the directions up with other pixels' over lanes.
     #[inline]
-    pub(crate) fn mix_lookup(&self, pt: &Point, local: Vec3) -> (Vec3, Vec3, Vec3) {
+    pub(crate) fn mix_lookup(&self, pt: &Point, local: Vec3) -> Lookup {
         let s = self.split(self.material(pt.object, pt.side), pt);
-        (local * s.local, s.reflect, s.reflected)
+        // As `mix`: the refracted light is added where something is transmitted along a
+        // refracted direction (a lookup-only transparent object has a refraction technique).
+        let (transmit, refracted) = match s.refracted {
+            Some(t) if s.transmit > 0.0 => (s.transmit, t),
+            _ => (0.0, Vec3::ZERO),
+        };
+        Lookup {
+            base: local * s.local,
+            reflect: s.reflect,
+            reflected: s.reflected,
+            transmit,
+            refracted,
+        }
     }
 
     /// The light arriving at `pt` along `dir` by technique `tech`: the environment, or a
@@ -392,20 +455,22 @@ mod tests {
         }
     }
 
+    /// An 8 × 16 equirectangular sky of distinct texels.
+    fn sky() -> Vec<f32> {
+        (0..8 * 16)
+            .flat_map(|k| [k as f32 / 128.0, 0.5, 1.0 - k as f32 / 256.0])
+            .collect()
+    }
+
+    /// A camera looking from `eye` at `target` with a field of view of `fov` degrees.
+    fn camera(eye: DVec3, target: DVec3, fov: f64) -> Camera {
+        Camera::look_at(eye, target, DVec3::Y, fov, 0.1, 100.0).unwrap()
+    }
+
     #[test]
     fn lanes_give_the_view_rays_and_sky_of_one_pixel_bit_for_bit() {
-        let sky: Vec<f32> = (0..8 * 16)
-            .flat_map(|k| [k as f32 / 128.0, 0.5, 1.0 - k as f32 / 256.0])
-            .collect();
-        let cam = Camera::look_at(
-            DVec3::new(0.3, 1.6, 3.4),
-            DVec3::new(-0.2, 0.3, 0.1),
-            DVec3::Y,
-            60.0,
-            0.1,
-            100.0,
-        )
-        .unwrap();
+        let sky = sky();
+        let cam = camera(DVec3::new(0.3, 1.6, 3.4), DVec3::new(-0.2, 0.3, 0.1), 60.0);
         let mut options = RenderOptions::new(37, 23);
         options.environment_background = true;
         options.background = Vec3::new(0.25, 0.5, 0.75);
@@ -447,22 +512,12 @@ mod tests {
     }
 
     #[test]
-    fn a_lookup_only_mix_is_base_plus_weight_times_the_sky_bit_for_bit() {
+    fn a_lookup_only_mix_is_its_lookups_mixed_bit_for_bit() {
         use crate::material::Material;
         use glam::Mat4;
         use std::sync::Arc;
-        let sky: Vec<f32> = (0..8 * 16)
-            .flat_map(|k| [k as f32 / 128.0, 0.5, 1.0 - k as f32 / 256.0])
-            .collect();
-        let cam = Camera::look_at(
-            DVec3::new(0.0, 2.0, 3.0),
-            DVec3::ZERO,
-            DVec3::Y,
-            50.0,
-            0.1,
-            50.0,
-        )
-        .unwrap();
+        let sky = sky();
+        let cam = camera(DVec3::new(0.0, 2.0, 3.0), DVec3::ZERO, 50.0);
         let base = Material::new(
             Vec3::splat(0.1),
             Vec3::new(0.6, 0.3, 0.2),
@@ -470,76 +525,90 @@ mod tests {
             20.0,
         )
         .unwrap();
-        let mirror = |r: Vec3| base.with_optics(r, 0.0, 1.0, true, Vec3::ZERO).unwrap();
-        let glass = base
-            .with_optics(Vec3::ZERO, 0.5, 1.5, true, Vec3::ZERO)
-            .unwrap();
-        for (environment, technique) in [
-            (
-                Some(Environment::new(&sky, 8, 16, 10.0, 1.0).unwrap()),
-                Technique::Environment,
-            ),
-            (None, Technique::Environment),
-            (
-                Some(Environment::new(&sky, 8, 16, 0.0, 2.0).unwrap()),
-                Technique::Ray,
-            ),
+        let optics = |r: Vec3, t: f32, ior: f32, fresnel: bool| {
+            base.with_optics(r, t, ior, fresnel, Vec3::new(0.0, 0.5, 2.0))
+                .unwrap()
+        };
+        let materials = [
+            optics(Vec3::new(0.8, 0.5, 0.0), 0.0, 1.0, true), // a mirror
+            optics(Vec3::ZERO, 0.0, 1.0, true),               // no mirror: opaque
+            optics(Vec3::ZERO, 0.5, 1.5, true),               // glass with Fresnel
+            optics(Vec3::new(0.1, 0.2, 0.0), 0.6, 1.33, false), // tinted, no Fresnel
+            base,
+        ];
+        let env =
+            |rot: f32, exposure: f32| Some(Environment::new(&sky, 8, 16, rot, exposure).unwrap());
+        use Technique::{Environment as Env, Ray};
+        for (environment, reflections, refractions) in [
+            (env(10.0, 1.0), Env, Env),
+            (None, Env, Env),
+            (env(0.0, 2.0), Ray, Env),
+            (env(0.0, 1.0), Env, Ray),
+            (env(0.0, 1.0), Ray, Ray),
         ] {
             let mut scene = Scene::new(Vec3::splat(0.1)).unwrap();
             scene.set_environment(environment);
             let plane = Arc::new(crate::primitives::plane());
-            for m in [
-                mirror(Vec3::new(0.8, 0.5, 0.0)),
-                mirror(Vec3::ZERO),
-                glass,
-                base,
-            ] {
+            for m in materials {
                 scene.add(plane.clone(), m, Mat4::IDENTITY).unwrap();
             }
             let mut options = RenderOptions::new(16, 16);
-            options.reflections = technique;
-            options.refractions = Some(Technique::Environment);
+            options.reflections = reflections;
+            options.refractions = Some(refractions);
             // Every object's vertices in scene order, as the vertex stage gives them.
-            let world = plane.positions().repeat(4);
+            let world = plane.positions().repeat(materials.len());
             let sec = SecondaryEffect::new(&scene, &cam, &options, &world, None);
-            // Rays (max depth 5): no object is one look-up; otherwise the mirror only (a
-            // zero reflectivity is no mirror: opaque).
-            let ray = technique == Technique::Ray;
-            let want = [!ray, false, false, false];
-            assert_eq!((0..4).map(|o| sec.lookup_only(o)).collect::<Vec<_>>(), want);
+            // Rays (max depth 5) for reflections: no object is look-ups only; for
+            // refractions: the mirror still is. A zero reflectivity is no mirror.
+            use FirstSurface::{Glass, Mirror, Mix};
+            let mirror = if reflections == Env { Mirror } else { Mix };
+            let glass = if reflections == Env && refractions == Env {
+                Glass
+            } else {
+                Mix
+            };
+            let want = [mirror, Mix, glass, glass, Mix];
+            let got: Vec<FirstSurface> = (0..5).map(|o| sec.first_surface(o)).collect();
+            assert_eq!(got, want, "{reflections:?} {refractions:?}");
             let w = World {
                 world: &world,
                 normal: &[],
                 surfaces: &[],
                 two_sided: false,
             };
-            for object in (0..2).filter(|&o| sec.lookup_only(o)) {
-                for k in 0..200 {
+            // Points of the glass that transmit, and under total internal reflection.
+            let mut seen = [0; 2];
+            for object in (0..5).filter(|&o| sec.first_surface(o) != Mix) {
+                for k in 0..400 {
                     let a = k as f32 * 0.37;
                     let n = Vec3::new(a.sin() * 0.3, 1.0, a.cos() * 0.2).normalize();
-                    let v = Vec3::new(a.cos(), 0.4 + (k % 7) as f32 * 0.1, a.sin()).normalize();
+                    // From grazing (total internal reflection when leaving) to head-on.
+                    let v = Vec3::new(a.cos(), 0.02 + (k % 9) as f32 * 0.12, a.sin()).normalize();
                     let pt = Point {
                         p: Vec3::new(a.sin(), 0.0, a.cos()),
                         n,
                         g: Vec3::Y,
                         v,
-                        entering: true,
+                        entering: k % 2 == 0,
                         object,
-                        side: 0,
+                        side: (k / 2) % 2,
                     };
                     let local = Vec3::new(0.3, 0.6 * (k % 3) as f32, 0.9);
                     let want = sec.mix(&w, &pt, local, 0, Vec3::ZERO, false).color;
-                    let (b, wt, d) = sec.mix_lookup(&pt, local);
-                    let got = if wt != Vec3::ZERO {
-                        b + wt * sec.sky(d)
-                    } else {
-                        b
-                    };
+                    let l = sec.mix_lookup(&pt, local);
+                    if materials[object as usize].is_transparent() {
+                        seen[usize::from(l.transmit > 0.0)] += 1;
+                    }
+                    let got = l.color(sec.sky(l.reflected), sec.sky(l.refracted));
                     assert_eq!(
                         got.to_array().map(f32::to_bits),
-                        want.to_array().map(f32::to_bits)
+                        want.to_array().map(f32::to_bits),
+                        "object {object}, point {k}"
                     );
                 }
+            }
+            if glass == Glass {
+                assert!(seen[0] > 20 && seen[1] > 20, "{seen:?}");
             }
         }
     }

@@ -27,7 +27,7 @@ use crate::options::ShadingMode;
 use crate::pipeline::raster::{self, Span, SpanSink, TileBuffers, NO_TRIANGLE};
 use crate::pipeline::setup::SetupTri;
 use crate::pipeline::tiles::{TileRect, TILE};
-use crate::reflect::{Kind, Point, SecondaryEffect, World};
+use crate::reflect::{FirstSurface, Kind, Lookup, Point, SecondaryEffect, World};
 
 /// A transparent fragment in front of the opaque layer.
 #[derive(Debug, Clone, Copy)]
@@ -139,7 +139,8 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
     let mut next = 0;
     for (j, out) in color.iter_mut().enumerate().take(rect.h) {
         let mut sky = SkyRun::default();
-        let mut lookups = Lookups::default();
+        let mut mirrors = Lookups::<false>::default();
+        let mut glass = Lookups::<true>::default();
         for i in 0..rect.w {
             let slot = j * TILE + i;
             let (x, y) = (rect.x0 + i, rect.y0 + j);
@@ -162,12 +163,19 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
                     rows[j][i * 3 + 2].assume_init(),
                 )
             };
-            // 3 (mirrors). A mix that is one environment look-up waits for others.
-            if id != NO_TRIANGLE && next == first && sec.lookup_only(ctx.tris.get(id).object) {
-                let (pt, _) = point_at::<AFFINE>(ctx, sec, mode, id, x, y, &mut cache);
-                let (base, weight, dir) = sec.mix_lookup(&pt, local);
-                lookups.push(i, base, weight, dir, z, ctx, sec, rect, j, out);
-                continue;
+            // 3 (mirrors, glass). A mix that only looks the environment up waits for others.
+            if id != NO_TRIANGLE && next == first {
+                let surface = sec.first_surface(ctx.tris.get(id).object);
+                if surface != FirstSurface::Mix {
+                    let (pt, _) = point_at::<AFFINE>(ctx, sec, mode, id, x, y, &mut cache);
+                    let mix = sec.mix_lookup(&pt, local);
+                    if surface == FirstSurface::Mirror {
+                        mirrors.push(i, mix, z, ctx, sec, rect, j, out);
+                    } else {
+                        glass.push(i, mix, z, ctx, sec, rect, j, out);
+                    }
+                    continue;
+                }
             }
             // 3. The opaque layer's colour.
             let c = opaque_color::<AFFINE>(ctx, sec, &world, mode, id, z, local, x, y, &mut cache);
@@ -183,33 +191,46 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
             store_out(&mut out[i * 3..i * 3 + 3], c);
         }
         sky.flush(sec, rect, j, out);
-        lookups.flush(ctx, sec, rect, j, out);
+        mirrors.flush(ctx, sec, rect, j, out);
+        glass.flush(ctx, sec, rect, j, out);
     }
 }
 
-/// Pixels of a tile row whose colour is `base + weight·sky(dir)` (mirrors read from the
-/// environment, [`SecondaryEffect::mix_lookup`]), waiting to be looked up [`LANES`] at a
-/// time; then fogged and stored as [`opaque_color`] does, the same bits.
+/// Pixels of a tile row whose colour is their [`Lookup`]'s (mirrors, or with `GLASS` glass,
+/// reading the environment: [`SecondaryEffect::mix_lookup`]), waiting to be looked up
+/// [`LANES`] at a time; then fogged and stored as [`opaque_color`] does, the same bits.
+/// A mirror transmits nothing: its batch has no refracted look-ups or terms to skip.
 #[derive(Default)]
-struct Lookups {
+struct Lookups<const GLASS: bool> {
     col: [usize; LANES],
+    /// The [`Lookup`]s' weights ...
     base: [Vec3; LANES],
-    weight: [Vec3; LANES],
-    dir: [[f32; LANES]; 3],
+    reflect: [Vec3; LANES],
+    transmit: [f32; LANES],
+    /// ... and directions, channel-major (a lane's refracted direction is stale where it
+    /// transmits nothing: its weight then leaves it out).
+    reflected: [[f32; LANES]; 3],
+    refracted: [[f32; LANES]; 3],
+    /// Whether any pixel of the batch transmits (else the refracted look-ups are skipped).
+    refracts: bool,
     z: [f32; LANES],
     len: usize,
 }
 
-impl Lookups {
+/// Sets lane `k` of the channel-major `lanes` to `v`.
+#[inline(always)]
+fn set_lane(lanes: &mut [[f32; LANES]; 3], k: usize, v: Vec3) {
+    (lanes[0][k], lanes[1][k], lanes[2][k]) = (v.x, v.y, v.z);
+}
+
+impl<const GLASS: bool> Lookups<GLASS> {
     /// Adds the pixel in column `i` of row `j` (window depth `z`), flushing a full batch.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     fn push<P: Pixel>(
         &mut self,
         i: usize,
-        base: Vec3,
-        weight: Vec3,
-        dir: Vec3,
+        mix: Lookup,
         z: f32,
         ctx: &ShadeContext<'_>,
         sec: &SecondaryEffect,
@@ -217,11 +238,16 @@ impl Lookups {
         j: usize,
         out: &mut [Out<P>],
     ) {
+        debug_assert!(GLASS || mix.transmit == 0.0, "a mirror transmits nothing");
         let k = self.len;
         self.col[k] = i;
-        self.base[k] = base;
-        self.weight[k] = weight;
-        (self.dir[0][k], self.dir[1][k], self.dir[2][k]) = (dir.x, dir.y, dir.z);
+        (self.base[k], self.reflect[k]) = (mix.base, mix.reflect);
+        set_lane(&mut self.reflected, k, mix.reflected);
+        self.transmit[k] = mix.transmit;
+        if GLASS && mix.transmit > 0.0 {
+            set_lane(&mut self.refracted, k, mix.refracted);
+            self.refracts = true;
+        }
         self.z[k] = z;
         self.len += 1;
         if self.len == LANES {
@@ -244,25 +270,27 @@ impl Lookups {
             return;
         }
         let mut r = [[0.0; LANES]; 3];
-        sec.sky_dirs(&self.dir, self.len, &mut r);
+        sec.sky_dirs(&self.reflected, self.len, &mut r);
+        // The refracted directions only where a pixel of the batch transmits.
+        let mut t = [[0.0; LANES]; 3];
+        if GLASS && self.refracts {
+            sec.sky_dirs(&self.refracted, self.len, &mut t);
+        }
         for k in 0..self.len {
-            let (i, w) = (self.col[k], self.weight[k]);
-            // As `mix`: the reflected term is added only where it weighs anything.
-            let c = if w != Vec3::ZERO {
-                self.base[k] + w * Vec3::new(r[0][k], r[1][k], r[2][k])
-            } else {
-                self.base[k]
+            let i = self.col[k];
+            let lane = |a: &[[f32; LANES]; 3]| Vec3::new(a[0][k], a[1][k], a[2][k]);
+            let mix = Lookup {
+                base: self.base[k],
+                reflect: self.reflect[k],
+                transmit: if GLASS { self.transmit[k] } else { 0.0 },
+                ..Lookup::default()
             };
-            let c = match &sec.fog {
-                Some(fog) => {
-                    let d = ctx.camera.eye_depth_from_z(self.z[k]);
-                    fog.apply(c, rect.x0 + i, rect.y0 + j, d)
-                }
-                None => c,
-            };
+            let c = mix.color(lane(&r), lane(&t));
+            let c = fogged(ctx, sec, c, rect.x0 + i, rect.y0 + j, self.z[k]);
             store_out(&mut out[i * 3..i * 3 + 3], c);
         }
         self.len = 0;
+        self.refracts = false;
     }
 }
 
@@ -380,6 +408,19 @@ pub(crate) fn opaque_color<const AFFINE: bool>(
         }
         _ => local,
     };
+    fogged(ctx, sec, c, x, y, z)
+}
+
+/// Colour `c` of a surface at pixel (x, y), window depth `z`, through the fog (if any).
+#[inline(always)]
+fn fogged(
+    ctx: &ShadeContext<'_>,
+    sec: &SecondaryEffect,
+    c: Vec3,
+    x: usize,
+    y: usize,
+    z: f32,
+) -> Vec3 {
     match &sec.fog {
         Some(fog) => fog.apply(c, x, y, ctx.camera.eye_depth_from_z(z)),
         None => c,
