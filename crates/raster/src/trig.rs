@@ -56,6 +56,8 @@ pub(crate) fn atan2_in_range(y: f64, x: f64) -> bool {
 
 /// [`atan2`] without its guard, branch-free (it vectorises over lanes): meaningless where
 /// [`atan2_in_range`] is false.
+// rustfmt spins without end on the ten-deep Horner nest below: kept as written.
+#[rustfmt::skip]
 #[inline(always)]
 pub(crate) fn atan2_core(y: f64, x: f64) -> f64 {
     let (ax, ay) = (x.abs(), y.abs());
