@@ -20,7 +20,7 @@ use std::sync::Arc;
 use glam::{DVec3, Vec3};
 
 use crate::error::{RasterError, Result};
-use crate::lighting::{Lanes, LANES};
+use crate::lighting::{lane, set_lane, Lanes, LANES};
 use crate::trig;
 
 /// Largest environment side in texels.
@@ -297,13 +297,9 @@ impl Environment {
     #[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
     pub(crate) fn sample_lanes(&self, d: &[Lanes; 3], n: usize, out: &mut [Lanes; 3]) {
         let n = n.min(LANES);
-        let lane = |k: usize| Vec3::new(d[0][k], d[1][k], d[2][k]);
-        let put = |out: &mut [Lanes; 3], k: usize, c: Vec3| {
-            (out[0][k], out[1][k], out[2][k]) = (c.x, c.y, c.z);
-        };
         if self.layout == Layout::Cube {
             for k in 0..n {
-                put(out, k, self.sample(lane(k)));
+                set_lane(out, k, self.sample(lane(d, k)));
             }
             return;
         }
@@ -317,9 +313,9 @@ impl Environment {
         }
         for k in 0..n {
             if !exact[k] {
-                u[k] = self.uv(lane(k)).0;
+                u[k] = self.uv(lane(d, k)).0;
             }
-            put(out, k, self.bilinear(u[k], v[k]));
+            set_lane(out, k, self.bilinear(u[k], v[k]));
         }
     }
 
@@ -489,12 +485,12 @@ mod tests {
                 let n = chunk.len() - (c % 3).min(chunk.len() - 1);
                 let mut d = [[0.0; LANES]; 3];
                 for (k, v) in chunk.iter().enumerate() {
-                    (d[0][k], d[1][k], d[2][k]) = (v.x, v.y, v.z);
+                    set_lane(&mut d, k, *v);
                 }
                 let mut out = [[-1.0; LANES]; 3];
                 e.sample_lanes(&d, n, &mut out);
                 for (k, v) in chunk.iter().enumerate() {
-                    let got = Vec3::new(out[0][k], out[1][k], out[2][k]);
+                    let got = lane(&out, k);
                     if k < n {
                         let want = e.sample(*v);
                         assert_eq!(

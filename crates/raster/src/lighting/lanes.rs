@@ -1,11 +1,25 @@
 //! Lane arrays: [`LANES`] points in structure-of-arrays form, written as plain loops that the
 //! compiler turns into SIMD (8 f32 lanes fill an AVX2 register, two SSE2 ones).
 
+use glam::Vec3;
+
 /// Points evaluated together.
 pub(crate) const LANES: usize = 8;
 
 /// One value per lane.
 pub(crate) type Lanes = [f32; LANES];
+
+/// Lane `k` of the channel-major vectors `v`.
+#[inline(always)]
+pub(crate) fn lane<const N: usize>(v: &[[f32; N]; 3], k: usize) -> Vec3 {
+    Vec3::new(v[0][k], v[1][k], v[2][k])
+}
+
+/// Sets lane `k` of the channel-major vectors `v` to `x`.
+#[inline(always)]
+pub(crate) fn set_lane<const N: usize>(v: &mut [[f32; N]; 3], k: usize, x: Vec3) {
+    (v[0][k], v[1][k], v[2][k]) = (x.x, x.y, x.z);
+}
 
 /// Normalises the vectors `f(lane)` into `out` (zero stays zero).
 ///

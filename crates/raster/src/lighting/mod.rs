@@ -21,7 +21,7 @@ mod visible;
 
 #[allow(unused_imports)] // the split target is for per-point materials (textures)
 pub(crate) use equation::{Folded, Split, Terms};
-pub(crate) use lanes::{normalize_lanes, Lanes, LANES};
+pub(crate) use lanes::{lane, normalize_lanes, set_lane, Lanes, LANES};
 pub(crate) use light_set::{Geometry, LightSet, Source};
 pub(crate) use pow::pow01;
 pub(crate) use surface::{check_mirror, Surface};

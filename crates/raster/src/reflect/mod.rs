@@ -21,7 +21,7 @@ use glam::{DMat4, DVec3, DVec4, Vec3};
 use crate::camera::Camera;
 use crate::effects::FogEffect;
 use crate::environment::Environment;
-use crate::lighting::{Lanes, LANES};
+use crate::lighting::{set_lane, Lanes, LANES};
 use crate::material::Material;
 use crate::options::{RenderOptions, Technique};
 use crate::scene::Scene;
@@ -266,7 +266,7 @@ impl SecondaryEffect {
         let py = y as f64 + 0.5;
         for k in 0..LANES {
             let d = self.ray_at((x0 + k) as f64 + 0.5, py);
-            (out[0][k], out[1][k], out[2][k]) = (d[0], d[1], d[2]);
+            set_lane(out, k, Vec3::from(d));
         }
     }
 
@@ -437,6 +437,7 @@ fn absorb(sigma: Vec3, d: f32) -> Vec3 {
 mod tests {
     use super::*;
     use crate::camera::Intrinsics;
+    use crate::lighting::lane;
 
     /// The view ray as two clip points a pixel apart in depth: the definition
     /// [`view_ray_planes`] stands for.
@@ -490,12 +491,12 @@ mod tests {
                     sec.sky_lanes(x0, y, n, &mut c);
                     for k in 0..LANES {
                         let want = sec.view_ray(x0 + k, y);
-                        let got = Vec3::new(rays[0][k], rays[1][k], rays[2][k]);
+                        let got = lane(&rays, k);
                         assert_eq!(
                             got.to_array().map(f32::to_bits),
                             want.to_array().map(f32::to_bits)
                         );
-                        let got = Vec3::new(c[0][k], c[1][k], c[2][k]);
+                        let got = lane(&c, k);
                         let want = if k < n {
                             sec.sky(want)
                         } else {

@@ -7,7 +7,7 @@ use super::program::finish_batch;
 use super::runs::run_length;
 use super::store::{fill_out, put, Out, Pixel};
 use super::{background_row, ShadeContext};
-use crate::lighting::{normalize_lanes, Folded, Lanes, Surface, LANES};
+use crate::lighting::{lane, normalize_lanes, set_lane, Folded, Lanes, Surface, LANES};
 use crate::pipeline::raster::{TileBuffers, NO_TRIANGLE};
 use crate::pipeline::setup::SetupTri;
 use crate::pipeline::tiles::{TileRect, TILE};
@@ -294,9 +294,8 @@ impl RowPlanes {
         }
         if unusable != 0 {
             for k in 0..live {
-                let n = Vec3::new(out.n[0][k], out.n[1][k], out.n[2][k]);
-                let f = or_face_normal(ctx, t, n);
-                (out.n[0][k], out.n[1][k], out.n[2][k]) = (f.x, f.y, f.z);
+                let f = or_face_normal(ctx, t, lane(&out.n, k));
+                set_lane(&mut out.n, k, f);
             }
         }
         if ctx.two_sided && !t.front {
@@ -327,10 +326,10 @@ impl<'a> PhongBatch<'a> {
         }
         self.material = Some(m);
         let k = self.len;
-        (self.n[0][k], self.n[1][k], self.n[2][k]) = (n.x, n.y, n.z);
-        (self.p[0][k], self.p[1][k], self.p[2][k]) = (p.x, p.y, p.z);
+        set_lane(&mut self.n, k, n);
+        set_lane(&mut self.p, k, p);
         if SHADOWS {
-            (self.g[0][k], self.g[1][k], self.g[2][k]) = (g.x, g.y, g.z);
+            set_lane(&mut self.g, k, g);
         }
         self.at[k] = at;
         self.depth[k] = depth;

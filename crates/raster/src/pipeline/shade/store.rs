@@ -5,7 +5,7 @@ use std::mem::MaybeUninit;
 
 use glam::Vec3;
 
-use crate::lighting::{Lanes, LANES};
+use crate::lighting::{lane, Lanes, LANES};
 use crate::pipeline::tiles::TILE;
 
 mod sealed {
@@ -40,7 +40,7 @@ pub trait Pixel: sealed::Sealed + Copy + Default + Send + Sync + 'static {
     #[inline(always)]
     fn store_row(dst: &mut [MaybeUninit<Self>], c: &RowColors) {
         for (k, px) in dst.chunks_exact_mut(3).enumerate() {
-            store_out(px, Vec3::new(c[0][k], c[1][k], c[2][k]));
+            store_out(px, lane(c, k));
         }
     }
 
@@ -50,7 +50,7 @@ pub trait Pixel: sealed::Sealed + Copy + Default + Send + Sync + 'static {
     #[inline(always)]
     fn store_group(dst: &mut [Out<Self>], c: &[Lanes; 3]) {
         for (k, px) in dst.chunks_exact_mut(3).take(LANES).enumerate() {
-            store_out(px, Vec3::new(c[0][k], c[1][k], c[2][k]));
+            store_out(px, lane(c, k));
         }
     }
 
@@ -308,7 +308,7 @@ mod tests {
         }
         let want = |k: usize| {
             let mut px = [0u8; 3];
-            u8::store(&mut px, Vec3::new(c[0][k], c[1][k], c[2][k]));
+            u8::store(&mut px, lane(&c, k));
             px
         };
         for px in 0..=TILE {
@@ -360,9 +360,7 @@ mod tests {
             }
         }
         // Rows of stored pixels (flat's runs), every length, for both sample types.
-        let colors: Vec<Vec3> = (0..TILE)
-            .map(|k| Vec3::new(c[0][k], c[1][k], c[2][k]))
-            .collect();
+        let colors: Vec<Vec3> = (0..TILE).map(|k| lane(&c, k)).collect();
         for px in 0..=TILE {
             let stored: Vec<u32> = colors[..px].iter().map(|&v| u8::stored(v)).collect();
             let mut dst = vec![Out::new(7u8); 3 * px + 4];

@@ -34,7 +34,7 @@ use super::program::finish_batch;
 use super::runs::run_length;
 use super::store::{fill_out, put, Out, Pixel};
 use super::{background_row, ShadeContext};
-use crate::lighting::{normalize_lanes, Lanes, Split, Surface, LANES};
+use crate::lighting::{lane, normalize_lanes, set_lane, Lanes, Split, Surface, LANES};
 use crate::material::Material;
 use crate::options::{ShadingMode, SpecularModel};
 use crate::pipeline::raster::{TileBuffers, NO_TRIANGLE};
@@ -128,11 +128,10 @@ fn light_points(
 
 /// Lane `k` of split terms.
 fn split_at(t: &Split, k: usize) -> Terms3 {
-    let at = |x: &[Lanes; 3]| Vec3::new(x[0][k], x[1][k], x[2][k]);
     Terms3 {
-        a: at(&t.ambient),
-        d: at(&t.diffuse),
-        s: at(&t.specular),
+        a: lane(&t.ambient, k),
+        d: lane(&t.diffuse, k),
+        s: lane(&t.specular, k),
     }
 }
 
@@ -282,7 +281,7 @@ impl Batch {
         let flip = if back { -1.0 } else { 1.0 };
         for k in 0..self.len {
             // The frame of the front face: a back face's normal is the front's, flipped.
-            let nf = Vec3::new(n[0][k], n[1][k], n[2][k]) * flip;
+            let nf = lane(n, k) * flip;
             let t = self.tan[k];
             let tt = (t.truncate() - nf * nf.dot(t.truncate())).normalize_or_zero();
             let w = if t.w < 0.0 { -1.0 } else { 1.0 };
@@ -309,8 +308,7 @@ impl Batch {
                     frame = (t2, p.cross(t2) * w, p);
                 }
             }
-            let out = out * flip;
-            (n[0][k], n[1][k], n[2][k]) = (out.x, out.y, out.z);
+            set_lane(n, k, out * flip);
         }
     }
 
