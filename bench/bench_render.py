@@ -472,6 +472,35 @@ def markdown(
         "point light, three alternating runs: 2.73–2.82 → 2.60–2.64 s. Tried and not kept: "
         "the tile body compiled for AVX-512 (32 vector registers instead of 16; same "
         "pixels): slower in user time on this machine, Phong by 10 %, Gouraud by 3–7 %.",
+        "",
+        "Flat (issue 15, 2026-11-28): without depth output or fog, each tile row's "
+        "pixels go into a row buffer of stored pixels (one u32 of three quantised "
+        "samples for `u8`), filled a run at a time, and the row is written once, four "
+        "bytes a pixel (`Pixel::Stored`, `put_stored`); before, a run's pixels were "
+        "written three single bytes at a time, which perf put at a quarter of the tile "
+        "stage's samples of `flat 50 1080`. callgrind per frame: `flat 50 1080 "
+        "lights=sun` 42.97M → 41.40M (−3.7 %), `flat 50 512` 16.11M → 15.65M (−2.8 %), "
+        "`flat 500 1080` 482.9M → 474.0M (−1.9 %); the stores' cost was in cycles more "
+        "than instructions: CPU time of 200 frames of `flat 50 1080`, five alternating "
+        "runs, median 1.56 → 1.37 s (range 1.32–2.22 → 1.24–1.67, a noisy machine). "
+        "Same bytes as before (`dump=` of 14 configurations: every mode, u8 and f32, "
+        "depth output, fog, textures, shadow maps).",
+        "",
+        "Point lights in AVX2 (issue 15, 2026-11-29): the lighting's one out-of-line "
+        "lane loop, `point_lanes` (a point or spot light's direction, attenuation and "
+        "cone over 8 points), was compiled once, for the baseline, so the AVX2 tile "
+        "bodies and vertex lighting lit point lights four lanes at a time in SSE2; it "
+        "now has an AVX2 + FMA copy that a render's surfaces pick when `Isa::detect` "
+        "allows (same bits: `lighting::tests::wide_lanes_give_the_same_bits`, the "
+        "pipeline's baseline-against-AVX2 test, and the guide pictures). callgrind per "
+        "frame, `phong` on the speed–error report's 9,800-triangle sphere at 512×512 "
+        "with its sun and point light (183,676 covered pixels, one thread, frames=3 "
+        "minus frames=1): 48.44M → 47.46M (−2.0 %); `point_lanes` 192 → 146 instructions per "
+        "call of 8 points. The AVX2 copy is still mostly 4-wide: LLVM's SLP vectoriser "
+        "turns its fully unrolled lane loops into 128-bit operations and shuffles "
+        "(whole-axis loops instead of the closure form compiled to the same code), so "
+        "about another 100 instructions per call are there for a form the vectoriser "
+        "takes whole.",
     ]
     out += [
         "",

@@ -233,7 +233,7 @@ impl Surface {
                     let mut l = [[0.0; LANES]; 3];
                     let mut att = [1.0; LANES];
                     // The ambient term is added here, before a visibility scales `att`.
-                    point_lanes(light, q, p, &mut l, &mut att, c.ambient());
+                    point_lanes(light, q, p, &mut l, &mut att, c.ambient(), self.wide());
                     if let Some(s) = seen {
                         for k in 0..LANES {
                             att[k] *= s[k];
@@ -323,10 +323,50 @@ impl Surface {
 
 /// Unit vectors toward a point or spot light, the attenuation × spot factor per lane, and
 /// the light's attenuated ambient term. Kept out of line so the per-light lane loop of
-/// [`Surface::terms_lanes`] stays small enough to vectorise.
+/// [`Surface::terms_lanes`] stays small enough to vectorise; being out of line, it is not
+/// compiled with its caller's instruction set, so `wide` ([`Surface::with_wide_lanes`])
+/// picks the copy compiled for AVX2 + FMA (the same bits).
 #[inline(never)]
-#[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
 pub(super) fn point_lanes(
+    light: &SurfaceLight,
+    q: Vec3,
+    p: &[Lanes; 3],
+    l: &mut [Lanes; 3],
+    att: &mut Lanes,
+    ambient: &mut [Lanes; 3],
+    wide: bool,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if wide {
+        // SAFETY: `wide` is only true where the CPU reported AVX2 and FMA
+        // (`Surface::with_wide_lanes`).
+        return unsafe { point_lanes_avx2(light, q, p, l, att, ambient) };
+    }
+    let _ = wide;
+    point_lanes_body(light, q, p, l, att, ambient)
+}
+
+/// [`point_lanes`] compiled for AVX2 + FMA.
+///
+/// # Safety
+/// The CPU must support AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn point_lanes_avx2(
+    light: &SurfaceLight,
+    q: Vec3,
+    p: &[Lanes; 3],
+    l: &mut [Lanes; 3],
+    att: &mut Lanes,
+    ambient: &mut [Lanes; 3],
+) {
+    point_lanes_body(light, q, p, l, att, ambient)
+}
+
+/// [`point_lanes`]' work, inlined into each copy.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
+fn point_lanes_body(
     light: &SurfaceLight,
     q: Vec3,
     p: &[Lanes; 3],

@@ -354,4 +354,93 @@ mod tests {
             }
         }
     }
+    #[test]
+    fn wide_lanes_give_the_same_bits() {
+        // The AVX2 + FMA copy of the out-of-line loops (point and spot lights) against the
+        // baseline one: every point-light kind, local and infinite viewer, every model,
+        // folded and split terms, bit for bit. On a CPU without AVX2 both are the baseline.
+        let spot = PointLight::new(Vec3::new(0.5, 2.0, 0.5), Vec3::ONE, 2.0)
+            .unwrap()
+            .with_ambient(Vec3::splat(0.1))
+            .unwrap();
+        let lights: Vec<Light> = vec![
+            SpotLight::new(spot, Vec3::new(-0.2, -1.0, -0.1), 60.0, 3.0)
+                .unwrap()
+                .with_inner(30.0)
+                .unwrap()
+                .into(),
+            PointLight::new(Vec3::new(-1.0, 1.0, 2.0), Vec3::new(0.9, 0.8, 0.7), 2.0)
+                .unwrap()
+                .with_attenuation(0.5, 0.2, 0.1)
+                .unwrap()
+                .into(),
+            PointLight::new(Vec3::new(2.0, 3.0, 4.0), Vec3::new(0.4, 0.4, 0.5), 1.0)
+                .unwrap()
+                .into(),
+        ];
+        let set = LightSet::new(&lights);
+        let m = Material::preset("gold").unwrap();
+        let eye = Vec3::new(0.2, 0.3, 3.0);
+        let bits = |c: &[Lanes; 3]| c.map(|ch| ch.map(f32::to_bits));
+        let wide_cpu = Surface::folded(&m, Vec3::ZERO, &set, SpecularModel::BlinnPhong)
+            .with_wide_lanes(true)
+            .wide();
+        #[cfg(target_arch = "x86_64")]
+        assert_eq!(
+            wide_cpu,
+            std::arch::is_x86_feature_detected!("avx2")
+                && std::arch::is_x86_feature_detected!("fma")
+        );
+        assert!(!Surface::folded(&m, Vec3::ZERO, &set, SpecularModel::Phong)
+            .with_wide_lanes(false)
+            .wide());
+        for seed in 0..50 {
+            let mut n = [[0.0; LANES]; 3];
+            let mut p = [[0.0; LANES]; 3];
+            for k in 0..LANES {
+                let a = (seed * LANES + k) as f32 * 0.37;
+                let nn = Vec3::new(a.cos(), (0.7 * a).sin(), a.sin()).normalize();
+                let pp = Vec3::new(a.sin(), 0.1 * k as f32 - 0.3, (1.3 * a).cos());
+                set_lane(&mut n, k, nn);
+                set_lane(&mut p, k, pp);
+            }
+            for model in [
+                SpecularModel::BlinnPhong,
+                SpecularModel::Phong,
+                SpecularModel::NormalizedBlinnPhong,
+            ] {
+                for infinite in [false, true] {
+                    let make = |unit: bool, wide: bool| {
+                        let s = if unit {
+                            Surface::unit(&m, Vec3::splat(0.2), &set, model)
+                        } else {
+                            Surface::folded(&m, Vec3::splat(0.2), &set, model)
+                        };
+                        let s = s.with_wide_lanes(wide);
+                        if infinite {
+                            s.with_infinite_viewer(Vec3::new(0.1, 0.2, 1.0))
+                        } else {
+                            s
+                        }
+                    };
+                    let (a, b) = (make(false, false), make(false, true));
+                    assert_eq!(
+                        bits(&a.shade_lanes(&n, &p, eye)),
+                        bits(&b.shade_lanes(&n, &p, eye)),
+                        "{model:?} infinite {infinite} seed {seed}"
+                    );
+                    let (a, b) = (make(true, false), make(true, true));
+                    let (ta, tb): (Split, Split) =
+                        (a.terms_lanes(&n, &p, eye), b.terms_lanes(&n, &p, eye));
+                    for (x, y) in [
+                        (&ta.ambient, &tb.ambient),
+                        (&ta.diffuse, &tb.diffuse),
+                        (&ta.specular, &tb.specular),
+                    ] {
+                        assert_eq!(bits(x), bits(y), "{model:?} split, seed {seed}");
+                    }
+                }
+            }
+        }
+    }
 }

@@ -34,6 +34,10 @@ pub(crate) struct Surface {
     pub model: SpecularModel,
     /// Infinite viewer: the constant unit view vector; `None` for the local viewer.
     pub infinite_view: Option<Vec3>,
+    /// The lane loops kept out of line (point and spot lights, `point_lanes`) run their
+    /// copy compiled for AVX2 + FMA: only ever true on a CPU that has them
+    /// ([`Surface::with_wide_lanes`]).
+    wide: bool,
 }
 
 /// Refuses the normalised Blinn-Phong lobe with an infinite shininess: its scale
@@ -105,6 +109,7 @@ impl Surface {
             specular_on: material.has_specular(),
             model,
             infinite_view: None,
+            wide: false,
         }
     }
 
@@ -135,6 +140,22 @@ impl Surface {
         self
     }
 
+    /// Runs the out-of-line lane loops in their AVX2 + FMA copy when `wide` and the CPU has
+    /// both (else the baseline one): the same bits either way (no fused multiply-adds are
+    /// formed; see `pipeline/isa.rs`). The tile bodies and vertex lighting that call them
+    /// are compiled for AVX2 already, but a function they do not inline is compiled once,
+    /// for the baseline: point lights were lit four lanes at a time in SSE2.
+    pub fn with_wide_lanes(mut self, wide: bool) -> Self {
+        self.wide = wide && cpu_has_avx2_fma();
+        self
+    }
+
+    /// Whether [`Surface::with_wide_lanes`] chose the AVX2 + FMA copies.
+    #[inline(always)]
+    pub(super) fn wide(&self) -> bool {
+        self.wide
+    }
+
     /// An upper bound (in f64) on every channel the surface can reach: the constant terms
     /// plus, per light, its largest attenuation (`1 / max(kc, MIN_ATTENUATION_DENOMINATOR)`)
     /// times its ambient, diffuse and specular colours (spot factors, `n·l` and the specular
@@ -160,5 +181,17 @@ impl Surface {
             })
             .sum();
         max(self.base) + lights
+    }
+}
+
+/// Whether this CPU runs AVX2 and FMA (the standard library caches the answer).
+fn cpu_has_avx2_fma() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
     }
 }

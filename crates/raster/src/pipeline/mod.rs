@@ -274,7 +274,11 @@ pub(crate) fn prepare(
     let eye = camera.eye().as_vec3();
     let view_proj = camera.projection_matrix(w as f64 / h as f64) * camera.view_matrix();
     let light_set = LightSet::new(scene.lights());
+    // Whether this render's lane loops may use AVX2 + FMA (those outside the tile bodies:
+    // vertex lighting, shadow look-ups, the lighting's out-of-line loops).
+    let wide = isa::Isa::detect(options.baseline_isa) != isa::Isa::Baseline;
     let viewer = |pm: Surface| {
+        let pm = pm.with_wide_lanes(wide);
         if scene.local_viewer() {
             pm
         } else {
@@ -384,8 +388,6 @@ pub(crate) fn prepare(
         (w as f64, h as f64),
     );
     // Shadows: the BVH or the maps, before flat and Gouraud light (they read them).
-    // Whether this render's lane loops may use AVX2 + FMA (shadow look-ups, vertex lighting).
-    let wide = isa::Isa::detect(options.baseline_isa) != isa::Isa::Baseline;
     let shadows = match lit && scene.lights().iter().any(|l| l.shadows().on()) {
         true => ShadowEffect::new(
             scene,
