@@ -281,12 +281,10 @@ mod tests {
         assert!(pm.shade(Vec3::Z, Vec3::ZERO, Vec3::ZERO).is_finite());
     }
 
-    #[test]
-    #[allow(clippy::needless_range_loop)] // lanes of several arrays
-    fn split_terms_recombine_to_the_folded_colour() {
-        // Every light kind; a unit surface's ambient, diffuse and specular, weighed by the
-        // material, give the folded colour (up to the order of float additions).
-        let lights: Vec<Light> = vec![
+    /// One light of every kind: a spot with an inner cone and its own ambient, an attenuated
+    /// point light with ambient, a plain point light and a directional one.
+    fn every_light_kind() -> Vec<Light> {
+        vec![
             SpotLight::new(
                 PointLight::new(Vec3::new(0.5, 2.0, 0.5), Vec3::ONE, 2.0)
                     .unwrap()
@@ -307,12 +305,23 @@ mod tests {
                 .with_ambient(Vec3::splat(0.2))
                 .unwrap()
                 .into(),
+            PointLight::new(Vec3::new(2.0, 3.0, 4.0), Vec3::new(0.4, 0.4, 0.5), 1.0)
+                .unwrap()
+                .into(),
             DirectionalLight::new(Vec3::new(-1.0, -0.5, -1.0), Vec3::new(1.0, 0.9, 0.8), 1.0)
                 .unwrap()
                 .with_ambient(Vec3::splat(0.05))
                 .unwrap()
                 .into(),
-        ];
+        ]
+    }
+
+    #[test]
+    #[allow(clippy::needless_range_loop)] // lanes of several arrays
+    fn split_terms_recombine_to_the_folded_colour() {
+        // Every light kind; a unit surface's ambient, diffuse and specular, weighed by the
+        // material, give the folded colour (up to the order of float additions).
+        let lights = every_light_kind();
         let m = Material::preset("brass")
             .unwrap()
             .with_emission(Vec3::new(0.1, 0.0, 0.05))
@@ -357,27 +366,9 @@ mod tests {
     #[test]
     fn wide_lanes_give_the_same_bits() {
         // The AVX2 + FMA copy of the out-of-line loops (point and spot lights) against the
-        // baseline one: every point-light kind, local and infinite viewer, every model,
+        // baseline one: every light kind, local and infinite viewer, every model,
         // folded and split terms, bit for bit. On a CPU without AVX2 both are the baseline.
-        let spot = PointLight::new(Vec3::new(0.5, 2.0, 0.5), Vec3::ONE, 2.0)
-            .unwrap()
-            .with_ambient(Vec3::splat(0.1))
-            .unwrap();
-        let lights: Vec<Light> = vec![
-            SpotLight::new(spot, Vec3::new(-0.2, -1.0, -0.1), 60.0, 3.0)
-                .unwrap()
-                .with_inner(30.0)
-                .unwrap()
-                .into(),
-            PointLight::new(Vec3::new(-1.0, 1.0, 2.0), Vec3::new(0.9, 0.8, 0.7), 2.0)
-                .unwrap()
-                .with_attenuation(0.5, 0.2, 0.1)
-                .unwrap()
-                .into(),
-            PointLight::new(Vec3::new(2.0, 3.0, 4.0), Vec3::new(0.4, 0.4, 0.5), 1.0)
-                .unwrap()
-                .into(),
-        ];
+        let lights = every_light_kind();
         let set = LightSet::new(&lights);
         let m = Material::preset("gold").unwrap();
         let eye = Vec3::new(0.2, 0.3, 3.0);
