@@ -66,6 +66,9 @@ pub(super) struct Range {
     /// at least as wide (half width at half maximum) as the triangle's turn in `β`. Only
     /// then does [`super::nodal`]'s seven-point interpolant stand for the error.
     pub smooth: bool,
+    /// Whether the lobe alone is smooth (absent, negligible or wide enough, as above): where
+    /// only the terminator is not, [`super::nodal`]'s fine grid stands for the error.
+    pub lobe_smooth: bool,
 }
 
 /// The lobe's half width at half maximum, `acos(2^(−1/f))`: once per object (an `acos` and a
@@ -174,6 +177,7 @@ pub(super) fn sensitivity(
     if s.theta - REACH * s.span_d - s.geometric_max >= FRAC_PI_2 {
         let range = Range {
             smooth: true,
+            lobe_smooth: true,
             ..Range::default()
         };
         return (Sensitivity::default(), range);
@@ -216,6 +220,7 @@ pub(super) fn sensitivity(
         ],
         specular: [0.0, 0.0],
         smooth: hi_d + s.geometric_max < FRAC_PI_2,
+        lobe_smooth: true,
     };
     let Some((f, w)) = lobe_fw.filter(|(f, _)| f.is_finite() && *f > 0.0) else {
         return (out, range);
@@ -236,7 +241,8 @@ pub(super) fn sensitivity(
         0.0
     };
     range.specular = [bottom, top];
-    range.smooth &= top < 1e-6 || s.span_s <= SMOOTH_SPAN * w;
+    range.lobe_smooth = top < 1e-6 || s.span_s <= SMOOTH_SPAN * w;
+    range.smooth &= range.lobe_smooth;
     // Every mode's colour and the truth's lie in [bottom, top]: a lobe that small over the
     // whole triangle errs by at most its height, and its derivatives need not be evaluated.
     if top < 1e-6 {

@@ -386,7 +386,13 @@ fn object_estimate(
         let sq = tri.squared_errors(
             &shading,
             (nodal.covers_gouraud() && !tri.back && nv.iter().all(|v| *v != DVec3::ZERO))
-                .then_some(|| nodal.errors(p, nv, face, tri.offset.as_ref())),
+                .then_some(|fine: bool| {
+                    if fine {
+                        nodal.errors_fine(p, nv, face, None)
+                    } else {
+                        nodal.errors(p, nv, face, tri.offset.as_ref())
+                    }
+                }),
         );
         for k in 0..3 {
             let a = tri.area;
@@ -494,6 +500,8 @@ struct LightTerms {
     high: DVec3,
     pow_err: DVec3,
     smooth: bool,
+    /// Whether every light's lobe is smooth over the triangle (only a terminator may not be).
+    lobes_smooth: bool,
 }
 
 /// One triangle in world space, as the bound reads it.
@@ -729,13 +737,14 @@ impl Triangle {
 
     /// Per mode, the squared error in 8-bit levels summed over the channels over 3 (the
     /// triangle's mean square error), all lights together.
-    /// `nodal`: flat's and Gouraud's errors from the lighting at seven points
-    /// ([`Nodal::errors`]), used in place of the bound's where every light is smooth over the
-    /// triangle (`None`: the bound everywhere).
+    /// `nodal`: flat's and Gouraud's errors from the lighting itself: at seven points
+    /// ([`Nodal::errors`], called with `false`) where every light is smooth over the
+    /// triangle, on the fine grid ([`Nodal::errors_fine`], with `true`) where only a
+    /// terminator is not; the bound's elsewhere, and everywhere for `None`.
     fn squared_errors(
         &self,
         sh: &Shading,
-        nodal: Option<impl FnOnce() -> nodal::Errors>,
+        nodal: Option<impl FnOnce(bool) -> nodal::Errors>,
     ) -> [f64; 3] {
         // The seven-point errors replace the bound's flat and Gouraud terms where every
         // light is smooth over the triangle; the bound's are then not evaluated at all (a
@@ -748,12 +757,29 @@ impl Triangle {
                     flat,
                     gouraud,
                     against_truth,
-                } = errors();
+                } = errors(false);
                 // Against Phong only: the geometric error (Phong's estimate) added.
                 let geo = if against_truth { [0.0; 3] } else { t.e[2] };
                 for ch in 0..3 {
                     t.e[0][ch] = flat[ch] + geo[ch];
                     t.e[1][ch] = gouraud[ch] + geo[ch];
+                }
+            }
+            Some(errors) if t.lobes_smooth => {
+                // A terminator inside the triangle: the fine grid, plus what it cannot
+                // resolve, a share of the bound's interpolation error (Gouraud's term: the
+                // truth's own deviation from linear over the triangle).
+                t = self.light_terms(sh, true);
+                let nodal::Errors {
+                    flat,
+                    gouraud,
+                    against_truth,
+                } = errors(true);
+                let geo = if against_truth { [0.0; 3] } else { t.e[2] };
+                for ch in 0..3 {
+                    let unresolved = nodal::FINE_UNRESOLVED * t.e[1][ch];
+                    t.e[0][ch] = flat[ch] + unresolved + geo[ch];
+                    t.e[1][ch] = gouraud[ch] + unresolved + geo[ch];
                 }
             }
             Some(_) => t = self.light_terms(sh, true),
@@ -793,6 +819,7 @@ impl Triangle {
     fn light_terms(&self, sh: &Shading, detailed: bool) -> LightTerms {
         let mut e = [[0.0f64; 3]; 3]; // [mode][channel], linear rms
         let mut smooth = true;
+        let mut lobes_smooth = true;
         let (mut low, mut high) = (sh.base[0], sh.base[1]);
         let mut pow_err = DVec3::ZERO;
         for light in sh.sources {
@@ -815,6 +842,7 @@ impl Triangle {
             let spread = self.spread(l, dist, detailed);
             let (sens, range) = sensitivity(&spread, sh.lobe, detailed);
             smooth &= range.smooth;
+            lobes_smooth &= range.lobe_smooth;
             let d = sh.kd * light.diffuse;
             let s = sh.ks * light.specular;
             for (mode, k) in [sens.flat, sens.gouraud, sens.phong].iter().zip(0..) {
@@ -835,6 +863,7 @@ impl Triangle {
             high,
             pow_err,
             smooth,
+            lobes_smooth,
         }
     }
 

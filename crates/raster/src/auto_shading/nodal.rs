@@ -170,6 +170,74 @@ impl Nodal {
         }
     }
 
+    /// Per channel, the rms error over the triangle of flat and of Gouraud where the
+    /// lighting has a kink inside it (a terminator: `max(n·l, 0)`, and the clamp to 1) that
+    /// the seven-point interpolant of [`Nodal::errors`] cannot follow: the error field at the
+    /// [`FINE`]-grid's points (the same references as there), its rms that of its
+    /// piecewise-linear interpolant over the grid's `FINE²` sub-triangles. A kink is then
+    /// confined to the sub-triangles it crosses; the caller adds what the grid cannot
+    /// resolve ([`FINE_UNRESOLVED`] times the bound's interpolation error).
+    pub(super) fn errors_fine(
+        &self,
+        p: [DVec3; 3],
+        n: [DVec3; 3],
+        face: DVec3,
+        offset: Option<&Offset>,
+    ) -> Errors {
+        let centroid = (p[0] + p[1] + p[2]) / 3.0;
+        // The references at the grid's points off the vertices: the true surface's colour
+        // where the pixel's ray meets it, or Phong's at the mesh point.
+        let inner = GRID_INNER.map(|k| {
+            let l = GRID_LAMBDA[k];
+            let x = p[0] * l[0] + p[1] * l[1] + p[2] * l[2];
+            let m = (n[0] * l[0] + n[1] * l[1] + n[2] * l[2]).normalize_or_zero();
+            let m = offset.map_or(m, |o| o.true_normal(x, l, &p, m));
+            (x, m)
+        });
+        let a = self.shade(&[
+            (p[0], n[0]),
+            (p[1], n[1]),
+            (p[2], n[2]),
+            (centroid, face),
+            inner[0],
+            inner[1],
+            inner[2],
+            inner[3],
+        ]);
+        let b = self.shade(&[
+            inner[4], inner[5], inner[6], inner[7], inner[8], inner[9], inner[10], inner[11],
+        ]);
+        let clamp = |v: f64| if self.clamps { v.clamp(0.0, 1.0) } else { v };
+        let mut flat = [0.0; 3];
+        let mut gouraud = [0.0; 3];
+        for ch in 0..3 {
+            // The sixteen lanes in one row: the lane of each grid point's reference is
+            // GRID_LANE's (at a vertex, the mesh is on the surface with its normal).
+            let mut lanes = [0.0; 2 * LANES];
+            for k in 0..LANES {
+                lanes[k] = a[ch][k] as f64;
+                lanes[LANES + k] = b[ch][k] as f64;
+            }
+            let raw = [lanes[0], lanes[1], lanes[2]];
+            let f = clamp(lanes[3]);
+            let mut df = [0.0; GRID_POINTS];
+            let mut dg = [0.0; GRID_POINTS];
+            for k in 0..GRID_POINTS {
+                let l = GRID_LAMBDA[k];
+                let r = clamp(lanes[GRID_LANE[k]]);
+                df[k] = f - r;
+                dg[k] = clamp(raw[0] * l[0] + raw[1] * l[1] + raw[2] * l[2]) - r;
+            }
+            flat[ch] = grid_rms(&df);
+            gouraud[ch] = grid_rms(&dg);
+        }
+        Errors {
+            flat,
+            gouraud,
+            against_truth: offset.is_some(),
+        }
+    }
+
     /// The renderer's colours at eight points (position, unit normal).
     fn shade(&self, points: &[(DVec3, DVec3); LANES]) -> [[f32; LANES]; 3] {
         let mut pos = [[0.0f32; LANES]; 3];
@@ -182,6 +250,129 @@ impl Nodal {
         }
         self.surface.shade_lanes(&nrm, &pos, self.eye)
     }
+}
+
+/// The fine grid's subdivisions per edge: its points are the barycentrics `(i, j, FINE −
+/// i − j)/FINE`, `(FINE + 1)(FINE + 2)/2` of them.
+pub(super) const FINE: usize = 4;
+const GRID_POINTS: usize = (FINE + 1) * (FINE + 2) / 2;
+
+/// What the fine grid leaves unresolved, as a share of the bound's interpolation error over
+/// the whole triangle: a smooth field's interpolation error falls with the square of the
+/// sub-triangles' size (`1/FINE²`); a kink's tent (height ∝ size) lies only in the
+/// sub-triangles a line crosses, at most `2·FINE − 1` of the `FINE²`, so its rms falls as
+/// `√2/FINE^1.5`, the larger of the two.
+pub(super) const FINE_UNRESOLVED: f64 = std::f64::consts::SQRT_2 / 8.0;
+const _: () = assert!(FINE == 4, "FINE_UNRESOLVED is √2/FINE^1.5 for FINE = 4");
+
+/// The grid point `k` (row `i` = `λ₁·FINE`, then `j` = `λ₂·FINE` within it): its
+/// barycentrics.
+const fn grid_ij(k: usize) -> (usize, usize) {
+    let mut i = 0;
+    let mut start = 0;
+    while start + (FINE + 1 - i) <= k {
+        start += FINE + 1 - i;
+        i += 1;
+    }
+    (i, k - start)
+}
+
+/// Each grid point's barycentrics.
+const GRID_LAMBDA: [[f64; 3]; GRID_POINTS] = {
+    let mut out = [[0.0; 3]; GRID_POINTS];
+    let mut k = 0;
+    while k < GRID_POINTS {
+        let (i, j) = grid_ij(k);
+        let (l1, l2) = (i as f64 / FINE as f64, j as f64 / FINE as f64);
+        out[k] = [1.0 - l1 - l2, l1, l2];
+        k += 1;
+    }
+    out
+};
+
+const fn grid_index(i: usize, j: usize) -> usize {
+    // Rows 0..i hold FINE + 1, FINE, ... points.
+    let mut k = 0;
+    let mut r = 0;
+    while r < i {
+        k += FINE + 1 - r;
+        r += 1;
+    }
+    k + j
+}
+
+/// The grid points at the triangle's vertices 0, 1, 2.
+const GRID_VERTICES: [usize; 3] = [grid_index(0, 0), grid_index(FINE, 0), grid_index(0, FINE)];
+
+/// The other grid points, in order.
+const GRID_INNER: [usize; GRID_POINTS - 3] = {
+    let mut out = [0; GRID_POINTS - 3];
+    let (mut k, mut o) = (0, 0);
+    while k < GRID_POINTS {
+        if k != GRID_VERTICES[0] && k != GRID_VERTICES[1] && k != GRID_VERTICES[2] {
+            out[o] = k;
+            o += 1;
+        }
+        k += 1;
+    }
+    out
+};
+
+/// Where [`Nodal::errors_fine`] finds each grid point's reference among its sixteen lanes:
+/// the vertices in lanes 0–2 (lane 3 is flat's colour), the other points from lane 4 on.
+const GRID_LANE: [usize; GRID_POINTS] = {
+    let mut out = [0; GRID_POINTS];
+    let mut v = 0;
+    while v < 3 {
+        out[GRID_VERTICES[v]] = v;
+        v += 1;
+    }
+    let mut i = 0;
+    while i < GRID_POINTS - 3 {
+        out[GRID_INNER[i]] = 4 + i;
+        i += 1;
+    }
+    out
+};
+
+/// The grid's `FINE²` sub-triangles (equal areas) as point indices: the `FINE(FINE + 1)/2`
+/// upright ones and the `FINE(FINE − 1)/2` upside-down ones between them.
+const SUB_TRIANGLES: [[usize; 3]; FINE * FINE] = {
+    let mut out = [[0; 3]; FINE * FINE];
+    let mut o = 0;
+    let mut i = 0;
+    while i < FINE {
+        let mut j = 0;
+        while i + j < FINE {
+            out[o] = [grid_index(i, j), grid_index(i + 1, j), grid_index(i, j + 1)];
+            o += 1;
+            if i + j + 1 < FINE {
+                out[o] = [
+                    grid_index(i + 1, j),
+                    grid_index(i + 1, j + 1),
+                    grid_index(i, j + 1),
+                ];
+                o += 1;
+            }
+            j += 1;
+        }
+        i += 1;
+    }
+    out
+};
+
+/// The rms over the triangle of the piecewise-linear interpolant of the grid values `d`:
+/// over each sub-triangle with corner values `a, b, c` the mean square of the linear field
+/// is `(a² + b² + c² + ab + bc + ca)/6`.
+fn grid_rms(d: &[f64; GRID_POINTS]) -> f64 {
+    let sum: f64 = SUB_TRIANGLES
+        .iter()
+        .map(|&[i, j, k]| {
+            let (a, b, c) = (d[i], d[j], d[k]);
+            a * a + b * b + c * c + a * b + b * c + c * a
+        })
+        .sum();
+    (sum / (6.0 * (FINE * FINE) as f64)).max(0.0).sqrt()
 }
 
 /// Flat's and Gouraud's rms error per channel over one triangle ([`Nodal::errors`]).
@@ -284,6 +475,127 @@ mod tests {
         let f = |x: f64, y: f64| 4.0 * x * (1.0 - x - y);
         let (d, dc) = nodes(&f);
         assert!((rms(d, dc) - brute(f)).abs() < 1e-3);
+    }
+
+    /// The fine grid's field at its points for `f(λ₁, λ₂)`.
+    fn grid_values(f: impl Fn(f64, f64) -> f64) -> [f64; GRID_POINTS] {
+        std::array::from_fn(|k| {
+            let l = GRID_LAMBDA[k];
+            f(l[1], l[2])
+        })
+    }
+
+    #[test]
+    fn the_fine_grid_tiles_the_triangle() {
+        assert_eq!(GRID_POINTS, 15);
+        for (v, k) in GRID_VERTICES.iter().enumerate() {
+            let l = GRID_LAMBDA[*k];
+            assert!((0..3).all(|i| l[i] == (i == v) as u8 as f64), "{v} {l:?}");
+        }
+        let mut seen = [0usize; GRID_POINTS];
+        for k in GRID_INNER.iter().chain(GRID_VERTICES.iter()) {
+            seen[*k] += 1;
+        }
+        assert!(seen.iter().all(|&c| c == 1));
+        let mut lanes = GRID_LANE;
+        lanes.sort_unstable();
+        let want: Vec<usize> = (0..3).chain(4..2 * LANES).collect();
+        assert_eq!(lanes.to_vec(), want);
+        // Every sub-triangle has the area 1/FINE² of the unit right triangle's (1/2), and
+        // the same orientation.
+        for t in SUB_TRIANGLES {
+            let [a, b, c] = t.map(|k| GRID_LAMBDA[k]);
+            let area = 0.5 * ((b[1] - a[1]) * (c[2] - a[2]) - (c[1] - a[1]) * (b[2] - a[2]));
+            assert!(
+                (area - 0.5 / (FINE * FINE) as f64).abs() < 1e-12,
+                "{t:?} {area}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_fine_grid_rms_is_exact_for_a_linear_field() {
+        let f = |x: f64, y: f64| 0.4 - 1.3 * x + 0.8 * y;
+        assert!((grid_rms(&grid_values(f)) - brute(f)).abs() < 1e-3 * brute(f));
+    }
+
+    #[test]
+    fn the_fine_grid_follows_a_kink() {
+        // A Gouraud-like error across a terminator: the linear interpolant of max(g, 0)
+        // against max(g, 0) itself, g linear with its zero line through the triangle. The
+        // seven points miss it; the grid comes within what FINE_UNRESOLVED adds of the
+        // bound's tent (span/7 for a unit slope, span = the range of g here, 1).
+        let g = |x: f64, y: f64| 0.45 - x * 0.6 - y * 0.4;
+        let (g0, g1, g2) = (
+            g(0.0, 0.0).max(0.0),
+            g(1.0, 0.0).max(0.0),
+            g(0.0, 1.0).max(0.0),
+        );
+        let err = |x: f64, y: f64| g0 * (1.0 - x - y) + g1 * x + g2 * y - g(x, y).max(0.0);
+        let exact = brute(err);
+        let fine = grid_rms(&grid_values(err));
+        let unresolved = FINE_UNRESOLVED * 1.0 / 7.0;
+        assert!(fine + unresolved >= exact, "{fine} {exact}");
+        assert!(
+            fine + unresolved <= 0.5 * (1.0 / 7.0),
+            "no tighter than the bound"
+        );
+        assert!((fine - exact).abs() < 0.25 * exact, "{fine} {exact}");
+    }
+
+    #[test]
+    fn the_fine_grid_finds_a_terminator_on_a_sphere() {
+        // A triangle of a 12-ring sphere that a directional light's terminator crosses;
+        // Gouraud against Phong at the same mesh points (no offset), brute force over a
+        // fine grid of the renderer's own colours.
+        use crate::lights::DirectionalLight;
+        use crate::material::Material;
+        let mut scene = Scene::new(Vec3::splat(0.1)).unwrap();
+        scene.add_light(DirectionalLight::new(Vec3::new(-1.0, 0.0, 0.0), Vec3::ONE, 1.0).unwrap());
+        let m = Material::default();
+        let eye = DVec3::new(0.0, 0.0, 5.0);
+        let nodal = Nodal::new(&scene, &m, eye, None, SpecularModel::BlinnPhong, true, true);
+        let on = |lon: f64, lat: f64| {
+            let (lon, lat) = (lon.to_radians(), lat.to_radians());
+            DVec3::new(lon.sin() * lat.cos(), lat.sin(), lon.cos() * lat.cos())
+        };
+        // Longitude 90° is the terminator (n·l = sin lon · cos lat).
+        let p = [on(80.0, 0.0), on(105.0, 0.0), on(90.0, 15.0)];
+        let face = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
+        let got = nodal.errors_fine(p, p, face, None);
+        assert!(!got.against_truth);
+        let shade1 = |x: DVec3, n: DVec3| {
+            let mut pts = [(x, n); LANES];
+            pts[1] = (x, n);
+            nodal.shade(&pts).map(|c| c[0] as f64)
+        };
+        let c = p.map(|v| shade1(v, v));
+        let (mut s, mut count) = (0.0, 0usize);
+        let steps = 120;
+        for i in 0..=steps {
+            for j in 0..=steps - i {
+                let l = [
+                    1.0 - (i + j) as f64 / steps as f64,
+                    i as f64 / steps as f64,
+                    j as f64 / steps as f64,
+                ];
+                let x = p[0] * l[0] + p[1] * l[1] + p[2] * l[2];
+                let n = (p[0] * l[0] + p[1] * l[1] + p[2] * l[2]).normalize();
+                let phong = shade1(x, n);
+                for ch in 0..3 {
+                    let g = (c[0][ch] * l[0] + c[1][ch] * l[1] + c[2][ch] * l[2]).clamp(0.0, 1.0);
+                    s += (g - phong[ch].clamp(0.0, 1.0)).powi(2) / 3.0;
+                }
+                count += 1;
+            }
+        }
+        let brute_rms = (s / count as f64).sqrt();
+        let fine = (got.gouraud.iter().map(|g| g * g).sum::<f64>() / 3.0).sqrt();
+        assert!(brute_rms > 1e-3, "the terminator is inside: {brute_rms}");
+        assert!(
+            (fine - brute_rms).abs() < 0.2 * brute_rms,
+            "{fine} {brute_rms}"
+        );
     }
 
     #[test]
