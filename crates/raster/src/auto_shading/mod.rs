@@ -1013,11 +1013,20 @@ fn geometric_error(
         face
     };
     let cos_up = up.dot(ray);
-    let offset = (cos_up > 1e-3).then(|| Offset {
-        axes: [u, w],
-        h: shape.signed,
-        shift: (ray - up * cos_up) / cos_up,
-        cap,
+    let offset = (cos_up > 1e-3).then(|| {
+        let h = shape.signed;
+        let form = |v: [f64; 2]| {
+            v[0] * (h[0][0] * v[0] + h[0][1] * v[1]) + v[1] * (h[1][0] * v[0] + h[1][1] * v[1])
+        };
+        // The true hit lies δ·shift along the plane, where the normal has turned by
+        // H·(δ·shift): δ times a fixed vector.
+        let s = flat((ray - up * cos_up) / cos_up);
+        let turn = u * (h[0][0] * s[0] + h[0][1] * s[1]) + w * (h[1][0] * s[0] + h[1][1] * s[1]);
+        Offset {
+            edge_forms: edge.map(|e| form(flat(e))),
+            turn,
+            cap,
+        }
     });
     ((rate * depth_rms * tan_a).min(cap), cap, offset)
 }
@@ -1025,39 +1034,30 @@ fn geometric_error(
 /// Where the true surface is over a triangle, with signs (the quadratic surface its vertex
 /// normals describe): `δ(x) = ½Σλ_i(v_i − x)ᵀH(v_i − x)` above the mesh point `x`, and the
 /// pixel's ray through `x` meets it `δ(x)·shift` away along the plane, where its normal has
-/// turned by `H` times that (at most `cap`).
+/// turned by `H` times that (at most `cap`). With `Σλ_i = 1` and `x = Σλ_i v_i`, `δ` is
+/// `½Σ_{i<j}λ_iλ_j e_ijᵀHe_ij` over the edges (the variance identity), and the turn is `δ`
+/// times a fixed vector: both are kept per triangle.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Offset {
-    /// An orthonormal basis of the triangle's plane.
-    axes: [DVec3; 2],
-    /// The shape operator in that basis.
-    h: [[f64; 2]; 2],
-    /// The ray's offset along the plane per unit height (toward the eye's side).
-    shift: DVec3,
+    /// `e_kᵀHe_k` for the edges 0→1, 1→2 and 2→0.
+    edge_forms: [f64; 3],
+    /// The normal's turn per unit height: `H·shift` in world space (`shift` the ray's
+    /// offset along the plane per unit height, toward the eye's side).
+    turn: DVec3,
     /// The largest turn of the normal (see [`geometric_error`]).
     cap: f64,
 }
 
 impl Offset {
-    /// The surface's unit normal where the pixel's ray through the mesh point `x` (with the
-    /// mesh's interpolated unit normal `n`) meets it; `v`: the triangle's vertices.
-    pub(super) fn true_normal(
-        &self,
-        x: DVec3,
-        lambda: [f64; 3],
-        v: &[DVec3; 3],
-        n: DVec3,
-    ) -> DVec3 {
-        let [a, b] = self.axes;
-        let hq = |d: DVec3| {
-            let (p, q) = (d.dot(a), d.dot(b));
-            p * (self.h[0][0] * p + self.h[0][1] * q) + q * (self.h[1][0] * p + self.h[1][1] * q)
-        };
-        let delta = 0.5 * (0..3).map(|i| lambda[i] * hq(v[i] - x)).sum::<f64>();
-        let u = self.shift * delta;
-        let (p, q) = (u.dot(a), u.dot(b));
-        let dn =
-            a * (self.h[0][0] * p + self.h[0][1] * q) + b * (self.h[1][0] * p + self.h[1][1] * q);
+    /// The surface's unit normal where the pixel's ray through the mesh point with
+    /// barycentrics `lambda` (and the mesh's interpolated unit normal `n` there) meets it.
+    pub(super) fn true_normal(&self, lambda: [f64; 3], n: DVec3) -> DVec3 {
+        let [q01, q12, q20] = self.edge_forms;
+        let delta = 0.5
+            * (lambda[0] * lambda[1] * q01
+                + lambda[1] * lambda[2] * q12
+                + lambda[2] * lambda[0] * q20);
+        let dn = self.turn * delta;
         let len = dn.length();
         let dn = if len > self.cap {
             dn * (self.cap / len)
@@ -1145,6 +1145,45 @@ mod tests {
     }
 
     #[test]
+    fn the_height_from_the_edges_is_the_height_from_the_vertices() {
+        // δ(x) = ½Σλ_i(v_i − x)ᵀH(v_i − x) = ½Σ_{i<j}λ_iλ_j e_ijᵀHe_ij for x = Σλ_i v_i.
+        let p = [
+            DVec3::new(0.1, -0.2, 0.9),
+            DVec3::new(0.5, 0.1, 0.8),
+            DVec3::new(-0.1, 0.4, 0.85),
+        ];
+        let n = [
+            DVec3::new(0.15, -0.25, 1.0).normalize(),
+            DVec3::new(0.6, 0.05, 0.8).normalize(),
+            DVec3::new(-0.2, 0.5, 0.9).normalize(),
+        ];
+        let shape = shape_of(p, n);
+        let face = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
+        let u = (p[1] - p[0]).normalize();
+        let w = face.cross(u);
+        let flat = |v: DVec3| [v.dot(u), v.dot(w)];
+        let h = shape.signed;
+        let form = |v: [f64; 2]| {
+            v[0] * (h[0][0] * v[0] + h[0][1] * v[1]) + v[1] * (h[1][0] * v[0] + h[1][1] * v[1])
+        };
+        let q = [p[1] - p[0], p[2] - p[1], p[0] - p[2]].map(|e| form(flat(e)));
+        for l in [
+            [0.5, 0.5, 0.0],
+            [0.2, 0.3, 0.5],
+            [1.0 / 3.0; 3],
+            [0.7, 0.1, 0.2],
+        ] {
+            let x = p[0] * l[0] + p[1] * l[1] + p[2] * l[2];
+            let direct = 0.5 * (0..3).map(|i| l[i] * form(flat(p[i] - x))).sum::<f64>();
+            let edges = 0.5 * (l[0] * l[1] * q[0] + l[1] * l[2] * q[1] + l[2] * l[0] * q[2]);
+            assert!(
+                (direct - edges).abs() <= 1e-12 * direct.abs().max(1e-6),
+                "{direct} {edges}"
+            );
+        }
+    }
+
+    #[test]
     fn the_signed_offset_finds_the_sphere_where_the_ray_meets_it() {
         // A triangle on the unit sphere seen obliquely from a nearby eye: at each interior
         // node the normal the offset gives is the sphere's where the eye's ray through the
@@ -1182,7 +1221,7 @@ mod tests {
             let b = eye.dot(d);
             let t = -b - (b * b - (eye.length_squared() - 1.0)).sqrt();
             let exact = (eye + d * t).normalize();
-            let got = offset.true_normal(x, l, &p, mesh_n);
+            let got = offset.true_normal(l, mesh_n);
             let before = mesh_n.angle_between(exact);
             let after = got.angle_between(exact);
             assert!(before > 1e-4, "{before}");

@@ -126,7 +126,7 @@ impl Nodal {
         // The truth at the interior nodes (at the vertices the mesh is on the surface and its
         // normals are the surface's: Phong's colours there).
         let truth = offset.map(|o| {
-            let t = inner.map(|(x, m, l)| (x, o.true_normal(x, l, &p, m)));
+            let t = inner.map(|(x, m, l)| (x, o.true_normal(l, m)));
             self.shade(&[t[0], t[1], t[2], t[3], t[3], t[3], t[3], t[3]])
         });
         let clamp = |v: f64| if self.clamps { v.clamp(0.0, 1.0) } else { v };
@@ -191,7 +191,7 @@ impl Nodal {
             let l = GRID_LAMBDA[k];
             let x = p[0] * l[0] + p[1] * l[1] + p[2] * l[2];
             let m = (n[0] * l[0] + n[1] * l[1] + n[2] * l[2]).normalize_or_zero();
-            let m = offset.map_or(m, |o| o.true_normal(x, l, &p, m));
+            let m = offset.map_or(m, |o| o.true_normal(l, m));
             (x, m)
         });
         let a = self.shade(&[
