@@ -388,7 +388,7 @@ fn object_estimate(
             (nodal.covers_gouraud() && !tri.back && nv.iter().all(|v| *v != DVec3::ZERO))
                 .then_some(|fine: bool| {
                     if fine {
-                        nodal.errors_fine(p, nv, face, None)
+                        nodal.errors_fine(p, nv, face)
                     } else {
                         nodal.errors(p, nv, face, tri.offset.as_ref())
                     }
@@ -752,32 +752,28 @@ impl Triangle {
         // (Phong's whole estimate) is still added to them in magnitude.
         let mut t = self.light_terms(sh, nodal.is_none());
         match nodal {
-            Some(errors) if t.smooth => {
+            Some(errors) if t.smooth || t.lobes_smooth => {
+                // Only a terminator is not smooth: the fine grid, which needs the bound's
+                // detailed terms for what it cannot resolve.
+                let fine = !t.smooth;
+                if fine {
+                    t = self.light_terms(sh, true);
+                }
                 let nodal::Errors {
                     flat,
                     gouraud,
                     against_truth,
-                } = errors(false);
+                } = errors(fine);
                 // Against Phong only: the geometric error (Phong's estimate) added.
                 let geo = if against_truth { [0.0; 3] } else { t.e[2] };
                 for ch in 0..3 {
-                    t.e[0][ch] = flat[ch] + geo[ch];
-                    t.e[1][ch] = gouraud[ch] + geo[ch];
-                }
-            }
-            Some(errors) if t.lobes_smooth => {
-                // A terminator inside the triangle: the fine grid, plus what it cannot
-                // resolve, a share of the bound's interpolation error (Gouraud's term: the
-                // truth's own deviation from linear over the triangle).
-                t = self.light_terms(sh, true);
-                let nodal::Errors {
-                    flat,
-                    gouraud,
-                    against_truth,
-                } = errors(true);
-                let geo = if against_truth { [0.0; 3] } else { t.e[2] };
-                for ch in 0..3 {
-                    let unresolved = nodal::FINE_UNRESOLVED * t.e[1][ch];
+                    // What the grid cannot resolve: a share of the bound's Gouraud term (the
+                    // truth's own deviation from linear over the triangle).
+                    let unresolved = if fine {
+                        nodal::FINE_UNRESOLVED * t.e[1][ch]
+                    } else {
+                        0.0
+                    };
                     t.e[0][ch] = flat[ch] + unresolved + geo[ch];
                     t.e[1][ch] = gouraud[ch] + unresolved + geo[ch];
                 }

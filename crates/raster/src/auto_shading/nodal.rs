@@ -173,25 +173,21 @@ impl Nodal {
     /// Per channel, the rms error over the triangle of flat and of Gouraud where the
     /// lighting has a kink inside it (a terminator: `max(n·l, 0)`, and the clamp to 1) that
     /// the seven-point interpolant of [`Nodal::errors`] cannot follow: the error field at the
-    /// [`FINE`]-grid's points (the same references as there), its rms that of its
+    /// [`FINE`]-grid's points against Phong's colour there, its rms that of its
     /// piecewise-linear interpolant over the grid's `FINE²` sub-triangles. A kink is then
     /// confined to the sub-triangles it crosses; the caller adds what the grid cannot
-    /// resolve ([`FINE_UNRESOLVED`] times the bound's interpolation error).
-    pub(super) fn errors_fine(
-        &self,
-        p: [DVec3; 3],
-        n: [DVec3; 3],
-        face: DVec3,
-        offset: Option<&Offset>,
-    ) -> Errors {
+    /// resolve ([`FINE_UNRESOLVED`] times the bound's interpolation error) and the geometric
+    /// error in magnitude. Not against the fitted surface with signs, as [`Nodal::errors`]
+    /// is: on a mesh whose vertices are off the surface (a subdivision level against its
+    /// limit) that went below the measured error.
+    pub(super) fn errors_fine(&self, p: [DVec3; 3], n: [DVec3; 3], face: DVec3) -> Errors {
         let centroid = (p[0] + p[1] + p[2]) / 3.0;
-        // The references at the grid's points off the vertices: the true surface's colour
-        // where the pixel's ray meets it, or Phong's at the mesh point.
+        // Phong's colour at the grid's points off the vertices: the mesh point with the
+        // interpolated normal.
         let inner = GRID_INNER.map(|k| {
             let l = GRID_LAMBDA[k];
             let x = p[0] * l[0] + p[1] * l[1] + p[2] * l[2];
             let m = (n[0] * l[0] + n[1] * l[1] + n[2] * l[2]).normalize_or_zero();
-            let m = offset.map_or(m, |o| o.true_normal(l, m));
             (x, m)
         });
         let a = self.shade(&[
@@ -234,7 +230,7 @@ impl Nodal {
         Errors {
             flat,
             gouraud,
-            against_truth: offset.is_some(),
+            against_truth: false,
         }
     }
 
@@ -562,13 +558,9 @@ mod tests {
         // Longitude 90° is the terminator (n·l = sin lon · cos lat).
         let p = [on(80.0, 0.0), on(105.0, 0.0), on(90.0, 15.0)];
         let face = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
-        let got = nodal.errors_fine(p, p, face, None);
+        let got = nodal.errors_fine(p, p, face);
         assert!(!got.against_truth);
-        let shade1 = |x: DVec3, n: DVec3| {
-            let mut pts = [(x, n); LANES];
-            pts[1] = (x, n);
-            nodal.shade(&pts).map(|c| c[0] as f64)
-        };
+        let shade1 = |x: DVec3, n: DVec3| nodal.shade(&[(x, n); LANES]).map(|c| c[0] as f64);
         let c = p.map(|v| shade1(v, v));
         let (mut s, mut count) = (0.0, 0usize);
         let steps = 120;
