@@ -13,7 +13,7 @@
 
 use glam::Vec3;
 
-use super::lanes::{normalize_lanes, Lanes, LANES};
+use super::lanes::{from_lanes, normalize_lanes, Lanes, LANES};
 use super::light_set::Geometry;
 use super::pow::pow01;
 use super::surface::{Surface, SurfaceLight};
@@ -200,9 +200,7 @@ impl Surface {
         if let (true, Some(d)) = (SPECULAR, self.infinite_view) {
             v = [[d.x; LANES], [d.y; LANES], [d.z; LANES]];
         } else if SPECULAR {
-            normalize_lanes(&mut v, |k| {
-                (eye.x - p[0][k], eye.y - p[1][k], eye.z - p[2][k])
-            });
+            normalize_lanes(&mut v, &from_lanes(eye, p));
         }
         // `None` under `AllVisible` (and for every light): the branches below fold away.
         let shin = vis.shininess();
@@ -374,7 +372,7 @@ fn point_lanes_body(
     att: &mut Lanes,
     ambient: &mut [Lanes; 3],
 ) {
-    normalize_lanes(l, |k| (q.x - p[0][k], q.y - p[1][k], q.z - p[2][k]));
+    normalize_lanes(l, &from_lanes(q, p));
     match light.attenuation {
         Some(kk) => {
             for k in 0..LANES {

@@ -198,18 +198,17 @@ impl<'a> PhongBatch<'a> {
         let eye = ctx.eye;
         let len = self.len.min(LANES);
         if let Some(m) = self.material.filter(|_| len > 0) {
-            let raw = &self.n;
-            let raw = |k: usize| (raw[0][k], raw[1][k], raw[2][k]);
+            let raw = head(&self.n);
             let p = head(&self.p);
             let lit = match &ctx.shadows {
                 Some(shadows) if SHADOWS => {
                     let mut n = [[0.0; LANES]; 3];
-                    normalize_lanes(&mut n, raw);
+                    normalize_lanes(&mut n, &raw);
                     let g = head(&self.g);
                     shadows.visibility(&n, &p, &g, len, &mut self.vis);
                     m.terms_lanes_visible::<Folded>(&n, &p, eye, &self.vis).0
                 }
-                _ => light_lanes(m, raw, &p, eye),
+                _ => light_lanes(m, &raw, &p, eye),
             };
             let depth: Lanes = self.depth[..LANES].try_into().expect("ROOM > LANES");
             finish_batch(ctx, lit, &self.at[..len], &depth, rect, color);
@@ -218,16 +217,11 @@ impl<'a> PhongBatch<'a> {
     }
 }
 
-/// Lights [`LANES`] pixels of material `m` without shadows: the raw normals (`raw(k)` for
-/// lane k, not yet normalised) normalised, then the lighting equation at positions `p`.
-/// One function for the batch and a run's whole groups, so both give the same pixels.
+/// Lights [`LANES`] pixels of material `m` without shadows: the raw normals `raw` (not yet
+/// normalised) normalised, then the lighting equation at positions `p`. One function for
+/// the batch and a run's whole groups, so both give the same pixels.
 #[inline(always)]
-fn light_lanes(
-    m: &Surface,
-    raw: impl Fn(usize) -> (f32, f32, f32),
-    p: &[Lanes; 3],
-    eye: Vec3,
-) -> [Lanes; 3] {
+fn light_lanes(m: &Surface, raw: &[Lanes; 3], p: &[Lanes; 3], eye: Vec3) -> [Lanes; 3] {
     let mut n = [[0.0; LANES]; 3];
     normalize_lanes(&mut n, raw);
     m.shade_lanes(&n, p, eye)
@@ -490,9 +484,7 @@ pub(super) fn shade_phong<
                 if !SHADOWS && live == LANES {
                     // A whole group of the run is lit where it was interpolated: no copy
                     // into the batch and out again (same inputs, same pixels).
-                    let raw = &lanes.n;
-                    let raw = |k: usize| (raw[0][k], raw[1][k], raw[2][k]);
-                    let lit = light_lanes(m, raw, &lanes.p, ctx.eye);
+                    let lit = light_lanes(m, &lanes.n, &lanes.p, ctx.eye);
                     if ctx.program.is_empty() {
                         // Consecutive pixels: stored as a row, not through per-pixel slots.
                         P::store_group(&mut color[j][s * 3..(s + LANES) * 3], &lit);
