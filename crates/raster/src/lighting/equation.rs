@@ -200,7 +200,7 @@ impl Surface {
         if let (true, Some(d)) = (SPECULAR, self.infinite_view) {
             v = [[d.x; LANES], [d.y; LANES], [d.z; LANES]];
         } else if SPECULAR {
-            normalize_lanes(&mut v, &from_lanes(eye, p));
+            normalize_lanes(&mut v, &from_lanes(eye, p), self.wide());
         }
         // `None` under `AllVisible` (and for every light): the branches below fold away.
         let shin = vis.shininess();
@@ -341,7 +341,7 @@ pub(super) fn point_lanes(
         return unsafe { point_lanes_avx2(light, q, p, l, att, ambient) };
     }
     let _ = wide;
-    point_lanes_body(light, q, p, l, att, ambient)
+    point_lanes_body(light, q, p, l, att, ambient, false)
 }
 
 /// [`point_lanes`] compiled for AVX2 + FMA.
@@ -358,7 +358,7 @@ unsafe fn point_lanes_avx2(
     att: &mut Lanes,
     ambient: &mut [Lanes; 3],
 ) {
-    point_lanes_body(light, q, p, l, att, ambient)
+    point_lanes_body(light, q, p, l, att, ambient, true)
 }
 
 /// [`point_lanes`]' work, inlined into each copy.
@@ -371,8 +371,9 @@ fn point_lanes_body(
     l: &mut [Lanes; 3],
     att: &mut Lanes,
     ambient: &mut [Lanes; 3],
+    wide: bool,
 ) {
-    normalize_lanes(l, &from_lanes(q, p));
+    normalize_lanes(l, &from_lanes(q, p), wide);
     match light.attenuation {
         Some(kk) => {
             for k in 0..LANES {

@@ -24,42 +24,94 @@ pub(crate) fn set_lane<const N: usize>(v: &mut [[f32; N]; 3], k: usize, x: Vec3)
 /// Normalises the vectors `v` into `out`: `v · (1 / √|v|²)` per lane, and zero where
 /// `|v|²` is zero or NaN.
 ///
-/// On x86-64 in SSE intrinsics, two halves of four lanes: as lane loops, LLVM's SLP
-/// vectoriser split the eight lanes into scalar and 2- and 4-lane pieces with shuffles
-/// and, where Phong lights a run's whole group, branched per lane around `sqrtss` and
-/// `divss` (perf put 12 % of a Phong tile on them and on the stalled reloads between the
-/// pieces). Each lane is the same IEEE operations in the same order either way (no fused
-/// multiply-add), so the bits are those of the lane loop kept for other architectures
-/// (`lighting::tests::normalize_lanes_matches_the_scalar_form`).
+/// On x86-64 in intrinsics: eight lanes in AVX when `wide` (the render's ISA is AVX2:
+/// inlined into the AVX2 tile bodies, which have the feature), else two SSE halves. As
+/// lane loops, LLVM's SLP vectoriser split the eight lanes into scalar and 2- and 4-lane
+/// pieces with shuffles and, where Phong lights a run's whole group, branched per lane
+/// around `sqrtss` and `divss` (perf put 12 % of a Phong tile on them and on the stalled
+/// reloads between the pieces); SSE halves stored where AVX loads read stalled store
+/// forwarding in turn. Each lane is the same IEEE operations in the same order in every
+/// form (no fused multiply-add), so the bits are those of the lane loop kept for other
+/// architectures (`normalize_lanes_matches_the_scalar_form`).
 #[inline(always)]
-pub(crate) fn normalize_lanes(out: &mut [Lanes; 3], v: &[Lanes; 3]) {
+pub(crate) fn normalize_lanes(out: &mut [Lanes; 3], v: &[Lanes; 3], wide: bool) {
     #[cfg(target_arch = "x86_64")]
     {
-        use std::arch::x86_64::*;
-        // SAFETY: SSE and SSE2 are part of x86-64; every load and store reads or writes four
-        // of a lane array's eight f32 at offset 0 or 4.
-        unsafe {
-            let (zero, one) = (_mm_setzero_ps(), _mm_set1_ps(1.0));
-            for h in [0, 4] {
-                let x = _mm_loadu_ps(v[0].as_ptr().add(h));
-                let y = _mm_loadu_ps(v[1].as_ptr().add(h));
-                let z = _mm_loadu_ps(v[2].as_ptr().add(h));
-                let len2 = _mm_add_ps(
-                    _mm_add_ps(_mm_mul_ps(x, x), _mm_mul_ps(y, y)),
-                    _mm_mul_ps(z, z),
-                );
-                // len2 > 0, false for NaN; the root of 1 where not (only the result is kept).
-                let ok = _mm_cmpgt_ps(len2, zero);
-                let s = _mm_sqrt_ps(_mm_or_ps(_mm_and_ps(ok, len2), _mm_andnot_ps(ok, one)));
-                let inv = _mm_and_ps(ok, _mm_div_ps(one, s));
-                _mm_storeu_ps(out[0].as_mut_ptr().add(h), _mm_mul_ps(x, inv));
-                _mm_storeu_ps(out[1].as_mut_ptr().add(h), _mm_mul_ps(y, inv));
-                _mm_storeu_ps(out[2].as_mut_ptr().add(h), _mm_mul_ps(z, inv));
-            }
+        if wide {
+            // SAFETY: `wide` only where the render's ISA is AVX2 (or a surface's
+            // `with_wide_lanes`), both detected on this CPU.
+            unsafe { normalize_lanes_avx(out, v) };
+        } else {
+            normalize_lanes_sse(out, v);
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
-    normalize_lanes_scalar(out, v);
+    {
+        let _ = wide;
+        normalize_lanes_scalar(out, v);
+    }
+}
+
+/// [`normalize_lanes`] in AVX, all eight lanes at once.
+///
+/// # Safety
+/// The CPU must support AVX.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+#[inline]
+unsafe fn normalize_lanes_avx(out: &mut [Lanes; 3], v: &[Lanes; 3]) {
+    use std::arch::x86_64::*;
+    let (zero, one) = (_mm256_setzero_ps(), _mm256_set1_ps(1.0));
+    // SAFETY: each load reads one lane array's eight f32.
+    let (x, y, z) = unsafe {
+        (
+            _mm256_loadu_ps(v[0].as_ptr()),
+            _mm256_loadu_ps(v[1].as_ptr()),
+            _mm256_loadu_ps(v[2].as_ptr()),
+        )
+    };
+    let len2 = _mm256_add_ps(
+        _mm256_add_ps(_mm256_mul_ps(x, x), _mm256_mul_ps(y, y)),
+        _mm256_mul_ps(z, z),
+    );
+    // Ordered, non-signalling len2 > 0: false for NaN, as `>`.
+    let ok = _mm256_cmp_ps::<_CMP_GT_OQ>(len2, zero);
+    let s = _mm256_sqrt_ps(_mm256_blendv_ps(one, len2, ok));
+    let inv = _mm256_and_ps(ok, _mm256_div_ps(one, s));
+    // SAFETY: each store writes one lane array's eight f32.
+    unsafe {
+        _mm256_storeu_ps(out[0].as_mut_ptr(), _mm256_mul_ps(x, inv));
+        _mm256_storeu_ps(out[1].as_mut_ptr(), _mm256_mul_ps(y, inv));
+        _mm256_storeu_ps(out[2].as_mut_ptr(), _mm256_mul_ps(z, inv));
+    }
+}
+
+/// [`normalize_lanes`] in SSE, two halves of four lanes (what every x86-64 has).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn normalize_lanes_sse(out: &mut [Lanes; 3], v: &[Lanes; 3]) {
+    use std::arch::x86_64::*;
+    // SAFETY: SSE and SSE2 are part of x86-64; every load and store reads or writes four
+    // of a lane array's eight f32 at offset 0 or 4.
+    unsafe {
+        let (zero, one) = (_mm_setzero_ps(), _mm_set1_ps(1.0));
+        for h in [0, 4] {
+            let x = _mm_loadu_ps(v[0].as_ptr().add(h));
+            let y = _mm_loadu_ps(v[1].as_ptr().add(h));
+            let z = _mm_loadu_ps(v[2].as_ptr().add(h));
+            let len2 = _mm_add_ps(
+                _mm_add_ps(_mm_mul_ps(x, x), _mm_mul_ps(y, y)),
+                _mm_mul_ps(z, z),
+            );
+            // len2 > 0, false for NaN; the root of 1 where not (only the result is kept).
+            let ok = _mm_cmpgt_ps(len2, zero);
+            let s = _mm_sqrt_ps(_mm_or_ps(_mm_and_ps(ok, len2), _mm_andnot_ps(ok, one)));
+            let inv = _mm_and_ps(ok, _mm_div_ps(one, s));
+            _mm_storeu_ps(out[0].as_mut_ptr().add(h), _mm_mul_ps(x, inv));
+            _mm_storeu_ps(out[1].as_mut_ptr().add(h), _mm_mul_ps(y, inv));
+            _mm_storeu_ps(out[2].as_mut_ptr().add(h), _mm_mul_ps(z, inv));
+        }
+    }
 }
 
 /// [`normalize_lanes`] as plain lane loops: the definition its SIMD form keeps to.
@@ -130,8 +182,15 @@ mod tests {
                 std::array::from_fn(|k| awkward(seed / 16usize.pow(axis as u32) + 5 * k))
             });
             let (mut got, mut want) = ([[0.0; LANES]; 3], [[0.0; LANES]; 3]);
-            normalize_lanes(&mut got, &v);
+            normalize_lanes(&mut got, &v, false);
             normalize_lanes_scalar(&mut want, &v);
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx") {
+                let mut wide = [[0.0; LANES]; 3];
+                normalize_lanes(&mut wide, &v, true);
+                let bits = |a: [Lanes; 3]| a.map(|a| a.map(f32::to_bits));
+                assert_eq!(bits(wide), bits(got), "{v:?}");
+            }
             for axis in 0..3 {
                 for k in 0..LANES {
                     let (g, w) = (got[axis][k], want[axis][k]);
@@ -142,9 +201,9 @@ mod tests {
         // A unit vector stays unit, zero stays zero.
         let v = [[3.0; LANES], [4.0; LANES], [0.0; LANES]];
         let mut n = [[9.0; LANES]; 3];
-        normalize_lanes(&mut n, &v);
+        normalize_lanes(&mut n, &v, false);
         assert_eq!(n, [[0.6; LANES], [0.8; LANES], [0.0; LANES]]);
-        normalize_lanes(&mut n, &[[0.0; LANES]; 3]);
+        normalize_lanes(&mut n, &[[0.0; LANES]; 3], false);
         assert_eq!(n, [[0.0; LANES]; 3]);
     }
 }

@@ -152,7 +152,7 @@ impl Surface {
 
     /// Whether [`Surface::with_wide_lanes`] chose the AVX2 + FMA copies.
     #[inline(always)]
-    pub(super) fn wide(&self) -> bool {
+    pub(crate) fn wide(&self) -> bool {
         self.wide
     }
 

@@ -82,7 +82,7 @@ mod tests {
         let folded = Surface::folded(&m, Vec3::splat(0.2), &set, SpecularModel::BlinnPhong);
         let n = [[0.1; LANES], [1.0; LANES], [0.05; LANES]];
         let mut nn = [[0.0; LANES]; 3];
-        normalize_lanes(&mut nn, &n);
+        normalize_lanes(&mut nn, &n, false);
         let p = [[0.0; LANES], [0.0; LANES], [0.3; LANES]];
         let eye = Vec3::new(0.0, 1.0, 4.0);
         let vis: Lanes = std::array::from_fn(|k| k as f32 / (LANES - 1) as f32);
@@ -137,7 +137,7 @@ mod tests {
         let set = LightSet::new(&lights);
         let n = [[0.1; LANES], [1.0; LANES], [0.05; LANES]];
         let mut nn = [[0.0; LANES]; 3];
-        normalize_lanes(&mut nn, &n);
+        normalize_lanes(&mut nn, &n, false);
         let p = [[0.0; LANES], [0.0; LANES], [0.3; LANES]];
         let eye = Vec3::new(0.0, 1.0, 4.0);
         let f: Lanes = std::array::from_fn(|k| 5.0 * (k + 1) as f32);

@@ -256,7 +256,7 @@ pub(crate) fn sample_tile<P: Pixel, const AFFINE: bool>(
         }
         accumulate(rect, &rows, count, acc, k == 0);
     }
-    resolve(rect, acc, n, color);
+    resolve(rect, acc, n, color, ctx.wide());
 }
 
 /// Groups each pixel's samples by owner into the layers (most samples first, ties in
@@ -393,13 +393,15 @@ fn accumulate(
     }
 }
 
-/// Writes `acc / n` into the user's rows: the only write of a multi-sample tile's colour.
+/// Writes `acc / n` into the user's rows: the only write of a multi-sample tile's colour
+/// (`wide`: the render runs on AVX2, see [`Pixel::store_row`]).
 #[inline(always)]
 fn resolve<P: Pixel>(
     rect: TileRect,
     acc: &[[f32; TILE * TILE]],
     n: usize,
     color: &mut [&mut [Out<P>]],
+    wide: bool,
 ) {
     // n is a power of two: multiplying by 1/n is exact, so a pixel whose samples all belong
     // to one surface gets exactly that surface's colour, as with one sample.
@@ -411,7 +413,7 @@ fn resolve<P: Pixel>(
                 row_colors[ch][i] = a[j * TILE + i] * inv_n;
             }
         }
-        P::store_row(&mut out[..rect.w * 3], &row_colors);
+        P::store_row(&mut out[..rect.w * 3], &row_colors, wide);
     }
 }
 

@@ -283,7 +283,7 @@ impl<'a> LinePass<'a> {
                 row_colors[1][i] = c.y;
                 row_colors[2][i] = c.z;
             }
-            P::store_row(&mut dst[..rect.w * 3], &row_colors);
+            P::store_row(&mut dst[..rect.w * 3], &row_colors, ctx.wide());
             if let Some(rows) = coverage_out.as_deref_mut() {
                 for (i, o) in rows[j][..rect.w].iter_mut().enumerate() {
                     let slot = j * TILE + i;

@@ -132,7 +132,7 @@ pub(crate) fn shade_mixed_tile<P: Pixel, const AFFINE: bool>(
                 c[i] = work.merged[(j * TILE + i) * 3 + ch];
             }
         }
-        P::store_row(&mut out[..rect.w * 3], &row_colors);
+        P::store_row(&mut out[..rect.w * 3], &row_colors, ctx.wide());
     }
     if let Some(rows) = depth {
         for (j, out) in rows.iter_mut().enumerate().take(rect.h) {

@@ -76,6 +76,18 @@ pub(crate) struct ShadeContext<'a> {
 }
 
 impl ShadeContext<'_> {
+    /// Whether the render runs on AVX2 + FMA ([`Isa::Avx2`], detected on this CPU and not
+    /// turned off by `baseline_isa`): the kernels written in intrinsics (normalisation,
+    /// quantisation, Phong's interpolation) then take their AVX forms, inlined into the
+    /// AVX2 tile bodies.
+    #[inline(always)]
+    pub(crate) fn wide(&self) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        return self.isa == Isa::Avx2;
+        #[cfg(not(target_arch = "x86_64"))]
+        false
+    }
+
     /// Eye depth of a pixel from its stored z and interpolated 1/w, when `wanted` (depth
     /// output or fog); 0 otherwise, saving a division per pixel. `AFFINE` (screen-space
     /// weights, which sum to 1, not to 1/w): from the stored z alone.

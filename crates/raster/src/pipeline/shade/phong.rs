@@ -203,12 +203,12 @@ impl<'a> PhongBatch<'a> {
             let lit = match &ctx.shadows {
                 Some(shadows) if SHADOWS => {
                     let mut n = [[0.0; LANES]; 3];
-                    normalize_lanes(&mut n, &raw);
+                    normalize_lanes(&mut n, &raw, ctx.wide());
                     let g = head(&self.g);
                     shadows.visibility(&n, &p, &g, len, &mut self.vis);
                     m.terms_lanes_visible::<Folded>(&n, &p, eye, &self.vis).0
                 }
-                _ => light_lanes(m, &raw, &p, eye),
+                _ => light_lanes(m, &raw, &p, eye, ctx.wide()),
             };
             let depth: Lanes = self.depth[..LANES].try_into().expect("ROOM > LANES");
             finish_batch(ctx, lit, &self.at[..len], &depth, rect, color);
@@ -221,9 +221,9 @@ impl<'a> PhongBatch<'a> {
 /// normalised) normalised, then the lighting equation at positions `p`. One function for
 /// the batch and a run's whole groups, so both give the same pixels.
 #[inline(always)]
-fn light_lanes(m: &Surface, raw: &[Lanes; 3], p: &[Lanes; 3], eye: Vec3) -> [Lanes; 3] {
+fn light_lanes(m: &Surface, raw: &[Lanes; 3], p: &[Lanes; 3], eye: Vec3, wide: bool) -> [Lanes; 3] {
     let mut n = [[0.0; LANES]; 3];
-    normalize_lanes(&mut n, raw);
+    normalize_lanes(&mut n, raw, wide);
     m.shade_lanes(&n, p, eye)
 }
 
@@ -235,6 +235,106 @@ struct RunLanes {
     p: [Lanes; 3],
     /// Eye depth of each lane (0 unless wanted).
     depth: Lanes,
+}
+
+impl RowPlanes {
+    /// 1/w, the normal (not normalised) and the position of the row's pixels `k0 + k`
+    /// (k < [`LANES`]), as [`RowPlanes::at`] per lane. In AVX when `wide` (the render's ISA
+    /// is AVX2; inlined into its tile bodies): as lane loops, LLVM kept the planes' start and step values
+    /// in stack copies and reloaded them, a store-forwarding stall that perf put at 12 % of a
+    /// Phong tile. The same operations per lane either way, so the same bits.
+    #[inline(always)]
+    fn interpolate(
+        &self,
+        k0: usize,
+        inv_w: &mut Lanes,
+        n: &mut [Lanes; 3],
+        p: &mut [Lanes; 3],
+        wide: bool,
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        if wide {
+            // SAFETY: `wide` only where the render's ISA is AVX2, detected on this CPU.
+            unsafe { self.interpolate_avx(k0, inv_w, n, p) };
+            return;
+        }
+        let _ = wide;
+        self.interpolate_lanes(k0, inv_w, n, p);
+    }
+
+    /// [`RowPlanes::interpolate`] as lane loops.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // lane loops index several arrays
+    fn interpolate_lanes(
+        &self,
+        k0: usize,
+        inv_w: &mut Lanes,
+        n: &mut [Lanes; 3],
+        p: &mut [Lanes; 3],
+    ) {
+        let (s, d) = (&self.start, &self.step);
+        let mut kf: Lanes = [0.0; LANES];
+        let mut r: Lanes = [0.0; LANES];
+        for k in 0..LANES {
+            // Via i32: one SIMD conversion (k0 + k < TILE + LANES).
+            kf[k] = (k0 + k) as i32 as f32;
+            inv_w[k] = s[0] + d[0] * kf[k];
+            r[k] = 1.0 / inv_w[k];
+        }
+        for axis in 0..3 {
+            let (sn, dn, sp, dp) = (s[1 + axis], d[1 + axis], s[4 + axis], d[4 + axis]);
+            for k in 0..LANES {
+                n[axis][k] = (sn + dn * kf[k]) * r[k];
+                p[axis][k] = (sp + dp * kf[k]) * r[k];
+            }
+        }
+    }
+
+    /// [`RowPlanes::interpolate`] in AVX.
+    ///
+    /// # Safety
+    /// The CPU must support AVX.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    #[inline]
+    unsafe fn interpolate_avx(
+        &self,
+        k0: usize,
+        inv_w: &mut Lanes,
+        n: &mut [Lanes; 3],
+        p: &mut [Lanes; 3],
+    ) {
+        use std::arch::x86_64::*;
+        let (s, d) = (&self.start, &self.step);
+        // k0 + k as f32, exact (k0 + k < TILE + LANES), as the lane loop's i32 conversion.
+        let base = k0 as i32;
+        let kf = _mm256_cvtepi32_ps(_mm256_setr_epi32(
+            base,
+            base + 1,
+            base + 2,
+            base + 3,
+            base + 4,
+            base + 5,
+            base + 6,
+            base + 7,
+        ));
+        let at = |c: usize| {
+            _mm256_add_ps(
+                _mm256_set1_ps(s[c]),
+                _mm256_mul_ps(_mm256_set1_ps(d[c]), kf),
+            )
+        };
+        let w = at(0);
+        let r = _mm256_div_ps(_mm256_set1_ps(1.0), w);
+        // SAFETY: each store writes one lane array's eight f32.
+        unsafe {
+            _mm256_storeu_ps(inv_w.as_mut_ptr(), w);
+            for axis in 0..3 {
+                _mm256_storeu_ps(n[axis].as_mut_ptr(), _mm256_mul_ps(at(1 + axis), r));
+                _mm256_storeu_ps(p[axis].as_mut_ptr(), _mm256_mul_ps(at(4 + axis), r));
+            }
+        }
+    }
 }
 
 impl RowPlanes {
@@ -254,25 +354,10 @@ impl RowPlanes {
         want_depth: bool,
         out: &mut RunLanes,
     ) {
-        let (s, d) = (&self.start, &self.step);
-        let mut kf: Lanes = [0.0; LANES];
         let mut inv_w: Lanes = [0.0; LANES];
-        let mut r: Lanes = [0.0; LANES];
-        for k in 0..LANES {
-            // Via i32: one SIMD conversion (k0 + k < TILE + LANES).
-            kf[k] = (k0 + k) as i32 as f32;
-            inv_w[k] = s[0] + d[0] * kf[k];
-            r[k] = 1.0 / inv_w[k];
-        }
+        self.interpolate(k0, &mut inv_w, &mut out.n, &mut out.p, ctx.wide());
         for k in 0..LANES {
             out.depth[k] = ctx.eye_depth::<AFFINE>(want_depth, z[k], inv_w[k]);
-        }
-        for axis in 0..3 {
-            let (sn, dn, sp, dp) = (s[1 + axis], d[1 + axis], s[4 + axis], d[4 + axis]);
-            for k in 0..LANES {
-                out.n[axis][k] = (sn + dn * kf[k]) * r[k];
-                out.p[axis][k] = (sp + dp * kf[k]) * r[k];
-            }
         }
         // A zero or unusable blend takes the face normal instead: found over whole lanes
         // (SIMD), fixed up one lane at a time (rare).
@@ -345,6 +430,7 @@ impl<'a> PhongBatch<'a> {
         g: Vec3,
         lanes: &RunLanes,
         live: usize,
+        want_depth: bool,
         (j, i): (usize, usize),
         color: &mut [&mut [Out<P>]],
     ) {
@@ -366,7 +452,11 @@ impl<'a> PhongBatch<'a> {
         for (k, slot) in self.at[at..at + LANES].iter_mut().enumerate() {
             *slot = (j, i + k);
         }
-        self.depth[at..at + LANES].copy_from_slice(&lanes.depth);
+        if want_depth {
+            // Read by the program's stages only (fog); unread, the copy stalled on the
+            // lanes' scalar stores (7 % of a Phong tile in perf).
+            self.depth[at..at + LANES].copy_from_slice(&lanes.depth);
+        }
         self.len += live;
         if self.len >= LANES {
             self.flush::<P, SHADOWS>(ctx, rect, color);
@@ -484,17 +574,27 @@ pub(super) fn shade_phong<
                 if !SHADOWS && live == LANES {
                     // A whole group of the run is lit where it was interpolated: no copy
                     // into the batch and out again (same inputs, same pixels).
-                    let lit = light_lanes(m, &lanes.n, &lanes.p, ctx.eye);
+                    let lit = light_lanes(m, &lanes.n, &lanes.p, ctx.eye, ctx.wide());
                     if ctx.program.is_empty() {
                         // Consecutive pixels: stored as a row, not through per-pixel slots.
-                        P::store_group(&mut color[j][s * 3..(s + LANES) * 3], &lit);
+                        P::store_group(&mut color[j][s * 3..(s + LANES) * 3], &lit, ctx.wide());
                     } else {
                         let at: [(usize, usize); LANES] = std::array::from_fn(|k| (j, s + k));
                         finish_batch(ctx, lit, &at, &lanes.depth, rect, color);
                     }
                     continue;
                 }
-                batch.extend::<P, SHADOWS>(ctx, rect, m, face, &lanes, live, (j, s), color);
+                batch.extend::<P, SHADOWS>(
+                    ctx,
+                    rect,
+                    m,
+                    face,
+                    &lanes,
+                    live,
+                    want_depth,
+                    (j, s),
+                    color,
+                );
             }
             i = end;
         }
@@ -511,5 +611,54 @@ pub(super) fn face_normal(t: &SetupTri, world: &[Vec3]) -> Vec3 {
         -n
     } else {
         n
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The AVX interpolation gives the lane loops' bits (and `at`'s, per lane) for every
+    /// start column of a tile row and planes of every sign and scale.
+    #[test]
+    fn interpolate_forms_agree() {
+        let value = |k: usize| {
+            let m = [1.0f32, -3.5e-3, 7.25, -0.0, 1e-7, -2.5e4, 0.3333, 12.0][k % 8];
+            m * (1.0 + (k / 8) as f32 * 0.37)
+        };
+        for seed in 0..16 {
+            let row = RowPlanes {
+                start: std::array::from_fn(|k| value(k + seed)),
+                step: std::array::from_fn(|k| value(k * 3 + seed + 1) * 1e-2),
+            };
+            for k0 in 0..TILE {
+                let (mut w, mut n, mut p) = ([0.0; LANES], [[0.0; LANES]; 3], [[0.0; LANES]; 3]);
+                #[cfg(target_arch = "x86_64")]
+                let wide = std::arch::is_x86_feature_detected!("avx");
+                #[cfg(not(target_arch = "x86_64"))]
+                let wide = false;
+                row.interpolate(k0, &mut w, &mut n, &mut p, wide);
+                let (mut w2, mut n2, mut p2) = ([0.0; LANES], [[0.0; LANES]; 3], [[0.0; LANES]; 3]);
+                row.interpolate_lanes(k0, &mut w2, &mut n2, &mut p2);
+                let bits = |a: &Lanes| a.map(f32::to_bits);
+                assert_eq!(bits(&w), bits(&w2));
+                for axis in 0..3 {
+                    assert_eq!(bits(&n[axis]), bits(&n2[axis]));
+                    assert_eq!(bits(&p[axis]), bits(&p2[axis]));
+                }
+                for k in 0..LANES {
+                    let (aw, an, ap) = row.at((k0 + k) as f32);
+                    assert_eq!(aw.to_bits(), w[k].to_bits());
+                    assert_eq!(
+                        an.map(f32::to_bits),
+                        [n[0][k], n[1][k], n[2][k]].map(f32::to_bits)
+                    );
+                    assert_eq!(
+                        ap.map(f32::to_bits),
+                        [p[0][k], p[1][k], p[2][k]].map(f32::to_bits)
+                    );
+                }
+            }
+        }
     }
 }

@@ -232,7 +232,7 @@ pub(crate) fn light_vertices_by_faces(
                         }
                     }
                     let mut nl = [[0.0; LANES]; 3];
-                    normalize_lanes(&mut nl, &raw);
+                    normalize_lanes(&mut nl, &raw, surface.wide());
                     let c = lit(surface, shadows, &nl, &p, group.len(), eye);
                     (0..group.len()).map(move |k| Vec3::new(c[0][k], c[1][k], c[2][k]))
                 })
@@ -310,7 +310,7 @@ pub(crate) fn light_faces(
                 }
             }
             let mut n = [[0.0; LANES]; 3];
-            normalize_lanes(&mut n, &raw);
+            normalize_lanes(&mut n, &raw, surface.wide());
             let c = lit(surface, shadows, &n, &p, group.len(), eye);
             for (k, &i) in group.iter().enumerate() {
                 tris[i].flat = Vec3::new(c[0][k], c[1][k], c[2][k]);

@@ -112,7 +112,7 @@ pub(super) fn finish_batch<P: Pixel>(
     for stage in &ctx.program {
         stage.run(ctx, &mut frags);
     }
-    P::store_lanes(color, at, &frags.color);
+    P::store_lanes(color, at, &frags.color, ctx.wide());
 }
 
 impl<'a> IntoIterator for &'a Program {

@@ -181,7 +181,7 @@ fn gouraud_rows<P: Pixel, const AFFINE: bool>(
             }
             i = end;
         }
-        P::store_row(&mut row[..rect.w * 3], &lin);
+        P::store_row(&mut row[..rect.w * 3], &lin, ctx.wide());
     }
 }
 

@@ -35,30 +35,38 @@ pub trait Pixel: sealed::Sealed + Copy + Default + Send + Sync + 'static {
     fn put_stored(dst: &mut [Out<Self>], row: &[Self::Stored]);
 
     /// Writes the first `dst.len() / 3` colours of the row `c` (`c[channel][pixel]`) into
-    /// the output `dst`, as [`Pixel::store`] would one by one.
+    /// the output `dst`, as [`Pixel::store`] would one by one. `wide`: the render runs on
+    /// AVX2 ([`Isa::Avx2`](crate::pipeline::isa::Isa)), whose instructions the stores may use.
     #[doc(hidden)]
     #[inline(always)]
-    fn store_row(dst: &mut [MaybeUninit<Self>], c: &RowColors) {
+    fn store_row(dst: &mut [MaybeUninit<Self>], c: &RowColors, _wide: bool) {
         for (k, px) in dst.chunks_exact_mut(3).enumerate() {
             store_out(px, lane(c, k));
         }
     }
 
     /// Writes the [`LANES`] colours `c` (`c[channel][lane]`) to the [`LANES`] consecutive
-    /// pixels of `dst` (`3 · LANES` samples), as [`Pixel::store`] would one by one.
+    /// pixels of `dst` (`3 · LANES` samples), as [`Pixel::store`] would one by one
+    /// (`wide` as for [`Pixel::store_row`]).
     #[doc(hidden)]
     #[inline(always)]
-    fn store_group(dst: &mut [Out<Self>], c: &[Lanes; 3]) {
+    fn store_group(dst: &mut [Out<Self>], c: &[Lanes; 3], _wide: bool) {
         for (k, px) in dst.chunks_exact_mut(3).take(LANES).enumerate() {
             store_out(px, lane(c, k));
         }
     }
 
     /// Writes lane `k` of `c` (`c[channel][lane]`) to tile slot `at[k]` = (row, column) of
-    /// the output rows `rows`, for every `k < at.len()`, as [`Pixel::store`] would one by one.
+    /// the output rows `rows`, for every `k < at.len()`, as [`Pixel::store`] would one by one
+    /// (`wide` as for [`Pixel::store_row`]).
     #[doc(hidden)]
     #[inline(always)]
-    fn store_lanes(rows: &mut [&mut [Out<Self>]], at: &[(usize, usize)], c: &[Lanes; 3]) {
+    fn store_lanes(
+        rows: &mut [&mut [Out<Self>]],
+        at: &[(usize, usize)],
+        c: &[Lanes; 3],
+        _wide: bool,
+    ) {
         let [r, g, b] = c;
         for (((&(j, i), r), g), b) in at.iter().zip(r).zip(g).zip(b) {
             store_out(&mut rows[j][i * 3..i * 3 + 3], Vec3::new(*r, *g, *b));
@@ -121,41 +129,89 @@ fn quantize_i32(v: f32) -> i32 {
 }
 
 /// `LANES` colours quantised ([`quantize_i32`]), each pixel's three samples in the low
-/// bytes of a u32. On x86-64 in SSE2 intrinsics, four lanes at a time: as a lane loop,
+/// bytes of a u32. On x86-64 in intrinsics, eight lanes in AVX2 when `wide` (the render's
+/// ISA is AVX2: inlined into the AVX2 tile bodies), else four at a time in SSE2: as a lane loop,
 /// LLVM compiled it to scalar conversions where Phong stores a run's whole group (perf:
 /// `cvttss2si` per sample). The same operations per sample: `maxps` returns its second
 /// operand (0) for a NaN, as `f32::max` does, and the value converted is in [0, 255].
 #[inline(always)]
-fn pack_window(r: &[f32], g: &[f32], b: &[f32]) -> [u32; LANES] {
+fn pack_window(r: &[f32], g: &[f32], b: &[f32], wide: bool) -> [u32; LANES] {
     let (r, g, b) = (&r[..LANES], &g[..LANES], &b[..LANES]);
     #[cfg(target_arch = "x86_64")]
     {
-        use std::arch::x86_64::*;
-        let mut packed = [0u32; LANES];
-        // SAFETY: SSE2 is part of x86-64; each load reads four of a slice's LANES f32 and
-        // each store writes four of `packed`'s LANES u32, at offset 0 or 4.
-        unsafe {
-            let (scale, half) = (_mm_set1_ps(255.0), _mm_set1_ps(0.5));
-            let (zero, top) = (_mm_setzero_ps(), _mm_set1_ps(255.0));
-            let q = |v: __m128| {
-                let x = _mm_add_ps(_mm_mul_ps(v, scale), half);
-                _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(x, zero), top))
-            };
-            for h in [0, 4] {
-                let qr = q(_mm_loadu_ps(r.as_ptr().add(h)));
-                let qg = q(_mm_loadu_ps(g.as_ptr().add(h)));
-                let qb = q(_mm_loadu_ps(b.as_ptr().add(h)));
-                let p = _mm_or_si128(
-                    qr,
-                    _mm_or_si128(_mm_slli_epi32::<8>(qg), _mm_slli_epi32::<16>(qb)),
-                );
-                _mm_storeu_si128(packed.as_mut_ptr().add(h).cast::<__m128i>(), p);
-            }
+        if wide {
+            // SAFETY: `wide` only on renders whose ISA is AVX2, detected on this CPU.
+            unsafe { pack_window_avx2(r, g, b) }
+        } else {
+            pack_window_sse(r, g, b)
         }
-        packed
     }
     #[cfg(not(target_arch = "x86_64"))]
-    pack_window_scalar(r, g, b)
+    {
+        let _ = wide;
+        pack_window_scalar(r, g, b)
+    }
+}
+
+/// [`pack_window`] in SSE2, two halves of four lanes (what every x86-64 has).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn pack_window_sse(r: &[f32], g: &[f32], b: &[f32]) -> [u32; LANES] {
+    let (r, g, b) = (&r[..LANES], &g[..LANES], &b[..LANES]);
+    use std::arch::x86_64::*;
+    let mut packed = [0u32; LANES];
+    // SAFETY: SSE2 is part of x86-64; each load reads four of a slice's LANES f32 and
+    // each store writes four of `packed`'s LANES u32, at offset 0 or 4.
+    unsafe {
+        let (scale, half) = (_mm_set1_ps(255.0), _mm_set1_ps(0.5));
+        let (zero, top) = (_mm_setzero_ps(), _mm_set1_ps(255.0));
+        let q = |v: __m128| {
+            let x = _mm_add_ps(_mm_mul_ps(v, scale), half);
+            _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(x, zero), top))
+        };
+        for h in [0, 4] {
+            let qr = q(_mm_loadu_ps(r.as_ptr().add(h)));
+            let qg = q(_mm_loadu_ps(g.as_ptr().add(h)));
+            let qb = q(_mm_loadu_ps(b.as_ptr().add(h)));
+            let p = _mm_or_si128(
+                qr,
+                _mm_or_si128(_mm_slli_epi32::<8>(qg), _mm_slli_epi32::<16>(qb)),
+            );
+            _mm_storeu_si128(packed.as_mut_ptr().add(h).cast::<__m128i>(), p);
+        }
+    }
+    packed
+}
+
+/// [`pack_window`] in AVX2, all eight lanes at once.
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn pack_window_avx2(r: &[f32], g: &[f32], b: &[f32]) -> [u32; LANES] {
+    use std::arch::x86_64::*;
+    let (scale, half) = (_mm256_set1_ps(255.0), _mm256_set1_ps(0.5));
+    let (zero, top) = (_mm256_setzero_ps(), _mm256_set1_ps(255.0));
+    let q = |v: __m256| {
+        let x = _mm256_add_ps(_mm256_mul_ps(v, scale), half);
+        _mm256_cvttps_epi32(_mm256_min_ps(_mm256_max_ps(x, zero), top))
+    };
+    let (r, g, b) = (&r[..LANES], &g[..LANES], &b[..LANES]);
+    let mut packed = [0u32; LANES];
+    // SAFETY: each load reads a slice's LANES f32; the store writes `packed`'s LANES u32.
+    unsafe {
+        let qr = q(_mm256_loadu_ps(r.as_ptr()));
+        let qg = q(_mm256_loadu_ps(g.as_ptr()));
+        let qb = q(_mm256_loadu_ps(b.as_ptr()));
+        let p = _mm256_or_si256(
+            qr,
+            _mm256_or_si256(_mm256_slli_epi32::<8>(qg), _mm256_slli_epi32::<16>(qb)),
+        );
+        _mm256_storeu_si256(packed.as_mut_ptr().cast::<__m256i>(), p);
+    }
+    packed
 }
 
 /// [`pack_window`] as a lane loop: the definition its SIMD form keeps to.
@@ -218,7 +274,7 @@ impl Pixel for u8 {
     }
 
     #[inline(always)]
-    fn store_row(dst: &mut [Out<u8>], c: &RowColors) {
+    fn store_row(dst: &mut [Out<u8>], c: &RowColors, wide: bool) {
         // Quantised over whole lanes (SIMD, in fixed windows so no scalar tail loop is
         // made), then written four bytes a pixel.
         let px = dst.len() / 3;
@@ -227,23 +283,23 @@ impl Pixel for u8 {
         let [cr, cg, cb] = c;
         for (w, p) in packed[..n].chunks_exact_mut(LANES).enumerate() {
             let s = w * LANES..(w + 1) * LANES;
-            p.copy_from_slice(&pack_window(&cr[s.clone()], &cg[s.clone()], &cb[s]));
+            p.copy_from_slice(&pack_window(&cr[s.clone()], &cg[s.clone()], &cb[s], wide));
         }
         write_packed(dst, &packed[..px]);
     }
 
     #[inline(always)]
-    fn store_group(dst: &mut [Out<u8>], c: &[Lanes; 3]) {
-        write_packed(dst, &pack_window(&c[0], &c[1], &c[2]));
+    fn store_group(dst: &mut [Out<u8>], c: &[Lanes; 3], wide: bool) {
+        write_packed(dst, &pack_window(&c[0], &c[1], &c[2], wide));
     }
 
     #[inline(always)]
-    fn store_lanes(rows: &mut [&mut [Out<u8>]], at: &[(usize, usize)], c: &[Lanes; 3]) {
+    fn store_lanes(rows: &mut [&mut [Out<u8>]], at: &[(usize, usize)], c: &[Lanes; 3], wide: bool) {
         // Quantised over all lanes at once (SIMD), then written: four bytes a pixel when
         // the lanes are consecutive pixels of one row (a run's chunk, the usual case),
         // else three bytes per live lane (per lane, each channel was converted and
         // bounds-checked apart).
-        let packed = pack_window(&c[0], &c[1], &c[2]);
+        let packed = pack_window(&c[0], &c[1], &c[2], wide);
         let Some(&(j0, i0)) = at.first() else {
             return;
         };
@@ -328,6 +384,15 @@ mod tests {
 
     /// The SIMD quantisation gives the lane loop's bytes for every lane: the rounding
     /// boundaries, out-of-range values, infinities and NaN.
+    /// The `wide` arguments this CPU can run: false, and true where it has AVX2.
+    fn wides() -> Vec<bool> {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            return vec![false, true];
+        }
+        vec![false]
+    }
+
     #[test]
     fn pack_window_matches_the_scalar_form() {
         let mut values = vec![
@@ -356,11 +421,10 @@ mod tests {
                 std::array::from_fn(|k| values[(w + 7 * k + 31 * ch) % values.len()])
             };
             let (r, g, b) = (lanes(0), lanes(1), lanes(2));
-            assert_eq!(
-                pack_window(&r, &g, &b),
-                pack_window_scalar(&r, &g, &b),
-                "{r:?}"
-            );
+            let want = pack_window_scalar(&r, &g, &b);
+            for wide in wides() {
+                assert_eq!(pack_window(&r, &g, &b, wide), want, "{r:?}, wide {wide}");
+            }
         }
     }
 
@@ -386,9 +450,9 @@ mod tests {
             u8::store(&mut px, lane(&c, k));
             px
         };
-        for px in 0..=TILE {
+        for (px, wide) in (0..=TILE).flat_map(|px| wides().into_iter().map(move |w| (px, w))) {
             let mut dst = vec![Out::new(7u8); 3 * px + 4];
-            u8::store_row(&mut dst[..3 * px], &c);
+            u8::store_row(&mut dst[..3 * px], &c, wide);
             let got = read(&dst);
             for k in 0..px {
                 assert_eq!(got[3 * k..3 * k + 3], want(k), "row of {px}, pixel {k}");
@@ -397,7 +461,7 @@ mod tests {
         }
         let lanes: [Lanes; 3] = std::array::from_fn(|ch| c[ch][..LANES].try_into().unwrap());
         let mut dst = [Out::new(7u8); 3 * LANES + 1];
-        u8::store_group(&mut dst[..3 * LANES], &lanes);
+        u8::store_group(&mut dst[..3 * LANES], &lanes, false);
         let got = read(&dst);
         for k in 0..LANES {
             assert_eq!(got[3 * k..3 * k + 3], want(k), "group pixel {k}");
@@ -424,7 +488,7 @@ mod tests {
         for at in cases {
             let mut rows = [[Out::new(7u8); 3 * TILE]; 2];
             let [r0, r1] = &mut rows;
-            u8::store_lanes(&mut [&mut r0[..], &mut r1[..]], &at, &lanes);
+            u8::store_lanes(&mut [&mut r0[..], &mut r1[..]], &at, &lanes, false);
             for (j, row) in rows.iter().enumerate() {
                 let got = read(row);
                 for i in 0..TILE {

@@ -507,7 +507,7 @@ impl Batch {
         let unit = &tex.units[object as usize][back as usize];
         if shaded_as(mode, unit) == ShadingMode::Phong {
             let mut n = [[0.0; LANES]; 3];
-            normalize_lanes(&mut n, &self.n);
+            normalize_lanes(&mut n, &self.n, ctx.wide());
             if let Some(s) = &ctx.shadows {
                 s.visibility(&n, &self.p, &self.g, self.len, &mut self.vis);
             }
