@@ -239,10 +239,16 @@ struct RunLanes {
 
 impl RowPlanes {
     /// 1/w, the normal (not normalised) and the position of the row's pixels `k0 + k`
-    /// (k < [`LANES`]), as [`RowPlanes::at`] per lane. In AVX when `wide` (the render's ISA
-    /// is AVX2; inlined into its tile bodies): as lane loops, LLVM kept the planes' start and step values
-    /// in stack copies and reloaded them, a store-forwarding stall that perf put at 12 % of a
-    /// Phong tile. The same operations per lane either way, so the same bits.
+    /// (k < [`LANES`]), as [`RowPlanes::at`] per lane, and whether a lane's normal is unusable
+    /// (|n|² at most 1e-30, infinite or NaN, as [`or_face_normal`] tests it): every lane is
+    /// tested (those past a run's end extrapolate the same planes and are rarely unusable;
+    /// if one is, only the fix-up runs for nothing).
+    ///
+    /// In AVX when `wide` (the render's ISA is AVX2; inlined into its tile bodies): as lane
+    /// loops, LLVM kept the planes' start and step values in stack copies and reloaded them
+    /// (a store-forwarding stall perf put at 12 % of a Phong tile), and read the normals
+    /// back from memory for the test (9 %). The same operations per lane either way, so the
+    /// same bits.
     #[inline(always)]
     fn interpolate(
         &self,
@@ -251,15 +257,14 @@ impl RowPlanes {
         n: &mut [Lanes; 3],
         p: &mut [Lanes; 3],
         wide: bool,
-    ) {
+    ) -> bool {
         #[cfg(target_arch = "x86_64")]
         if wide {
             // SAFETY: `wide` only where the render's ISA is AVX2, detected on this CPU.
-            unsafe { self.interpolate_avx(k0, inv_w, n, p) };
-            return;
+            return unsafe { self.interpolate_avx(k0, inv_w, n, p) };
         }
         let _ = wide;
-        self.interpolate_lanes(k0, inv_w, n, p);
+        self.interpolate_lanes(k0, inv_w, n, p)
     }
 
     /// [`RowPlanes::interpolate`] as lane loops.
@@ -271,7 +276,7 @@ impl RowPlanes {
         inv_w: &mut Lanes,
         n: &mut [Lanes; 3],
         p: &mut [Lanes; 3],
-    ) {
+    ) -> bool {
         let (s, d) = (&self.start, &self.step);
         let mut kf: Lanes = [0.0; LANES];
         let mut r: Lanes = [0.0; LANES];
@@ -288,6 +293,14 @@ impl RowPlanes {
                 p[axis][k] = (sp + dp * kf[k]) * r[k];
             }
         }
+        // A mask OR-ed over the lanes, which vectorises where a `bool` reduction did not.
+        let mut unusable = 0u32;
+        for k in 0..LANES {
+            let len2 = n[0][k] * n[0][k] + n[1][k] * n[1][k] + n[2][k] * n[2][k];
+            // `&`, not `&&`: no branch per lane. len2 ≥ 0 or NaN.
+            unusable |= u32::from(!((len2 > 1e-30) & (len2 < f32::INFINITY)));
+        }
+        unusable != 0
     }
 
     /// [`RowPlanes::interpolate`] in AVX.
@@ -303,7 +316,7 @@ impl RowPlanes {
         inv_w: &mut Lanes,
         n: &mut [Lanes; 3],
         p: &mut [Lanes; 3],
-    ) {
+    ) -> bool {
         use std::arch::x86_64::*;
         let (s, d) = (&self.start, &self.step);
         // k0 + k as f32, exact (k0 + k < TILE + LANES), as the lane loop's i32 conversion.
@@ -326,14 +339,23 @@ impl RowPlanes {
         };
         let w = at(0);
         let r = _mm256_div_ps(_mm256_set1_ps(1.0), w);
+        let nv = [1, 2, 3].map(|c| _mm256_mul_ps(at(c), r));
         // SAFETY: each store writes one lane array's eight f32.
         unsafe {
             _mm256_storeu_ps(inv_w.as_mut_ptr(), w);
             for axis in 0..3 {
-                _mm256_storeu_ps(n[axis].as_mut_ptr(), _mm256_mul_ps(at(1 + axis), r));
+                _mm256_storeu_ps(n[axis].as_mut_ptr(), nv[axis]);
                 _mm256_storeu_ps(p[axis].as_mut_ptr(), _mm256_mul_ps(at(4 + axis), r));
             }
         }
+        // The lane loop's test on the values in registers (reading the stores back stalled).
+        let sq = |v: __m256| _mm256_mul_ps(v, v);
+        let len2 = _mm256_add_ps(_mm256_add_ps(sq(nv[0]), sq(nv[1])), sq(nv[2]));
+        let ok = _mm256_and_ps(
+            _mm256_cmp_ps::<_CMP_GT_OQ>(len2, _mm256_set1_ps(1e-30)),
+            _mm256_cmp_ps::<_CMP_LT_OQ>(len2, _mm256_set1_ps(f32::INFINITY)),
+        );
+        _mm256_movemask_ps(ok) != 0xff
     }
 }
 
@@ -355,23 +377,13 @@ impl RowPlanes {
         out: &mut RunLanes,
     ) {
         let mut inv_w: Lanes = [0.0; LANES];
-        self.interpolate(k0, &mut inv_w, &mut out.n, &mut out.p, ctx.wide());
+        let unusable = self.interpolate(k0, &mut inv_w, &mut out.n, &mut out.p, ctx.wide());
         for k in 0..LANES {
             out.depth[k] = ctx.eye_depth::<AFFINE>(want_depth, z[k], inv_w[k]);
         }
         // A zero or unusable blend takes the face normal instead: found over whole lanes
-        // (SIMD), fixed up one lane at a time (rare).
-        // Every lane is tested (those past `live` extrapolate the same planes and are rarely
-        // unusable; if one is, only the slow loop below runs for nothing): a mask OR-ed over
-        // the lanes, which vectorises where a `bool` reduction did not.
-        let mut unusable = 0u32;
-        for k in 0..LANES {
-            let (x, y, z) = (out.n[0][k], out.n[1][k], out.n[2][k]);
-            let len2 = x * x + y * y + z * z;
-            // `&`, not `&&`: no branch per lane. len2 ≥ 0 or NaN.
-            unusable |= u32::from(!((len2 > 1e-30) & (len2 < f32::INFINITY)));
-        }
-        if unusable != 0 {
+        // (`interpolate`), fixed up one lane at a time (rare).
+        if unusable {
             for k in 0..live {
                 let f = or_face_normal(ctx, t, lane(&out.n, k));
                 set_lane(&mut out.n, k, f);
@@ -619,46 +631,71 @@ mod tests {
     use super::*;
 
     /// The AVX interpolation gives the lane loops' bits (and `at`'s, per lane) for every
-    /// start column of a tile row and planes of every sign and scale.
+    /// start column of a tile row, rows far from the origin, and planes of every sign and
+    /// scale; and the same verdict on unusable normals.
     #[test]
     fn interpolate_forms_agree() {
         let value = |k: usize| {
-            let m = [1.0f32, -3.5e-3, 7.25, -0.0, 1e-7, -2.5e4, 0.3333, 12.0][k % 8];
-            m * (1.0 + (k / 8) as f32 * 0.37)
+            let m = [1.0f64, -3.5e-3, 7.25, -0.0, 1e-7, -2.5e4, 0.3333, 12.0][k % 8];
+            m * (1.0 + (k / 8) as f64 * 0.37)
         };
-        for seed in 0..16 {
-            let row = RowPlanes {
-                start: std::array::from_fn(|k| value(k + seed)),
-                step: std::array::from_fn(|k| value(k * 3 + seed + 1) * 1e-2),
-            };
-            for k0 in 0..TILE {
-                let (mut w, mut n, mut p) = ([0.0; LANES], [[0.0; LANES]; 3], [[0.0; LANES]; 3]);
-                #[cfg(target_arch = "x86_64")]
-                let wide = std::arch::is_x86_feature_detected!("avx");
-                #[cfg(not(target_arch = "x86_64"))]
-                let wide = false;
-                row.interpolate(k0, &mut w, &mut n, &mut p, wide);
-                let (mut w2, mut n2, mut p2) = ([0.0; LANES], [[0.0; LANES]; 3], [[0.0; LANES]; 3]);
-                row.interpolate_lanes(k0, &mut w2, &mut n2, &mut p2);
-                let bits = |a: &Lanes| a.map(f32::to_bits);
-                assert_eq!(bits(&w), bits(&w2));
-                for axis in 0..3 {
-                    assert_eq!(bits(&n[axis]), bits(&n2[axis]));
-                    assert_eq!(bits(&p[axis]), bits(&p2[axis]));
-                }
-                for k in 0..LANES {
-                    let (aw, an, ap) = row.at((k0 + k) as f32);
-                    assert_eq!(aw.to_bits(), w[k].to_bits());
-                    assert_eq!(
-                        an.map(f32::to_bits),
-                        [n[0][k], n[1][k], n[2][k]].map(f32::to_bits)
-                    );
-                    assert_eq!(
-                        ap.map(f32::to_bits),
-                        [p[0][k], p[1][k], p[2][k]].map(f32::to_bits)
-                    );
+        let with = |planes: [[f64; ROW_PLANES]; 3]| Current {
+            planes,
+            ..Current::default()
+        };
+        // Besides the spread of values: a zero normal, a NaN one and one whose square
+        // overflows, all unusable (the face normal's cases).
+        let special = [0.0, f64::NAN, 1e20].map(|v| {
+            with([
+                [0.0; ROW_PLANES],
+                [0.0; ROW_PLANES],
+                [1.0, v, v, v, 0.5, 0.5, 0.5, 0.0],
+            ])
+        });
+        let spread = (0..16).map(|seed| {
+            with(std::array::from_fn(|c| {
+                std::array::from_fn(|k| value(k * (c + 1) + seed) * [1e-2, 1e-3, 1.0][c])
+            }))
+        });
+        #[cfg(target_arch = "x86_64")]
+        let wide = std::arch::is_x86_feature_detected!("avx");
+        #[cfg(not(target_arch = "x86_64"))]
+        let wide = false;
+        let mut unusable = 0;
+        for cur in special.into_iter().chain(spread) {
+            for xy in [(0.5, 0.5), (64.5, 37.5), (1856.5, 1079.5)] {
+                let row = RowPlanes::new(&cur, xy.0, xy.1);
+                for k0 in 0..TILE {
+                    let zero = || ([0.0; LANES], [[0.0; LANES]; 3], [[0.0; LANES]; 3]);
+                    let ((mut w, mut n, mut p), (mut w2, mut n2, mut p2)) = (zero(), zero());
+                    let bad = row.interpolate(k0, &mut w, &mut n, &mut p, wide);
+                    let bad2 = row.interpolate_lanes(k0, &mut w2, &mut n2, &mut p2);
+                    assert_eq!(bad, bad2);
+                    unusable += usize::from(bad);
+                    let bits = |a: &Lanes| a.map(f32::to_bits);
+                    assert_eq!(bits(&w), bits(&w2));
+                    for axis in 0..3 {
+                        assert_eq!(bits(&n[axis]), bits(&n2[axis]));
+                        assert_eq!(bits(&p[axis]), bits(&p2[axis]));
+                    }
+                    for (k, wk) in w.iter().enumerate() {
+                        let (aw, an, ap) = row.at((k0 + k) as f32);
+                        assert_eq!(aw.to_bits(), wk.to_bits());
+                        assert_eq!(
+                            an.map(f32::to_bits),
+                            lane(&n, k).to_array().map(f32::to_bits)
+                        );
+                        assert_eq!(
+                            ap.map(f32::to_bits),
+                            lane(&p, k).to_array().map(f32::to_bits)
+                        );
+                    }
                 }
             }
         }
+        assert!(
+            unusable >= 9 * TILE,
+            "the special rows are unusable at every column"
+        );
     }
 }
