@@ -1,9 +1,11 @@
 //! Instruction-set dispatch for the per-tile work (visibility, then shading).
 //!
 //! The tile body is compiled twice: for the target's baseline (SSE2 on x86-64) and, on
-//! x86-64, for AVX2 + FMA, picked once per render from the CPU it runs on. The hot loops are
-//! written as plain lane loops that the compiler vectorises, so AVX2 doubles their width
-//! with no code of its own. Rust never contracts `a·b + c` into a fused multiply-add and
+//! x86-64, for AVX2 + FMA, picked once per render from the CPU it runs on. Most hot loops
+//! are written as plain lane loops that the compiler vectorises, so AVX2 doubles their width
+//! with no code of its own; the few it did not keep whole (the depth window, normalisation,
+//! u8 quantisation, Phong's interpolation) are written in intrinsics, with an AVX form the
+//! AVX2 bodies inline when the render's ISA is AVX2 (`ShadeContext::wide`). Rust never contracts `a·b + c` into a fused multiply-add and
 //! every lane operation is IEEE-exact, so both variants give bit-identical images (tested).
 
 use super::raster::{self, TileBuffers, NO_TRIANGLE};
