@@ -348,9 +348,10 @@ impl Pixel for f32 {
 mod tests {
     use super::*;
 
-    #[test]
-    fn u8_store_is_round_of_clamp_times_255() {
-        let reference = |v: f32| (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+    /// Values a quantisation must get right: NaN, infinities, out-of-range values, signed
+    /// zeros, the smallest normal value, and every rounding boundary (k + 0.5)/255 with its
+    /// neighbours.
+    fn awkward_values() -> Vec<f32> {
         let mut values = vec![
             f32::NAN,
             f32::INFINITY,
@@ -361,12 +362,12 @@ mod tests {
             -1e-9,
             0.0,
             -0.0,
+            f32::MIN_POSITIVE,
             1.0,
             1.0 + f32::EPSILON,
             1.5,
             1e30,
         ];
-        // Every rounding boundary (k + 0.5)/255 and its neighbours.
         for k in 0..256 {
             let b = (k as f32 + 0.5) / 255.0;
             values.extend([
@@ -375,6 +376,13 @@ mod tests {
                 f32::from_bits(b.to_bits() + 1),
             ]);
         }
+        values
+    }
+
+    #[test]
+    fn u8_store_is_round_of_clamp_times_255() {
+        let reference = |v: f32| (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+        let values = awkward_values();
         for v in values {
             let mut out = [0u8; 3];
             u8::store(&mut out, Vec3::splat(v));
@@ -382,8 +390,6 @@ mod tests {
         }
     }
 
-    /// The SIMD quantisation gives the lane loop's bytes for every lane: the rounding
-    /// boundaries, out-of-range values, infinities and NaN.
     /// The `wide` arguments this CPU can run: false, and true where it has AVX2.
     fn wides() -> Vec<bool> {
         #[cfg(target_arch = "x86_64")]
@@ -393,29 +399,11 @@ mod tests {
         vec![false]
     }
 
+    /// The SIMD quantisation (SSE2, and AVX2 where the CPU has it) gives the lane loop's
+    /// bytes for every lane: the rounding boundaries, out-of-range values, infinities, NaN.
     #[test]
     fn pack_window_matches_the_scalar_form() {
-        let mut values = vec![
-            f32::NAN,
-            f32::INFINITY,
-            f32::NEG_INFINITY,
-            -1e30,
-            -1.0,
-            -0.0,
-            0.0,
-            1.0,
-            1.5,
-            1e30,
-            f32::MIN_POSITIVE,
-        ];
-        for k in 0..256 {
-            let b = (k as f32 + 0.5) / 255.0;
-            values.extend([
-                b,
-                f32::from_bits(b.to_bits() - 1),
-                f32::from_bits(b.to_bits() + 1),
-            ]);
-        }
+        let values = awkward_values();
         for w in 0..values.len() {
             let lanes = |ch: usize| -> Lanes {
                 std::array::from_fn(|k| values[(w + 7 * k + 31 * ch) % values.len()])
