@@ -11,17 +11,24 @@ use super::tiles::{TileRect, TILE};
 /// Triangle id of an empty pixel.
 pub(crate) const NO_TRIANGLE: u32 = u32::MAX;
 
+/// Ids after a tile's last row, so that every row can be read with the id after it (run
+/// ends are found by comparing each id with the next, whole rows at a time).
+pub(crate) const ID_PAD: usize = 1;
+
+/// Length of a tile's id buffer: the tile's pixels and [`ID_PAD`].
+pub(crate) const ID_LEN: usize = TILE * TILE + ID_PAD;
+
 /// Depth + id buffers for one tile, reused across tiles by a worker.
 pub(crate) struct TileBuffers {
     pub depth: Box<[f32; TILE * TILE]>,
-    pub id: Box<[u32; TILE * TILE]>,
+    pub id: Box<[u32; ID_LEN]>,
 }
 
 impl TileBuffers {
     pub fn new() -> Self {
         TileBuffers {
             depth: Box::new([0.0; TILE * TILE]),
-            id: Box::new([NO_TRIANGLE; TILE * TILE]),
+            id: Box::new([NO_TRIANGLE; ID_LEN]),
         }
     }
 

@@ -15,7 +15,7 @@
 //! resolve): that path is exactly the single-sample renderer and pays nothing for this room.
 
 use super::bin::Binned;
-use super::raster::{self, TileBuffers, NO_TRIANGLE};
+use super::raster::{self, TileBuffers, ID_LEN, NO_TRIANGLE};
 use super::setup::{SetupTri, HALF, ONE};
 use super::shade::{self, Out, Pixel, RowColors, ShadeContext, ROW_LANES};
 use super::tiles::{TileRect, TILE};
@@ -138,7 +138,7 @@ impl SampleTarget {
 
     /// The owner of every pixel at each sample position of the tile last rasterized, in
     /// pattern order.
-    pub fn sample_ids(&self) -> impl Iterator<Item = &[u32; TILE * TILE]> {
+    pub fn sample_ids(&self) -> impl Iterator<Item = &[u32; ID_LEN]> {
         self.samples.iter().map(|s| &*s.id)
     }
 

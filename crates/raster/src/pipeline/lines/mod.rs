@@ -20,7 +20,7 @@ use glam::Vec3;
 
 use super::bin::Binned;
 use super::isa::{self, Isa, TileJob, Workspace};
-use super::raster::{self, NO_TRIANGLE};
+use super::raster::{self, ID_LEN, NO_TRIANGLE};
 use super::samples;
 use super::setup::SetupTri;
 use super::setup::ONE;
@@ -141,7 +141,7 @@ impl<'a> LinePass<'a> {
         &self,
         index: usize,
         rect: TileRect,
-        ids: Option<&[&[u32; TILE * TILE]]>,
+        ids: Option<&[&[u32; ID_LEN]]>,
         mask: &mut [u16; TILE * TILE],
     ) {
         mask.fill(0);
@@ -242,7 +242,7 @@ impl<'a> LinePass<'a> {
                 .collect();
             work.write_coverage(rect, empty, &mut rows);
         }
-        let ids: Option<Vec<&[u32; TILE * TILE]>> = match (empty, samples > 1) {
+        let ids: Option<Vec<&[u32; ID_LEN]>> = match (empty, samples > 1) {
             (true, _) => None,
             (false, false) => Some(vec![&*work.buf.id]),
             (false, true) => Some(work.target.sample_ids().collect()),

@@ -9,7 +9,7 @@
 //! the stored values are the ones that mode alone would have stored (`Pixel::store` of the
 //! same colour), so a mixed frame is, pixel by pixel, the frame of each pixel's own mode.
 
-use super::runs::run_length;
+use super::id_runs::{row_runs, Run};
 use super::store::{put, Out, Pixel, RowColors, ROW_LANES};
 use super::{shade_tile, ShadeContext};
 use crate::options::ShadingMode;
@@ -51,11 +51,7 @@ pub(crate) fn shade_mixed_tile<P: Pixel, const AFFINE: bool>(
     work.owner.resize(TILE * TILE, BACKGROUND);
     let mut present = [false; 3];
     for j in 0..rect.h {
-        let ids = &buf.id[j * TILE..j * TILE + rect.w];
-        let mut i = 0;
-        while i < rect.w {
-            let id = ids[i];
-            let end = i + run_length(&ids[i..], id);
+        for Run { id, start: i, end } in row_runs(buf, j, rect.w) {
             let m = if id == NO_TRIANGLE {
                 BACKGROUND
             } else {
@@ -66,7 +62,6 @@ pub(crate) fn shade_mixed_tile<P: Pixel, const AFFINE: bool>(
             if m != BACKGROUND {
                 present[m as usize] = true;
             }
-            i = end;
         }
     }
     let used: Vec<usize> = (0..3).filter(|&k| present[k]).collect();
@@ -84,12 +79,9 @@ pub(crate) fn shade_mixed_tile<P: Pixel, const AFFINE: bool>(
     work.merged.resize(TILE * TILE * 3, 0.0);
     work.merged_depth.resize(TILE * TILE, 0.0);
     for (pass, &k) in used.iter().enumerate() {
-        for (slot, (m, &id)) in masked.id.iter_mut().zip(buf.id.iter()).enumerate() {
-            *m = if work.owner[slot] == k as u8 {
-                id
-            } else {
-                NO_TRIANGLE
-            };
+        let pixels = masked.id.iter_mut().zip(&buf.id[..]).zip(&work.owner);
+        for ((m, &id), &owner) in pixels {
+            *m = if owner == k as u8 { id } else { NO_TRIANGLE };
         }
         let mut rows: Vec<&mut [Out<f32>]> = work
             .color

@@ -10,6 +10,7 @@ mod phong;
 mod planes;
 mod program;
 
+mod id_runs;
 mod mixed;
 pub(crate) mod prelight;
 mod runs;

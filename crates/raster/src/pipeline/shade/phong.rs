@@ -2,9 +2,9 @@
 
 use glam::Vec3;
 
+use super::id_runs::{row_runs, Run};
 use super::planes::{weight_planes, PlaneCache};
 use super::program::finish_batch;
-use super::runs::run_length;
 use super::store::{fill_out, put, Out, Pixel};
 use super::{background_row, ShadeContext};
 use crate::lighting::{lane, normalize_lanes, set_lane, Folded, Lanes, Surface, LANES};
@@ -530,18 +530,13 @@ pub(super) fn shade_phong<
     };
     for j in 0..rect.h {
         let y = (rect.y0 + j) as f64 + 0.5;
-        let ids = &buf.id[j * TILE..j * TILE + rect.w];
         let zs = &buf.depth[j * TILE..j * TILE + rect.w];
-        let mut i = 0;
-        while i < rect.w {
-            let id = ids[i];
-            let end = i + run_length(&ids[i..], id);
+        for Run { id, start: i, end } in row_runs(buf, j, rect.w) {
             if id == NO_TRIANGLE {
                 put(&mut color[j][i * 3..end * 3], &background[..(end - i) * 3]);
                 if let Some(d) = depth.as_deref_mut() {
                     fill_out(&mut d[j][i..end], f32::INFINITY);
                 }
-                i = end;
                 continue;
             }
             let t = ctx.tris.get(id);
@@ -568,7 +563,6 @@ pub(super) fn shade_phong<
                     let px = (usable_normal(ctx, t, n), Vec3::from_array(p), eye_depth);
                     batch.push::<P, SHADOWS>(ctx, rect, (m, face), px, (j, k), color);
                 }
-                i = end;
                 continue;
             }
             for s in (i..end).step_by(LANES) {
@@ -608,7 +602,6 @@ pub(super) fn shade_phong<
                     color,
                 );
             }
-            i = end;
         }
     }
     batch.flush::<P, SHADOWS>(ctx, rect, color);

@@ -107,26 +107,28 @@ impl<T: Copy + Default> PlaneCache<T> {
     }
 }
 
-/// What flat and Gouraud interpolate, as planes over pixel coordinates: `inv_w` is the
-/// interpolated 1/w (Σ λ_k/w_k), and Gouraud's `color[c]` is Σ λ_k/w_k · colour_k\[c\], so a
-/// pixel's colour is `color / inv_w`: four planes instead of three weights and nine products.
+/// What flat and Gouraud interpolate, as planes over pixel coordinates: the interpolated
+/// 1/w (Σ λ_k/w_k) and Gouraud's colour planes Σ λ_k/w_k · colour_k\[c\], so a pixel's colour
+/// is `color / inv_w`: four planes instead of three weights and nine products. Stored by
+/// coefficient, the four planes side by side (1/w, red, green, blue): plane `q` at (x, y) is
+/// `dx[q]·x + dy[q]·y + c[q]`, so a run's four start values are a few vector operations.
 #[derive(Clone, Copy, Default)]
 pub(super) struct RunPlanes {
-    inv_w: Plane,
-    color: [Plane; 3],
+    dx: [f64; 4],
+    dy: [f64; 4],
+    c: [f64; 4],
 }
 
 impl RunPlanes {
-    #[allow(clippy::needless_range_loop)] // plane coefficient c of three arrays
     pub(super) fn new<const MODE: u8, const AFFINE: bool>(
         ctx: &ShadeContext<'_>,
         t: &SetupTri,
     ) -> Self {
         let w = weight_planes::<AFFINE>(ctx, t);
         let mut out = RunPlanes::default();
-        for c in 0..3 {
-            out.inv_w[c] = w[0][c] + w[1][c] + w[2][c];
-        }
+        out.dx[0] = w[0][0] + w[1][0] + w[2][0];
+        out.dy[0] = w[0][1] + w[1][1] + w[2][1];
+        out.c[0] = w[0][2] + w[1][2] + w[2][2];
         if MODE == GOURAUD {
             let colors = if ctx.two_sided && !t.front {
                 &ctx.verts.color_back
@@ -139,19 +141,14 @@ impl RunPlanes {
             // Written out: closures and array maps here were not inlined (per triangle and
             // tile, it showed in profiles of small-triangle meshes).
             for ch in 0..3 {
-                for c in 0..3 {
-                    out.color[ch][c] = w[0][c] * a0[ch] + w[1][c] * a1[ch] + w[2][c] * a2[ch];
-                }
+                let q = ch + 1;
+                out.dx[q] = w[0][0] * a0[ch] + w[1][0] * a1[ch] + w[2][0] * a2[ch];
+                out.dy[q] = w[0][1] * a0[ch] + w[1][1] * a1[ch] + w[2][1] * a2[ch];
+                out.c[q] = w[0][2] * a0[ch] + w[1][2] * a1[ch] + w[2][2] * a2[ch];
             }
         }
         out
     }
-}
-
-/// Value at (x, y) and step per pixel in x of a plane.
-#[inline(always)]
-fn start_step(p: &Plane, x: f64, y: f64) -> (f64, f64) {
-    (p[0] * x + p[1] * y + p[2], p[0])
 }
 
 /// The 1/w plane of [`RunPlanes`] evaluated at a run's first pixel, with its step along the
@@ -165,7 +162,7 @@ impl RunStart {
     #[inline(always)]
     pub(super) fn new(pl: &RunPlanes, x: f64, y: f64) -> Self {
         RunStart {
-            inv_w: start_step(&pl.inv_w, x, y),
+            inv_w: (pl.dx[0] * x + pl.dy[0] * y + pl.c[0], pl.dx[0]),
         }
     }
 
@@ -187,22 +184,60 @@ impl RunStart {
 /// (2·10⁻³ of an 8-bit level), and at most 13 of 6.2 M u8 samples one level apart.
 #[derive(Clone, Copy)]
 pub(super) struct RunColors {
-    inv_w: (f32, f32),
-    color: [(f32, f32); 3],
+    /// 1/w, red, green, blue at the row's first pixel.
+    start: [f32; 4],
+    /// Their steps per pixel in x.
+    step: [f32; 4],
 }
 
 impl RunColors {
-    /// Gouraud's planes `pl` from the row's first pixel centre (x, y).
+    /// Gouraud's planes `pl` from the row's first pixel centre (x, y): the four planes at
+    /// once, `dx·x + dy·y + c` in f64 rounded to f32. Once per run: in SSE2 a few vector
+    /// operations (the lane form below compiled to scalar ones, about 40 instructions).
+    #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     pub(super) fn new(pl: &RunPlanes, x: f64, y: f64) -> Self {
-        let f = |p: &Plane| {
-            let (v, d) = start_step(p, x, y);
-            (v as f32, d as f32)
-        };
-        RunColors {
-            inv_w: f(&pl.inv_w),
-            color: [f(&pl.color[0]), f(&pl.color[1]), f(&pl.color[2])],
+        use std::arch::x86_64::*;
+        // SAFETY: SSE2 is part of x86-64; each load reads two of a `[f64; 4]`'s values at
+        // offset 0 or 2. Products and sums are rounded as the lane form's (no fusing), and
+        // `cvtpd2ps` rounds to nearest as `as f32` does (the default MXCSR, which nothing
+        // in the crate changes).
+        unsafe {
+            let (xs, ys) = (_mm_set1_pd(x), _mm_set1_pd(y));
+            let half = |k: usize| {
+                let dx = _mm_loadu_pd(pl.dx.as_ptr().add(k));
+                let dy = _mm_loadu_pd(pl.dy.as_ptr().add(k));
+                let c = _mm_loadu_pd(pl.c.as_ptr().add(k));
+                let v = _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, xs), _mm_mul_pd(dy, ys)), c);
+                (_mm_cvtpd_ps(v), _mm_cvtpd_ps(dx))
+            };
+            let ((v0, d0), (v1, d1)) = (half(0), half(2));
+            let mut out = RunColors {
+                start: [0.0; 4],
+                step: [0.0; 4],
+            };
+            _mm_storeu_ps(out.start.as_mut_ptr(), _mm_movelh_ps(v0, v1));
+            _mm_storeu_ps(out.step.as_mut_ptr(), _mm_movelh_ps(d0, d1));
+            out
         }
+    }
+
+    /// [`RunColors::new`] as lane loops: the definition (other architectures, and the
+    /// tests of the SSE2 form).
+    #[cfg(any(test, not(target_arch = "x86_64")))]
+    #[inline(always)]
+    pub(super) fn new_scalar(pl: &RunPlanes, x: f64, y: f64) -> Self {
+        RunColors {
+            start: std::array::from_fn(|q| (pl.dx[q] * x + pl.dy[q] * y + pl.c[q]) as f32),
+            step: std::array::from_fn(|q| pl.dx[q] as f32),
+        }
+    }
+
+    /// [`RunColors::new`] on other architectures: the lane loops.
+    #[cfg(not(target_arch = "x86_64"))]
+    #[inline(always)]
+    pub(super) fn new(pl: &RunPlanes, x: f64, y: f64) -> Self {
+        Self::new_scalar(pl, x, y)
     }
 
     /// Gouraud colour at the row's pixel `k`: the colour planes over the 1/w plane. Every
@@ -213,12 +248,59 @@ impl RunColors {
     /// non-negative vertex colours extrapolates below 0 (seen: −0.0005); it is clamped at 0.
     #[inline(always)]
     pub(super) fn at(&self, k: f32) -> [f32; 3] {
-        let [(r0, dr), (g0, dg), (b0, db)] = self.color;
-        let r = 1.0 / (self.inv_w.0 + self.inv_w.1 * k);
+        let [iw0, r0, g0, b0] = self.start;
+        let [diw, dr, dg, db] = self.step;
+        let r = 1.0 / (iw0 + diw * k);
         [
             ((r0 + dr * k) * r).max(0.0),
             ((g0 + dg * k) * r).max(0.0),
             ((b0 + db * k) * r).max(0.0),
         ]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Awkward plane values: zeros of both signs, tiny and huge magnitudes (f32 overflow
+    /// and underflow after the sum), infinities, NaN and values at f32 rounding ties.
+    fn awkward() -> Vec<f64> {
+        let tie = 1.0 + f64::from(f32::EPSILON) / 2.0;
+        vec![
+            0.0,
+            -0.0,
+            1.0,
+            -2.5,
+            1e-3,
+            3.4e38,
+            -1e39,
+            1e-46,
+            f64::from(f32::MIN_POSITIVE) / 3.0,
+            tie,
+            -tie,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ]
+    }
+
+    #[test]
+    fn run_colors_new_gives_the_lane_loops_bits() {
+        let vals = awkward();
+        let n = vals.len();
+        let bits = |c: &RunColors| (c.start.map(f32::to_bits), c.step.map(f32::to_bits));
+        for k in 0..n * n {
+            let v = |o: usize| vals[(k * (o + 1) + o * 5) % n];
+            let pl = RunPlanes {
+                dx: [v(0), v(1), v(2), v(3)],
+                dy: [v(4), v(5), v(6), v(7)],
+                c: [v(8), v(9), v(10), v(11)],
+            };
+            for (x, y) in [(0.5, 0.5), (1920.5, 1079.5), (33.5, 7.5)] {
+                let (got, want) = (RunColors::new(&pl, x, y), RunColors::new_scalar(&pl, x, y));
+                assert_eq!(bits(&got), bits(&want), "{:?} at ({x}, {y})", pl.dx);
+            }
+        }
     }
 }

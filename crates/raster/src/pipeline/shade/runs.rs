@@ -3,26 +3,13 @@
 
 use glam::Vec3;
 
+use super::id_runs::{row_runs, Run};
 use super::planes::{PlaneCache, RunColors, RunPlanes, RunStart};
 use super::store::{fill_out, put, store_out, Out, Pixel, RowColors, ROW_LANES};
 use super::{background_row, ShadeContext, FLAT, GOURAUD};
 use crate::lighting::LANES;
 use crate::pipeline::raster::{TileBuffers, NO_TRIANGLE};
 use crate::pipeline::tiles::{TileRect, TILE};
-
-/// Length of the run of `id` at the start of `ids` (at least 1 when `ids[0] == id`).
-#[inline(always)]
-pub(super) fn run_length(ids: &[u32], id: u32) -> usize {
-    let mut n = 0;
-    // Four ids per compare while the run lasts (one SIMD compare), then one at a time.
-    while let Some(chunk) = ids.get(n..n + 4) {
-        if chunk != [id; 4] {
-            break;
-        }
-        n += 4;
-    }
-    n + ids[n..].iter().take_while(|&&v| v == id).count()
-}
 
 /// Entries of the per-tile flat colour cache.
 const FLAT_CACHE: usize = 64;
@@ -50,14 +37,10 @@ pub(super) fn shade_runs<P: Pixel, const MODE: u8, const FOG: bool, const AFFINE
     let background = background_row::<P>(ctx);
     for j in 0..rect.h {
         let row = &mut color[j][..rect.w * 3];
-        let ids = &buf.id[j * TILE..j * TILE + rect.w];
         let zs = &buf.depth[j * TILE..j * TILE + rect.w];
         let mut depth_row = depth.as_deref_mut().map(|d| &mut d[j][..rect.w]);
         let y = (rect.y0 + j) as f64 + 0.5;
-        let mut i = 0;
-        while i < rect.w {
-            let id = ids[i];
-            let end = i + run_length(&ids[i..], id);
+        for Run { id, start: i, end } in row_runs(buf, j, rect.w) {
             let out = &mut row[i * 3..end * 3];
             if id == NO_TRIANGLE {
                 put(out, &background[..out.len()]);
@@ -86,7 +69,6 @@ pub(super) fn shade_runs<P: Pixel, const MODE: u8, const FOG: bool, const AFFINE
                     store_out(px, ctx.fogged::<FOG>(c, px_x, px_y, eye_depth));
                 }
             }
-            i = end;
         }
     }
 }
@@ -108,11 +90,7 @@ fn flat_rows<P: Pixel>(
     let mut flat_cache = [(NO_TRIANGLE, P::Stored::default()); FLAT_CACHE];
     let mut line = [P::Stored::default(); TILE];
     for (j, row) in color[..rect.h].iter_mut().enumerate() {
-        let ids = &buf.id[j * TILE..j * TILE + rect.w];
-        let mut i = 0;
-        while i < rect.w {
-            let id = ids[i];
-            let end = i + run_length(&ids[i..], id);
+        for Run { id, start: i, end } in row_runs(buf, j, rect.w) {
             let v = if id == NO_TRIANGLE {
                 background
             } else {
@@ -123,7 +101,6 @@ fn flat_rows<P: Pixel>(
                 entry.1
             };
             line[i..end].fill(v);
-            i = end;
         }
         P::put_stored(&mut row[..rect.w * 3], &line[..rect.w]);
     }
@@ -145,12 +122,8 @@ fn gouraud_rows<P: Pixel, const AFFINE: bool>(
     let bg = ctx.background.to_array();
     let mut lin: RowColors = [[0.0; ROW_LANES]; 3];
     for (j, row) in color[..rect.h].iter_mut().enumerate() {
-        let ids = &buf.id[j * TILE..j * TILE + rect.w];
         let y = (rect.y0 + j) as f64 + 0.5;
-        let mut i = 0;
-        while i < rect.w {
-            let id = ids[i];
-            let end = i + run_length(&ids[i..], id);
+        for Run { id, start: i, end } in row_runs(buf, j, rect.w) {
             // i + n ≤ TILE + LANES − 1 < ROW_LANES.
             let n = (end - i).div_ceil(LANES) * LANES;
             let [lr, lg, lb] = &mut lin;
@@ -179,29 +152,7 @@ fn gouraud_rows<P: Pixel, const AFFINE: bool>(
                     }
                 }
             }
-            i = end;
         }
         P::store_row(&mut row[..rect.w * 3], &lin, ctx.wide());
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn run_length_counts_the_leading_run() {
-        // Every run length 0..=20 after and before other ids, around the 4-wide chunks.
-        for n in 0..=20usize {
-            for tail in [vec![], vec![7], vec![7, 5, 5, 5, 5]] {
-                let mut ids = vec![5u32; n];
-                ids.extend(&tail);
-                if ids.is_empty() {
-                    continue;
-                }
-                let want = ids.iter().take_while(|&&v| v == ids[0]).count();
-                assert_eq!(run_length(&ids, ids[0]), want, "{ids:?}");
-            }
-        }
     }
 }

@@ -28,10 +28,10 @@
 
 use glam::{Vec2, Vec3, Vec4};
 
+use super::id_runs::{row_runs, Run};
 use super::phong::face_normal;
 use super::planes::{weight_planes, Plane, PlaneCache};
 use super::program::finish_batch;
-use super::runs::run_length;
 use super::store::{fill_out, put, Out, Pixel};
 use super::{background_row, ShadeContext};
 use crate::lighting::{lane, normalize_lanes, set_lane, Lanes, Split, Surface, LANES};
@@ -686,18 +686,13 @@ fn shade_textured_body<P: Pixel, const AFFINE: bool, const PERTURB: bool, const 
     };
     for j in 0..rect.h {
         let y = (rect.y0 + j) as f64 + 0.5;
-        let ids = &buf.id[j * TILE..j * TILE + rect.w];
         let zs = &buf.depth[j * TILE..j * TILE + rect.w];
-        let mut i = 0;
-        while i < rect.w {
-            let id = ids[i];
-            let end = i + run_length(&ids[i..], id);
+        for Run { id, start: i, end } in row_runs(buf, j, rect.w) {
             if id == NO_TRIANGLE {
                 put(&mut color[j][i * 3..end * 3], &background[..(end - i) * 3]);
                 if let Some(d) = depth.as_deref_mut() {
                     fill_out(&mut d[j][i..end], f32::INFINITY);
                 }
-                i = end;
                 continue;
             }
             let t = ctx.tris.get(id);
@@ -761,7 +756,6 @@ fn shade_textured_body<P: Pixel, const AFFINE: bool, const PERTURB: bool, const 
                 }
                 s += n;
             }
-            i = end;
         }
     }
     batch.flush_on::<P, PERTURB, WIDE>(&on, color);
