@@ -74,7 +74,8 @@ pub(super) fn shade_runs<P: Pixel, const MODE: u8, const FOG: bool, const AFFINE
 }
 
 /// Flat without depth output or fog, the common case: each tile row's stored pixels (one
-/// value each, [`Pixel::Stored`]) filled a run at a time into a row buffer and written out
+/// value each, [`Pixel::Stored`]) filled a run at a time (whole [`LANES`], as Gouraud's
+/// colours) into a row buffer and written out
 /// once a row (four bytes a pixel for `u8`; a pixel at a time, three byte stores each, cost
 /// a quarter of a flat frame at 1080p).
 #[inline(always)]
@@ -88,7 +89,7 @@ fn flat_rows<P: Pixel>(
     // Stored pixels of recently seen flat colours, direct-mapped by id: the rows of a
     // triangle alternate with its neighbours', so a last-id cache would miss on every row.
     let mut flat_cache = [(NO_TRIANGLE, P::Stored::default()); FLAT_CACHE];
-    let mut line = [P::Stored::default(); TILE];
+    let mut line = [P::Stored::default(); ROW_LANES];
     for (j, row) in color[..rect.h].iter_mut().enumerate() {
         for Run { id, start: i, end } in row_runs(buf, j, rect.w) {
             let v = if id == NO_TRIANGLE {
@@ -100,7 +101,13 @@ fn flat_rows<P: Pixel>(
                 }
                 entry.1
             };
-            line[i..end].fill(v);
+            // Whole groups of LANES (one vector store each for u8): a run's last group
+            // spills into the next run's pixels, which that run then overwrites
+            // (i + n ≤ TILE + LANES − 1 < ROW_LANES).
+            let n = (end - i).div_ceil(LANES) * LANES;
+            for group in line[i..i + n].chunks_exact_mut(LANES) {
+                group.fill(v);
+            }
         }
         P::put_stored(&mut row[..rect.w * 3], &line[..rect.w]);
     }
