@@ -16,6 +16,16 @@ pub(super) struct Run {
     pub end: usize,
 }
 
+impl Run {
+    /// The run's pixels widened to whole groups of [`LANES`] from its start, for loops that
+    /// write a row buffer a group at a time: the last group spills into the next run's
+    /// pixels, which that run then overwrites. Ends before `TILE + LANES`.
+    #[inline(always)]
+    pub fn whole_lanes(&self) -> std::ops::Range<usize> {
+        self.start..self.start + (self.end - self.start).div_ceil(LANES) * LANES
+    }
+}
+
 /// The runs of row `j` of `buf` over its first `w` pixels, left to right.
 #[inline(always)]
 pub(super) fn row_runs(buf: &TileBuffers, j: usize, w: usize) -> Runs<'_> {
@@ -122,6 +132,12 @@ mod tests {
                         // Ids cycle 0, 1, 2: neighbours always differ, so runs have `len`.
                         assert_eq!(got, want, "w {w} len {len} tail_same {tail_same} row {j}");
                         assert_eq!(got.len(), w.div_ceil(len));
+                        for r in &got {
+                            let g = r.whole_lanes();
+                            assert!(g.start == r.start && g.end >= r.end);
+                            assert!(g.len() % LANES == 0 && g.len() - (r.end - r.start) < LANES);
+                            assert!(g.end < TILE + LANES);
+                        }
                     }
                 }
             }

@@ -91,7 +91,8 @@ fn flat_rows<P: Pixel>(
     let mut flat_cache = [(NO_TRIANGLE, P::Stored::default()); FLAT_CACHE];
     let mut line = [P::Stored::default(); ROW_LANES];
     for (j, row) in color[..rect.h].iter_mut().enumerate() {
-        for Run { id, start: i, end } in row_runs(buf, j, rect.w) {
+        for run in row_runs(buf, j, rect.w) {
+            let id = run.id;
             let v = if id == NO_TRIANGLE {
                 background
             } else {
@@ -101,11 +102,8 @@ fn flat_rows<P: Pixel>(
                 }
                 entry.1
             };
-            // Whole groups of LANES (one vector store each for u8): a run's last group
-            // spills into the next run's pixels, which that run then overwrites
-            // (i + n ≤ TILE + LANES − 1 < ROW_LANES).
-            let n = (end - i).div_ceil(LANES) * LANES;
-            for group in line[i..i + n].chunks_exact_mut(LANES) {
+            // Whole groups of LANES (one vector store each for u8), within ROW_LANES.
+            for group in line[run.whole_lanes()].chunks_exact_mut(LANES) {
                 group.fill(v);
             }
         }
@@ -130,14 +128,13 @@ fn gouraud_rows<P: Pixel, const AFFINE: bool>(
     let mut lin: RowColors = [[0.0; ROW_LANES]; 3];
     for (j, row) in color[..rect.h].iter_mut().enumerate() {
         let y = (rect.y0 + j) as f64 + 0.5;
-        for Run { id, start: i, end } in row_runs(buf, j, rect.w) {
-            // i + n ≤ TILE + LANES − 1 < ROW_LANES.
-            let n = (end - i).div_ceil(LANES) * LANES;
+        for run in row_runs(buf, j, rect.w) {
+            let (id, i, group) = (run.id, run.start, run.whole_lanes());
             let [lr, lg, lb] = &mut lin;
-            let lanes = lr[i..i + n]
+            let lanes = lr[group.clone()]
                 .chunks_exact_mut(LANES)
-                .zip(lg[i..i + n].chunks_exact_mut(LANES))
-                .zip(lb[i..i + n].chunks_exact_mut(LANES));
+                .zip(lg[group.clone()].chunks_exact_mut(LANES))
+                .zip(lb[group].chunks_exact_mut(LANES));
             if id == NO_TRIANGLE {
                 for ((cr, cg), cb) in lanes {
                     cr.fill(bg[0]);
