@@ -563,6 +563,26 @@ def markdown(
         "kept: the small triangles' depth windows blended and stored without the "
         "all-covered and none-covered branches (instructions +0.15M a frame; time within "
         "the noise of eight alternating runs).",
+        "Texture lanes (issue 15, 2026-11-29): the texture rows are the furthest from the "
+        "goal (1.5–2.7× llvmpipe at one thread), so `frame_cost` draws the texture report's "
+        "floor (`frame_cost flat 0 360 floor texture=nearest|bilinear|trilinear`: 480 × 360, "
+        "unlit, each pixel its texture). perf on it: the batch flush 63 % of the frame, the "
+        "chunks' interpolation 22 %, visibility 6 %, and within them loads waiting on "
+        "narrower stores: the coordinates stored as (u, v) pairs a lane at a time and read "
+        "back as lanes, the texels written a lane and a channel at a time and read as channel "
+        "vectors by the blend. The batch now keeps u and v as lanes, and with AVX2 a texel is "
+        "one 16-byte load (each level has one texel of padding after its last) and eight are "
+        "transposed into the three channel vectors in registers. callgrind per frame: nearest "
+        "15.24M → 14.03M (−7.9 %), bilinear 20.17M → 18.82M (−6.7 %), trilinear 32.36M → "
+        "31.65M (−2.2 %); user time within the noise (nearest, 800 frames, five alternating "
+        "runs, median 1.14 → 1.11 s). Same bytes. Tried and not kept: AVX2 gathers for the "
+        "texels (no faster: this CPU's gathers carry the Gather Data Sampling microcode's "
+        "cost), trilinear chunks across a level boundary read once per level choice instead "
+        "of a lane at a time (+0.9M instructions, time within the noise), the chunks' "
+        "interpolation as channel-major loops (the same instruction count: LLVM had "
+        "vectorised it). What is left is the per-pixel work itself, about 140 instructions "
+        "per covered pixel for nearest, everything included: a lean path for the common case "
+        "(one map, no vertex colours) is the next step.",
     ]
     out += [
         "",

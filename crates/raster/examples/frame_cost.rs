@@ -13,7 +13,9 @@
 //! `shadows=map|plain|exact` (every light casts shadows: a default map, a map with
 //! `filter="none"`, or rays), `texture=nearest|bilinear|trilinear` (every object gets planar
 //! UVs, u = 4x, v = 4z, and a 64 × 64 checkerboard diffuse map with that filter) and
-//! `aniso=N` (its anisotropy); `dump=PATH` writes the last frame's colour samples there (raw
+//! `aniso=N` (its anisotropy); `floor` replaces the sphere scene by `bench/bench_textures.py`'s
+//! (an unlit textured floor to the horizon at 4:3, with `texture=`'s filter, nearest by
+//! default; the sphere's rings are then unused); `dump=PATH` writes the last frame's colour samples there (raw
 //! u8, or f32 little-endian with `f32`, row-major RGB), for comparing builds; `explain=TOL`
 //! runs only `shading="auto"`'s estimate (at that tolerance) `frames` times. Prints a
 //! checksum of the last frame so the work cannot be optimised away.
@@ -26,7 +28,6 @@ use shadelab_raster::*;
 fn main() -> std::result::Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let mode: ShadingMode = args.first().map_or("phong", |s| s.as_str()).parse()?;
-    let rings: u32 = args.get(1).map_or(Ok(99), |s| s.parse())?;
     let height: u32 = args.get(2).map_or(Ok(1080), |s| s.parse())?;
     let flag = |name: &str| args.iter().any(|a| a == name);
     let value = |key: &str| {
@@ -34,16 +35,8 @@ fn main() -> std::result::Result<(), Box<dyn std::error::Error>> {
             .find_map(|a| a.strip_prefix(key).map(str::to_owned))
     };
     let frames: usize = value("frames=").map_or(Ok(2), |s| s.parse())?;
-    let lights = value("lights=").unwrap_or_else(|| "sun".to_owned());
-    let shadows = match value("shadows=").as_deref() {
-        None => Shadows::Off,
-        Some("map") => Shadows::Map(ShadowSettings::default()),
-        Some("plain") => Shadows::Map(ShadowSettings::new(2048, ShadowFilter::None, 1.0)?),
-        Some("exact") => Shadows::Exact,
-        Some(other) => return Err(format!("unknown shadows {other}").into()),
-    };
-
-    let maps = match value("texture=") {
+    let texture = value("texture=").or_else(|| flag("floor").then(|| "nearest".to_owned()));
+    let maps = match texture {
         None => None,
         Some(name) => {
             let filter = Filter::from_name(&name).ok_or(format!("unknown filter {name}"))?;
@@ -85,6 +78,107 @@ fn main() -> std::result::Result<(), Box<dyn std::error::Error>> {
             }
         };
         Object::new(Arc::new(mesh), Material::preset(material)?, transform)?.with_maps(maps.clone())
+    };
+    let (scene, camera, width) = if flag("floor") {
+        floor_scene(maps.clone(), height)?
+    } else {
+        sphere_scene(&args, place)?
+    };
+    let mut options = RenderOptions::new(width, height);
+    options.shading = mode;
+    options.threads = Some(1);
+    let format = if flag("f32") {
+        ColorFormat::F32
+    } else {
+        ColorFormat::U8
+    };
+    let mut sum = 0.0f64;
+    if let Some(tol) = value("explain=") {
+        // `shading="auto"`'s estimate alone, `frames` times.
+        for _ in 0..frames {
+            let e = explain_shading(&scene, &camera, &options, tol.parse()?)?;
+            sum += e
+                .iter()
+                .map(|e| e.estimates.iter().sum::<f32>() as f64)
+                .sum::<f64>();
+        }
+        println!("checksum {sum}");
+        return Ok(());
+    }
+    for f in 0..frames {
+        let frame = render(&scene, &camera, &options, format, flag("depth"))?;
+        // The last frame's only: summing every frame was a quarter of a profile's samples.
+        if f + 1 < frames {
+            continue;
+        }
+        if let Some(path) = value("dump=") {
+            let bytes: Vec<u8> = match &frame.color {
+                ColorBuffer::U8(c) => c.clone(),
+                ColorBuffer::F32(c) => c.iter().flat_map(|v| v.to_le_bytes()).collect(),
+            };
+            std::fs::write(path, bytes)?;
+        }
+        sum = match &frame.color {
+            ColorBuffer::U8(c) => c.iter().map(|&v| v as f64).sum(),
+            ColorBuffer::F32(c) => c.iter().map(|&v| v as f64).sum(),
+        };
+    }
+    println!("checksum {sum}");
+    Ok(())
+}
+
+/// `bench/bench_textures.py`'s scene: a 80 × 82 floor (u = x/2, v = −z/2) under a white
+/// ambient light and a black sun, so each pixel is its texture; seen from (0, 1, 2) towards
+/// (0, 0, −8), 60° vertically, at 4:3.
+fn floor_scene(maps: Option<Arc<Maps>>, height: u32) -> Result<(Scene, Camera, u32)> {
+    let e = 40.0;
+    let p = vec![
+        Vec3::new(-e, 0.0, 2.0),
+        Vec3::new(e, 0.0, 2.0),
+        Vec3::new(e, 0.0, -2.0 * e),
+        Vec3::new(-e, 0.0, -2.0 * e),
+    ];
+    let uv = p.iter().map(|p| Vec2::new(0.5 * p.x, -0.5 * p.z)).collect();
+    let mesh = Mesh::new(
+        p,
+        vec![[0, 1, 2], [0, 2, 3]],
+        Some(vec![Vec3::Y; 4]),
+        Some(uv),
+    )?;
+    let material = Material::new(Vec3::ONE, Vec3::ZERO, Vec3::ZERO, 1.0)?;
+    let mut scene = Scene::new(Vec3::ONE)?;
+    scene.add_object(Object::new(Arc::new(mesh), material, Mat4::IDENTITY)?.with_maps(maps)?);
+    scene.add_light(DirectionalLight::new(Vec3::NEG_Y, Vec3::ZERO, 1.0)?);
+    let camera = Camera::look_at(
+        DVec3::new(0.0, 1.0, 2.0),
+        DVec3::new(0.0, 0.0, -8.0),
+        DVec3::Y,
+        60.0,
+        0.05,
+        200.0,
+    )?;
+    Ok((scene, camera, height * 4 / 3))
+}
+
+/// The sphere scene (see the module's doc), its lights, fog and two-sidedness from `args`.
+fn sphere_scene(
+    args: &[String],
+    place: impl Fn(Mesh, &str, Mat4) -> Result<Object>,
+) -> std::result::Result<(Scene, Camera, u32), Box<dyn std::error::Error>> {
+    let flag = |name: &str| args.iter().any(|a| a == name);
+    let value = |key: &str| {
+        args.iter()
+            .find_map(|a| a.strip_prefix(key).map(str::to_owned))
+    };
+    let rings: u32 = args.get(1).map_or(Ok(99), |s| s.parse())?;
+    let height: u32 = args.get(2).map_or(Ok(1080), |s| s.parse())?;
+    let lights = value("lights=").unwrap_or_else(|| "sun".to_owned());
+    let shadows = match value("shadows=").as_deref() {
+        None => Shadows::Off,
+        Some("map") => Shadows::Map(ShadowSettings::default()),
+        Some("plain") => Shadows::Map(ShadowSettings::new(2048, ShadowFilter::None, 1.0)?),
+        Some("exact") => Shadows::Exact,
+        Some(other) => return Err(format!("unknown shadows {other}").into()),
     };
     let mut scene = Scene::new(Vec3::splat(0.2))?;
     scene.add_object(place(
@@ -148,45 +242,5 @@ fn main() -> std::result::Result<(), Box<dyn std::error::Error>> {
         0.1,
         100.0,
     )?;
-    let mut options = RenderOptions::new(height * 16 / 9, height);
-    options.shading = mode;
-    options.threads = Some(1);
-    let format = if flag("f32") {
-        ColorFormat::F32
-    } else {
-        ColorFormat::U8
-    };
-    let mut sum = 0.0f64;
-    if let Some(tol) = value("explain=") {
-        // `shading="auto"`'s estimate alone, `frames` times.
-        for _ in 0..frames {
-            let e = explain_shading(&scene, &camera, &options, tol.parse()?)?;
-            sum += e
-                .iter()
-                .map(|e| e.estimates.iter().sum::<f32>() as f64)
-                .sum::<f64>();
-        }
-        println!("checksum {sum}");
-        return Ok(());
-    }
-    for f in 0..frames {
-        let frame = render(&scene, &camera, &options, format, flag("depth"))?;
-        // The last frame's only: summing every frame was a quarter of a profile's samples.
-        if f + 1 < frames {
-            continue;
-        }
-        if let Some(path) = value("dump=") {
-            let bytes: Vec<u8> = match &frame.color {
-                ColorBuffer::U8(c) => c.clone(),
-                ColorBuffer::F32(c) => c.iter().flat_map(|v| v.to_le_bytes()).collect(),
-            };
-            std::fs::write(path, bytes)?;
-        }
-        sum = match &frame.color {
-            ColorBuffer::U8(c) => c.iter().map(|&v| v as f64).sum(),
-            ColorBuffer::F32(c) => c.iter().map(|&v| v as f64).sum(),
-        };
-    }
-    println!("checksum {sum}");
-    Ok(())
+    Ok((scene, camera, height * 16 / 9))
 }

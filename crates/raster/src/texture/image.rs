@@ -20,14 +20,42 @@ pub struct Level {
     pub width: usize,
     /// Height in texels.
     pub height: usize,
+    /// `width × height` texels, then one zero texel of padding (see [`Level::new`]).
     texels: Vec<[f32; 3]>,
 }
 
 impl Level {
+    /// A level of `width × height` texels (`texels`, rows from the bottom), followed by one
+    /// zero texel of padding: the lane fetch reads four floats from a texel's first channel
+    /// (one 16-byte load a texel), which for the last texel is its three and the padding's
+    /// first.
+    fn new(width: usize, height: usize, mut texels: Vec<[f32; 3]>) -> Self {
+        debug_assert_eq!(texels.len(), width * height);
+        texels.push([0.0; 3]);
+        Level {
+            width,
+            height,
+            texels,
+        }
+    }
+
     /// Texel at column `i`, row `j` counted from the bottom (OpenGL's (i, j)).
     #[inline(always)]
     pub fn texel(&self, i: usize, j: usize) -> [f32; 3] {
         self.texels[j * self.width + i]
+    }
+
+    /// Number of texels (`width × height`).
+    #[inline(always)]
+    pub(crate) fn texel_count(&self) -> usize {
+        self.width * self.height
+    }
+
+    /// The texels' channels in one slice (texel k's channel c at `3k + c`), then the
+    /// padding texel's three zeros.
+    #[inline(always)]
+    pub(crate) fn channels(&self) -> &[f32] {
+        self.texels.as_flattened()
     }
 }
 
@@ -95,7 +123,7 @@ impl Image {
         }
         let mut texels = Vec::new();
         texels
-            .try_reserve_exact(width * height)
+            .try_reserve_exact(width * height + 1)
             .map_err(|_| RasterError::OutOfMemory {
                 bytes: width * height * 12,
             })?;
@@ -110,11 +138,7 @@ impl Image {
                 texels.push(t);
             }
         }
-        Ok(Image::from_level(Level {
-            width,
-            height,
-            texels,
-        }))
+        Ok(Image::from_level(Level::new(width, height, texels)))
     }
 
     /// The pyramid of `base`: each level half the size of the one above (rounded down, at
@@ -189,7 +213,7 @@ fn downsample(up: &Level) -> Level {
         if up.height > 1 { 2 } else { 1 },
     );
     let scale = 1.0 / (sx * sy) as f32;
-    let mut texels = Vec::with_capacity(w * h);
+    let mut texels = Vec::with_capacity(w * h + 1);
     for j in 0..h {
         for i in 0..w {
             let mut sum = [0.0f32; 3];
@@ -204,11 +228,7 @@ fn downsample(up: &Level) -> Level {
             texels.push(sum.map(|s| s * scale));
         }
     }
-    Level {
-        width: w,
-        height: h,
-        texels,
-    }
+    Level::new(w, h, texels)
 }
 
 #[cfg(test)]

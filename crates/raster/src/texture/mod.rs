@@ -225,24 +225,26 @@ impl Texture {
 }
 
 impl Texture {
-    /// [`Texture::sample`] at the first `n` of the points (`uv[k]` seen with `fp[k]`, into
+    /// [`Texture::sample`] at the first `n` of the points (`(u[k], v[k])` seen with `fp[k]`, into
     /// lane `k` of the channel-major `out`; lanes from `n` on may be overwritten; `n` is
     /// at most `N`), the same values: the source and filter are dispatched once for all of
     /// them, and the isotropic image filters read all the points' texels at once
     /// (`sample::nearest_lanes`, `bilinear_lanes`, `trilinear_lanes`). The points past `n`
-    /// may hold anything (they are computed on and dropped: whole-width lane loops).
+    /// may hold anything (they are computed on and dropped: whole-width lane loops). `wide`:
+    /// the render's ISA is AVX2 (detected on this CPU), whose gathers then read the texels.
     #[inline(always)]
     pub fn sample_many<const N: usize>(
         &self,
-        uv: &[(f64, f64); N],
+        u: &[f64; N],
+        v: &[f64; N],
         fp: &[Footprint; N],
         n: usize,
         out: &mut [[f32; N]; 3],
+        wide: bool,
     ) {
         let n = n.min(N);
         let (s, o) = (self.uv_scale, self.uv_offset);
-        let at =
-            |(u, v): (f64, f64)| (finite_or_zero(u * s.x + o.x), finite_or_zero(v * s.y + o.y));
+        let at = || (lanes(u, s.x, o.x), lanes(v, s.y, o.y));
         match &self.source {
             Source::Image {
                 image,
@@ -250,8 +252,8 @@ impl Texture {
                 wrap,
                 aniso: 0 | 1,
             } => {
-                let (u, v) = lanes(uv, at);
-                sample::nearest_lanes(&image.levels()[0], *wrap, &u, &v, n, out);
+                let (u, v) = at();
+                sample::nearest_lanes(&image.levels()[0], *wrap, &u, &v, n, out, wide);
             }
             Source::Image {
                 image,
@@ -259,8 +261,8 @@ impl Texture {
                 wrap,
                 aniso: 0 | 1,
             } => {
-                let (u, v) = lanes(uv, at);
-                sample::bilinear_lanes(&image.levels()[0], *wrap, &u, &v, n, out);
+                let (u, v) = at();
+                sample::bilinear_lanes(&image.levels()[0], *wrap, &u, &v, n, out, wide);
             }
             Source::Image {
                 image,
@@ -270,32 +272,25 @@ impl Texture {
             } => {
                 // As `sample`: the footprint scaled with the coordinates, then λ.
                 let (w, h) = (image.width(), image.height());
-                let (u, v) = lanes(uv, at);
+                let (u, v) = at();
                 let scaled = std::array::from_fn(|k| scale_footprint(&fp[k], s));
                 let lambda = sample::lod_lanes(&scaled, n, w, h);
-                sample::trilinear_lanes(image.levels(), *wrap, &u, &v, &lambda, n, out);
+                sample::trilinear_lanes(image.levels(), *wrap, &u, &v, &lambda, n, out, wide);
             }
             _ => {
-                for (k, (&(u, v), fp)) in uv.iter().zip(fp).enumerate().take(n) {
-                    put_lane(out, k, self.sample(u, v, fp));
+                for (k, fp) in fp.iter().enumerate().take(n) {
+                    put_lane(out, k, self.sample(u[k], v[k], fp));
                 }
             }
         }
     }
 }
 
-/// The `N` points of `uv` through `at` as coordinate lanes (all of them: a loop of fixed
-/// length, which vectorises).
+/// The coordinates `c` scaled by `s` and offset by `o`, non-finite ones 0, as
+/// [`Texture::sample`] takes one (all `N` lanes: a loop of fixed length, which vectorises).
 #[inline(always)]
-fn lanes<const N: usize>(
-    uv: &[(f64, f64); N],
-    at: impl Fn((f64, f64)) -> (f64, f64),
-) -> ([f64; N], [f64; N]) {
-    let (mut u, mut v) = ([0.0; N], [0.0; N]);
-    for k in 0..N {
-        (u[k], v[k]) = at(uv[k]);
-    }
-    (u, v)
+fn lanes<const N: usize>(c: &[f64; N], s: f64, o: f64) -> [f64; N] {
+    c.map(|c| finite_or_zero(c * s + o))
 }
 
 /// Writes `c` into lane `k` of channel-major lanes.

@@ -414,13 +414,88 @@ pub(super) fn nearest_lanes<const N: usize>(
     v: &[f64; N],
     n: usize,
     out: &mut [[f32; N]; 3],
+    wide: bool,
 ) {
     let scaled = |c: &[f64; N], s: usize| c.map(|c| c * s as f64);
     let (i, _, _) = lane_indices::<N, false>(Axis::new(wrap[0], l.width), &scaled(u, l.width), n);
     let (j, _, _) = lane_indices::<N, false>(Axis::new(wrap[1], l.height), &scaled(v, l.height), n);
+    fetch(l, &i, &j, n, out, wide);
+}
+
+/// The texels (`i[k]`, `j[k]`) of `l` into lane k of the channel-major `out`, for the
+/// first `n` lanes (lanes from `n` on may be overwritten). Eight lanes with `wide` (the
+/// render's ISA is AVX2): one 16-byte load a texel and a transpose into the three channel
+/// vectors, in registers. Written a lane at a time, the lanes' loads by the blend after it
+/// waited on the stores (perf put that stall at a tenth of a nearest-filtered frame); AVX2's
+/// gathers were no faster here (this CPU's microcode makes them slow: Gather Data Sampling).
+/// Same values either way.
+#[inline(always)]
+fn fetch<const N: usize>(
+    l: &Level,
+    i: &[usize; N],
+    j: &[usize; N],
+    n: usize,
+    out: &mut [[f32; N]; 3],
+    wide: bool,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if wide && N == 8 {
+        // Every lane's index, live or not, is a texel of the level (`lane_indices` gives
+        // dead lanes one too); the `min` keeps the loads in bounds whatever they hold.
+        // Texel indices are below MAX_TEXELS < 2³²: u32 lanes.
+        let (w, last) = (l.width as u32, l.texel_count() as u32 - 1);
+        let mut at = [0u32; 8];
+        for (k, a) in at.iter_mut().enumerate() {
+            *a = (j[k] as u32 * w + i[k] as u32).min(last) * 3;
+        }
+        // SAFETY: `wide` only where the render's ISA is AVX2, detected on this CPU; every
+        // offset is at most the last texel's, whose four floats (with the padding texel's
+        // first, `Level::new`) are in `channels()`; N is 8.
+        unsafe { fetch8_avx(l.channels(), &at, out) };
+        return;
+    }
+    let _ = wide;
     for k in 0..n.min(N) {
         let t = l.texel(i[k], j[k]);
         (out[0][k], out[1][k], out[2][k]) = (t[0], t[1], t[2]);
+    }
+}
+
+/// `out[ch][k] = channels[at[k] + ch]` for the eight lanes and three channels: each texel
+/// read as four floats (r, g, b and the next one), two texels to a 256-bit register (lanes
+/// k and k + 4), then transposed.
+///
+/// # Safety
+/// The CPU must support AVX, `at[k] + 3` must be within `channels` for every k, and N must
+/// be 8.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+#[inline]
+unsafe fn fetch8_avx<const N: usize>(channels: &[f32], at: &[u32; 8], out: &mut [[f32; N]; 3]) {
+    use std::arch::x86_64::*;
+    debug_assert_eq!(N, 8);
+    debug_assert!(at.iter().all(|&a| a as usize + 3 < channels.len()));
+    // SAFETY: AVX (the caller's promise); every load is four floats from `at[k]`, within
+    // `channels`; each `out` row is eight floats (N = 8).
+    unsafe {
+        let p = channels.as_ptr();
+        let pair = |a: usize, b: usize| {
+            let lo = _mm_loadu_ps(p.add(at[a] as usize));
+            let hi = _mm_loadu_ps(p.add(at[b] as usize));
+            _mm256_insertf128_ps::<1>(_mm256_castps128_ps256(lo), hi)
+        };
+        // Rows (r, g, b, ·) of texels k | k + 4.
+        let (t0, t1, t2, t3) = (pair(0, 4), pair(1, 5), pair(2, 6), pair(3, 7));
+        let rg01 = _mm256_unpacklo_ps(t0, t1); // r0 r1 g0 g1 | r4 r5 g4 g5
+        let b01 = _mm256_unpackhi_ps(t0, t1); // b0 b1 · · | b4 b5 · ·
+        let rg23 = _mm256_unpacklo_ps(t2, t3);
+        let b23 = _mm256_unpackhi_ps(t2, t3);
+        let r = _mm256_shuffle_ps::<0b01_00_01_00>(rg01, rg23);
+        let g = _mm256_shuffle_ps::<0b11_10_11_10>(rg01, rg23);
+        let b = _mm256_shuffle_ps::<0b01_00_01_00>(b01, b23);
+        _mm256_storeu_ps(out[0].as_mut_ptr(), r);
+        _mm256_storeu_ps(out[1].as_mut_ptr(), g);
+        _mm256_storeu_ps(out[2].as_mut_ptr(), b);
     }
 }
 
@@ -435,25 +510,18 @@ pub(super) fn bilinear_lanes<const N: usize>(
     v: &[f64; N],
     n: usize,
     out: &mut [[f32; N]; 3],
+    wide: bool,
 ) {
     let centred = |c: &[f64; N], s: usize| c.map(|c| c * s as f64 - 0.5);
     let (i0, i1, a) = lane_indices::<N, true>(Axis::new(wrap[0], l.width), &centred(u, l.width), n);
     let (j0, j1, b) =
         lane_indices::<N, true>(Axis::new(wrap[1], l.height), &centred(v, l.height), n);
     let mut tex = [[[0.0f32; N]; 3]; 4];
-    for k in 0..n.min(N) {
-        for (q, (i, j)) in [
-            (i0[k], j0[k]),
-            (i1[k], j0[k]),
-            (i0[k], j1[k]),
-            (i1[k], j1[k]),
-        ]
+    for (q, (i, j)) in [(&i0, &j0), (&i1, &j0), (&i0, &j1), (&i1, &j1)]
         .into_iter()
         .enumerate()
-        {
-            let t = l.texel(i, j);
-            (tex[q][0][k], tex[q][1][k], tex[q][2][k]) = (t[0], t[1], t[2]);
-        }
+    {
+        fetch(l, i, j, n, &mut tex[q], wide);
     }
     for ch in 0..3 {
         for k in 0..N {
@@ -472,6 +540,7 @@ pub(super) fn bilinear_lanes<const N: usize>(
 /// [`bilinear_lanes`] once per level and blended per channel over all lanes; otherwise each
 /// lane by [`trilinear`]. The same values either way.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)] // the sampler's inputs, as `trilinear` takes them, per lane
 pub(super) fn trilinear_lanes<const N: usize>(
     levels: &[Level],
     wrap: [Wrap; 2],
@@ -480,6 +549,7 @@ pub(super) fn trilinear_lanes<const N: usize>(
     lambda: &[f64; N],
     n: usize,
     out: &mut [[f32; N]; 3],
+    wide: bool,
 ) {
     let n = n.min(N);
     if n == 0 {
@@ -507,13 +577,13 @@ pub(super) fn trilinear_lanes<const N: usize>(
     }
     let (d1, single) = first;
     if single == usize::MAX {
-        bilinear_lanes(&levels[d1], wrap, u, v, n, out);
+        bilinear_lanes(&levels[d1], wrap, u, v, n, out, wide);
         return;
     }
     let mut a = [[0.0f32; N]; 3];
     let mut b = [[0.0f32; N]; 3];
-    bilinear_lanes(&levels[d1], wrap, u, v, n, &mut a);
-    bilinear_lanes(&levels[d1 + 1], wrap, u, v, n, &mut b);
+    bilinear_lanes(&levels[d1], wrap, u, v, n, &mut a, wide);
+    bilinear_lanes(&levels[d1 + 1], wrap, u, v, n, &mut b, wide);
     let mut f = [0.0f32; N];
     for k in 0..n {
         f[k] = (lambda[k] - d1 as f64) as f32;
@@ -580,6 +650,45 @@ mod tests {
                     let (u, v) = ((i as f64 + 0.5) / 5.0, 1.0 - (j as f64 + 0.5) / 3.0);
                     let c = t.sample(u, v, &none);
                     assert_eq!(c, Vec3::new(i as f32, j as f32, 0.0), "{f:?} {i} {j}");
+                }
+            }
+        }
+    }
+
+    /// Every texel of levels of several shapes read through the lane fetch (per lane, and
+    /// the AVX loads where this CPU has AVX2), eight lanes at a time with a partial last
+    /// chunk: each lane gets its texel's three channels, the last texel included (read with
+    /// the padding after it), whatever the dead lanes hold.
+    #[test]
+    fn lane_fetch_reads_every_texel_up_to_the_last() {
+        for (w, h) in [(5, 3), (4, 4), (1, 1), (7, 1), (1, 9), (16, 2)] {
+            let mut d = Vec::new();
+            for j in 0..h {
+                for i in 0..w {
+                    d.extend([i as f32, j as f32, (100 * i + j + 1) as f32]);
+                }
+            }
+            let img = Image::from_top_rows(w, h, 3, &d, false).unwrap();
+            let l = &img.levels()[0];
+            let all: Vec<(usize, usize)> =
+                (0..h).flat_map(|j| (0..w).map(move |i| (i, j))).collect();
+            for wide in [false, avx2()] {
+                for chunk in all.chunks(8) {
+                    let n = chunk.len();
+                    let (mut i, mut j) = ([0usize; 8], [0usize; 8]);
+                    for (k, &(a, b)) in chunk.iter().enumerate() {
+                        (i[k], j[k]) = (a, b);
+                    }
+                    // Dead lanes: the last texel, as far from the first as indices go.
+                    for k in n..8 {
+                        (i[k], j[k]) = (w - 1, h - 1);
+                    }
+                    let mut out = [[-7.0f32; 8]; 3];
+                    fetch(l, &i, &j, n, &mut out, wide);
+                    for k in 0..n {
+                        let got = [out[0][k], out[1][k], out[2][k]];
+                        assert_eq!(got, l.texel(i[k], j[k]), "{w}x{h} {wide} lane {k}");
+                    }
                 }
             }
         }
@@ -757,31 +866,42 @@ mod tests {
             for (k, &(a, b)) in chunk.iter().enumerate() {
                 (u[k], v[k]) = (a, b);
             }
-            let mut near = [[-7.0f32; 8]; 3];
-            let mut bil = [[-7.0f32; 8]; 3];
-            nearest_lanes(l, wrap, &u, &v, n, &mut near);
-            bilinear_lanes(l, wrap, &u, &v, n, &mut bil);
-            let levels = img.levels();
-            let mixed = [-1.0, 0.3, 1.7, 2.2, f64::NAN, 9.0, 0.0, 1.2];
-            for lambda in [[-0.5; 8], [0.25; 8], [1.5; 8], [1.01; 8], [30.0; 8], mixed] {
-                let mut tri = [[-7.0f32; 8]; 3];
-                trilinear_lanes(levels, wrap, &u, &v, &lambda, n, &mut tri);
-                for k in 0..n {
-                    let want = trilinear(levels, wrap, u[k], v[k], lambda[k]).to_array();
-                    let got = [tri[0][k], tri[1][k], tri[2][k]];
-                    assert_eq!(got.map(f32::to_bits), want.map(f32::to_bits), "{lambda:?}");
+            // Both texel fetches: per lane, and the AVX loads where this CPU has AVX2.
+            for wide in [false, avx2()] {
+                let mut near = [[-7.0f32; 8]; 3];
+                let mut bil = [[-7.0f32; 8]; 3];
+                nearest_lanes(l, wrap, &u, &v, n, &mut near, wide);
+                bilinear_lanes(l, wrap, &u, &v, n, &mut bil, wide);
+                let levels = img.levels();
+                let mixed = [-1.0, 0.3, 1.7, 2.2, f64::NAN, 9.0, 0.0, 1.2];
+                for lambda in [[-0.5; 8], [0.25; 8], [1.5; 8], [1.01; 8], [30.0; 8], mixed] {
+                    let mut tri = [[-7.0f32; 8]; 3];
+                    trilinear_lanes(levels, wrap, &u, &v, &lambda, n, &mut tri, wide);
+                    for k in 0..n {
+                        let want = trilinear(levels, wrap, u[k], v[k], lambda[k]).to_array();
+                        let got = [tri[0][k], tri[1][k], tri[2][k]];
+                        assert_eq!(got.map(f32::to_bits), want.map(f32::to_bits), "{lambda:?}");
+                    }
                 }
-            }
-            for k in 0..8 {
-                let got = |o: &[[f32; 8]; 3]| [o[0][k], o[1][k], o[2][k]];
-                if k < n {
-                    let want_n = nearest(l, wrap, u[k], v[k]).to_array();
-                    let want_b = bilinear(l, wrap, u[k], v[k]).to_array();
-                    assert_eq!(got(&near).map(f32::to_bits), want_n.map(f32::to_bits));
-                    assert_eq!(got(&bil).map(f32::to_bits), want_b.map(f32::to_bits));
+                for k in 0..8 {
+                    let got = |o: &[[f32; 8]; 3]| [o[0][k], o[1][k], o[2][k]];
+                    if k < n {
+                        let want_n = nearest(l, wrap, u[k], v[k]).to_array();
+                        let want_b = bilinear(l, wrap, u[k], v[k]).to_array();
+                        assert_eq!(got(&near).map(f32::to_bits), want_n.map(f32::to_bits));
+                        assert_eq!(got(&bil).map(f32::to_bits), want_b.map(f32::to_bits));
+                    }
                 }
             }
         }
+    }
+
+    /// Whether this CPU has AVX2 (the gathers' precondition).
+    fn avx2() -> bool {
+        #[cfg(target_arch = "x86_64")]
+        return std::arch::is_x86_feature_detected!("avx2");
+        #[cfg(not(target_arch = "x86_64"))]
+        false
     }
 
     #[test]

@@ -243,7 +243,11 @@ struct Chunk {
 struct Batch {
     len: usize,
     at: [(usize, usize); LANES],
-    uv: [(f64, f64); LANES],
+    /// Texture coordinates per lane, as lanes: a chunk's are written and read as whole
+    /// vectors (as (u, v) pairs stored a lane at a time and read back as lanes by the
+    /// sampler, perf put a fifth of the chunk's interpolation on those stores).
+    u: [f64; LANES],
+    v: [f64; LANES],
     fp: [Footprint; LANES],
     /// Channel-major lanes (as the lighting's and the stores' are), so the flush's
     /// combination is one loop per channel over all lanes.
@@ -268,7 +272,7 @@ impl Batch {
     fn shininess(&self, map: &Texture, shininess: f32) -> Lanes {
         let mut f = [0.0; LANES];
         for (k, fk) in f.iter_mut().enumerate().take(self.len) {
-            let (u, v) = self.uv[k];
+            let (u, v) = (self.u[k], self.v[k]);
             *fk = Maps::shininess_at(shininess, map.sample(u, v, &self.fp[k]));
         }
         f
@@ -285,7 +289,7 @@ impl Batch {
             let t = self.tan[k];
             let tt = (t.truncate() - nf * nf.dot(t.truncate())).normalize_or_zero();
             let w = if t.w < 0.0 { -1.0 } else { 1.0 };
-            let (u, v) = self.uv[k];
+            let (u, v) = (self.u[k], self.v[k]);
             let fp = &self.fp[k];
             let mut frame = (tt, nf.cross(tt) * w, nf);
             let mut out = nf;
@@ -357,8 +361,9 @@ impl Batch {
             u[k] = us[0] * b[0][k] + us[1] * b[1][k] + us[2] * b[2][k];
             v[k] = vs[0] * b[0][k] + vs[1] * b[1][k] + vs[2] * b[2][k];
         }
+        self.u[lo..hi].copy_from_slice(&u[lo..hi]);
+        self.v[lo..hi].copy_from_slice(&v[lo..hi]);
         for k in lo..hi {
-            self.uv[k] = (u[k], v[k]);
             self.at[k] = (at.j, at.s + k - at.k0);
         }
         if c.footprint {
@@ -540,10 +545,10 @@ impl Batch {
             self.terms = t;
         }
         // Each map read for all lanes at once (one dispatch per map); 1 without a map.
-        let (uv, fp, n) = (&self.uv, &self.fp, self.len);
+        let (u, v, fp, n, wide) = (&self.u, &self.v, &self.fp, self.len, ctx.wide());
         let read = |t: &Option<std::sync::Arc<Texture>>, out: &mut [Lanes; 3]| {
             if let Some(t) = t {
-                t.sample_many(uv, fp, n, out);
+                t.sample_many(u, v, fp, n, out, wide);
             }
         };
         let mut td = [[1.0; LANES]; 3];
@@ -669,7 +674,8 @@ fn shade_textured_body<P: Pixel, const AFFINE: bool, const PERTURB: bool, const 
     let mut batch = Batch {
         len: 0,
         at: [(0, 0); LANES],
-        uv: [(0.0, 0.0); LANES],
+        u: [0.0; LANES],
+        v: [0.0; LANES],
         fp: [Footprint::default(); LANES],
         vcolor: [[0.0; LANES]; 3],
         terms: Split::default(),
