@@ -15,10 +15,11 @@
 //! UVs, u = 4x, v = 4z, and a 64 × 64 checkerboard diffuse map with that filter) and
 //! `aniso=N` (its anisotropy); `floor` replaces the sphere scene by `bench/bench_textures.py`'s
 //! (an unlit textured floor to the horizon at 4:3, with `texture=`'s filter, nearest by
-//! default; the sphere's rings are then unused); `dump=PATH` writes the last frame's colour samples there (raw
-//! u8, or f32 little-endian with `f32`, row-major RGB), for comparing builds; `explain=TOL`
-//! runs only `shading="auto"`'s estimate (at that tolerance) `frames` times. Prints a
-//! checksum of the last frame so the work cannot be optimised away.
+//! default; the sphere's rings are then unused); `dump=PATH` writes the last frame's
+//! colour samples there (raw u8, or f32 little-endian with `f32`, row-major RGB), for
+//! comparing builds; `explain=TOL` runs only `shading="auto"`'s estimate (at that
+//! tolerance) `frames` times. Prints a checksum of the last frame so the work cannot be
+//! optimised away.
 
 use std::sync::Arc;
 
