@@ -231,7 +231,8 @@ impl Texture {
     /// them, and the isotropic image filters read all the points' texels at once
     /// (`sample::nearest_lanes`, `bilinear_lanes`, `trilinear_lanes`). The points past `n`
     /// may hold anything (they are computed on and dropped: whole-width lane loops). `wide`:
-    /// the render's ISA is AVX2 (detected on this CPU), whose gathers then read the texels.
+    /// the render's ISA is AVX2 (detected on this CPU); the texels are then read with one
+    /// 16-byte load each (`sample::fetch`).
     #[inline(always)]
     pub fn sample_many<const N: usize>(
         &self,

@@ -426,9 +426,9 @@ pub(super) fn nearest_lanes<const N: usize>(
 /// first `n` lanes (lanes from `n` on may be overwritten). Eight lanes with `wide` (the
 /// render's ISA is AVX2): one 16-byte load a texel and a transpose into the three channel
 /// vectors, in registers. Written a lane at a time, the lanes' loads by the blend after it
-/// waited on the stores (perf put that stall at a tenth of a nearest-filtered frame); AVX2's
-/// gathers were no faster here (this CPU's microcode makes them slow: Gather Data Sampling).
-/// Same values either way.
+/// waited on the stores (perf put that stall at about a tenth of a nearest-filtered frame);
+/// AVX2's gathers instead were no faster (perf then put the wait on the gathers). Same
+/// values either way.
 #[inline(always)]
 fn fetch<const N: usize>(
     l: &Level,
