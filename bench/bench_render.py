@@ -582,7 +582,10 @@ def markdown(
         "interpolation as channel-major loops (the same instruction count: LLVM had "
         "vectorised it). What is left is the per-pixel work itself, about 140 instructions "
         "per covered pixel for nearest, everything included: a lean path for the common case "
-        "(one map, no vertex colours) is the next step.",
+        "(one map, no vertex colours) is the next step. Then the texel indices as u32 "
+        "lanes instead of usize ones (half "
+        "as wide): nearest 14.03M → 13.82M, bilinear 18.82M → 17.98M, trilinear 31.65M → "
+        "29.97M, same bytes.",
     ]
     out += [
         "",

@@ -370,9 +370,10 @@ fn lane_indices<const N: usize, const BILINEAR: bool>(
     axis: Axis,
     x: &[f64; N],
     n: usize,
-) -> ([usize; N], [usize; N], [f32; N]) {
-    let mut i0 = [0usize; N];
-    let mut i1 = [0usize; N];
+) -> ([u32; N], [u32; N], [f32; N]) {
+    // u32 lanes: indices are below MAX_TEXTURE_SIZE, and half as wide as usize ones.
+    let mut i0 = [0u32; N];
+    let mut i1 = [0u32; N];
     let mut frac = [0.0f32; N];
     let mut rest = 0..n;
     if let Some(m) = axis.mask {
@@ -385,9 +386,9 @@ fn lane_indices<const N: usize, const BILINEAR: bool>(
             // SAFETY: |xk| < 2³¹ (NaN fails the test and reads 0).
             let t = unsafe { xk.to_int_unchecked::<i32>() };
             let t = t - ((t as f64) > xk) as i32;
-            i0[k] = (t & m) as usize;
+            i0[k] = (t & m) as u32;
             if BILINEAR {
-                i1[k] = (t.wrapping_add(1) & m) as usize;
+                i1[k] = (t.wrapping_add(1) & m) as u32;
                 frac[k] = (xk - t as f64) as f32;
             }
         }
@@ -397,9 +398,10 @@ fn lane_indices<const N: usize, const BILINEAR: bool>(
     }
     for k in rest {
         if BILINEAR {
-            (i0[k], i1[k], frac[k]) = axis.pair(x[k]);
+            let (a, b, f) = axis.pair(x[k]);
+            (i0[k], i1[k], frac[k]) = (a as u32, b as u32, f);
         } else {
-            i0[k] = axis.nearest(x[k]);
+            i0[k] = axis.nearest(x[k]) as u32;
         }
     }
     (i0, i1, frac)
@@ -432,8 +434,8 @@ pub(super) fn nearest_lanes<const N: usize>(
 #[inline(always)]
 fn fetch<const N: usize>(
     l: &Level,
-    i: &[usize; N],
-    j: &[usize; N],
+    i: &[u32; N],
+    j: &[u32; N],
     n: usize,
     out: &mut [[f32; N]; 3],
     wide: bool,
@@ -446,7 +448,7 @@ fn fetch<const N: usize>(
         let (w, last) = (l.width as u32, l.texel_count() as u32 - 1);
         let mut at = [0u32; 8];
         for (k, a) in at.iter_mut().enumerate() {
-            *a = (j[k] as u32 * w + i[k] as u32).min(last) * 3;
+            *a = (j[k] * w + i[k]).min(last) * 3;
         }
         // SAFETY: `wide` only where the render's ISA is AVX2, detected on this CPU; every
         // offset is at most the last texel's, whose four floats (with the padding texel's
@@ -456,7 +458,7 @@ fn fetch<const N: usize>(
     }
     let _ = wide;
     for k in 0..n.min(N) {
-        let t = l.texel(i[k], j[k]);
+        let t = l.texel(i[k] as usize, j[k] as usize);
         (out[0][k], out[1][k], out[2][k]) = (t[0], t[1], t[2]);
     }
 }
@@ -670,24 +672,26 @@ mod tests {
             }
             let img = Image::from_top_rows(w, h, 3, &d, false).unwrap();
             let l = &img.levels()[0];
-            let all: Vec<(usize, usize)> =
-                (0..h).flat_map(|j| (0..w).map(move |i| (i, j))).collect();
+            let all: Vec<(u32, u32)> = (0..h as u32)
+                .flat_map(|j| (0..w as u32).map(move |i| (i, j)))
+                .collect();
             for wide in [false, avx2()] {
                 for chunk in all.chunks(8) {
                     let n = chunk.len();
-                    let (mut i, mut j) = ([0usize; 8], [0usize; 8]);
+                    let (mut i, mut j) = ([0u32; 8], [0u32; 8]);
                     for (k, &(a, b)) in chunk.iter().enumerate() {
                         (i[k], j[k]) = (a, b);
                     }
                     // Dead lanes: the last texel, as far from the first as indices go.
                     for k in n..8 {
-                        (i[k], j[k]) = (w - 1, h - 1);
+                        (i[k], j[k]) = (w as u32 - 1, h as u32 - 1);
                     }
                     let mut out = [[-7.0f32; 8]; 3];
                     fetch(l, &i, &j, n, &mut out, wide);
                     for k in 0..n {
                         let got = [out[0][k], out[1][k], out[2][k]];
-                        assert_eq!(got, l.texel(i[k], j[k]), "{w}x{h} {wide} lane {k}");
+                        let want = l.texel(i[k] as usize, j[k] as usize);
+                        assert_eq!(got, want, "{w}x{h} {wide} lane {k}");
                     }
                 }
             }
