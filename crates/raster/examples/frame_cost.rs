@@ -15,7 +15,11 @@
 //! UVs, u = 4x, v = 4z, and a 64 × 64 checkerboard diffuse map with that filter) and
 //! `aniso=N` (its anisotropy); `floor` replaces the sphere scene by `bench/bench_textures.py`'s
 //! (an unlit textured floor to the horizon at 4:3, with `texture=`'s filter, nearest by
-//! default; the sphere's rings are then unused); `dump=PATH` writes the last frame's
+//! default; the sphere's rings are then unused); `mirror` replaces it by
+//! `bench/bench_reflect.py`'s mirror floor under a red sphere (4:3, its environment looked
+//! up along the mirror directions; the rings are unused), and `glass` adds that report's glass
+//! ball in front (reflected and refracted look-ups), `opaque` makes both scenes' materials
+//! plain (the report's "none" rows: what the optics cost); `dump=PATH` writes the last frame's
 //! colour samples there (raw u8, or f32 little-endian with `f32`, row-major RGB), for
 //! comparing builds; `explain=TOL` runs only `shading="auto"`'s estimate (at that
 //! tolerance) `frames` times. Prints a checksum of the last frame so the work cannot be
@@ -82,12 +86,18 @@ fn main() -> std::result::Result<(), Box<dyn std::error::Error>> {
     };
     let (scene, camera, width) = if flag("floor") {
         floor_scene(maps.clone(), height)?
+    } else if flag("mirror") || flag("glass") {
+        mirror_scene(flag("glass"), flag("opaque"), height)?
     } else {
         sphere_scene(&args, place)?
     };
     let mut options = RenderOptions::new(width, height);
     options.shading = mode;
     options.threads = Some(1);
+    if flag("mirror") || flag("glass") {
+        options.reflections = Technique::Environment;
+        options.refractions = flag("glass").then_some(Technique::Environment);
+    }
     let format = if flag("f32") {
         ColorFormat::F32
     } else {
@@ -157,6 +167,76 @@ fn floor_scene(maps: Option<Arc<Maps>>, height: u32) -> Result<(Scene, Camera, u
         60.0,
         0.05,
         200.0,
+    )?;
+    Ok((scene, camera, height * 4 / 3))
+}
+
+/// `bench/bench_reflect.py`'s scenes (`tests/test_reflect.py`'s): a 5 × 5 mirror floor
+/// (reflectivity 0.8) under a red sphere, a smooth 64 × 32 sky, one sun; with `glass`, a
+/// glass ball (transparency 0.9, ior 1.5, Fresnel) in front. Seen from (0, 1.6, 3.4) towards
+/// (0, 0.3, 0), 45° vertically, at 4:3.
+fn mirror_scene(glass: bool, opaque: bool, height: u32) -> Result<(Scene, Camera, u32)> {
+    let optics = |m: Material, r: f32, t: f32| {
+        if opaque {
+            Ok(m)
+        } else {
+            m.with_optics(Vec3::splat(r), t, 1.5, true, Vec3::ZERO)
+        }
+    };
+    let h = 32;
+    let sky: Vec<f32> = (0..h * 2 * h)
+        .flat_map(|k| {
+            let v = ((k / (2 * h)) as f32 + 0.5) / h as f32;
+            let u = ((k % (2 * h)) as f32 + 0.5) / (2 * h) as f32;
+            let s = (std::f32::consts::TAU * u).sin();
+            [0.2 + 0.8 * (1.0 - v), 0.3 + 0.5 * s * s, 0.2 + 0.6 * v * u]
+        })
+        .collect();
+    let mut scene = Scene::new(Vec3::splat(0.15))?;
+    scene.set_environment(Some(Environment::new(&sky, h, 2 * h, 0.0, 1.0)?));
+    let red = Material::new(
+        Vec3::new(0.2, 0.05, 0.05),
+        Vec3::new(0.8, 0.15, 0.1),
+        Vec3::splat(0.4),
+        30.0,
+    )?;
+    let sphere = Arc::new(primitives::uv_sphere(24, 48));
+    let at = |s: f32, c: Vec3| Mat4::from_translation(c) * Mat4::from_scale(Vec3::splat(s));
+    scene.add_object(Object::new(sphere, red, at(0.6, Vec3::new(0.0, 0.7, 0.0)))?);
+    let mirror = optics(
+        Material::new(Vec3::splat(0.05), Vec3::splat(0.2), Vec3::ZERO, 1.0)?,
+        0.8,
+        0.0,
+    )?;
+    scene.add_object(Object::new(
+        Arc::new(primitives::plane()),
+        mirror,
+        Mat4::from_scale(Vec3::new(2.5, 1.0, 2.5)),
+    )?);
+    if glass {
+        let glass = optics(
+            Material::new(Vec3::ZERO, Vec3::splat(0.05), Vec3::splat(0.8), 120.0)?,
+            0.0,
+            0.9,
+        )?;
+        scene.add_object(Object::new(
+            Arc::new(primitives::uv_sphere(32, 64)),
+            glass,
+            at(0.45, Vec3::new(0.55, 0.55, 0.9)),
+        )?);
+    }
+    scene.add_light(DirectionalLight::new(
+        Vec3::new(-0.4, -1.0, -0.6),
+        Vec3::ONE,
+        0.9,
+    )?);
+    let camera = Camera::look_at(
+        DVec3::new(0.0, 1.6, 3.4),
+        DVec3::new(0.0, 0.3, 0.0),
+        DVec3::Y,
+        45.0,
+        0.1,
+        100.0,
     )?;
     Ok((scene, camera, height * 4 / 3))
 }

@@ -315,8 +315,66 @@ impl Environment {
             if !exact[k] {
                 u[k] = self.uv(lane(d, k)).0;
             }
-            set_lane(out, k, self.bilinear(u[k], v[k]));
         }
+        self.bilinear_lanes(&u, &v, n, out);
+    }
+
+    /// [`Environment::bilinear`] of lanes `..n` (`u` in [0, 1]), into `out`: the texel
+    /// coordinates, weights and blend over all lanes, the texel reads a lane at a time; the
+    /// same operations per lane, so the same bits.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
+    fn bilinear_lanes(&self, u: &[f64; LANES], v: &[f64; LANES], n: usize, out: &mut [Lanes; 3]) {
+        let (w, h) = (self.width as f64, self.height as f64);
+        let (mut fx, mut fy) = ([0.0f32; LANES], [0.0f32; LANES]);
+        let mut at = [[0usize; LANES]; 4];
+        for k in 0..LANES {
+            let x = u[k] * w - 0.5;
+            let y = (v[k] * h - 0.5).clamp(0.0, h - 1.0);
+            let (x0, y0) = (x.floor(), y.floor());
+            (fx[k], fy[k]) = ((x - x0) as f32, (y - y0) as f32);
+            let (c0, c1) = (self.wrap(x0 as i64), self.wrap(x0 as i64 + 1));
+            let r0 = y0 as usize;
+            let r1 = (r0 + 1).min(self.height - 1);
+            at[0][k] = r0 * self.width + c0;
+            at[1][k] = r0 * self.width + c1;
+            at[2][k] = r1 * self.width + c0;
+            at[3][k] = r1 * self.width + c1;
+        }
+        let mut t = [[[0.0f32; LANES]; 3]; 4];
+        for (corner, at) in t.iter_mut().zip(&at) {
+            for k in 0..n {
+                set_lane(corner, k, self.texels[at[k]]);
+            }
+        }
+        let s = self.intensity;
+        let mut blend = [[0.0f32; LANES]; 3];
+        for c in 0..3 {
+            for k in 0..LANES {
+                let top = t[0][c][k] * (1.0 - fx[k]) + t[1][c][k] * fx[k];
+                let bottom = t[2][c][k] * (1.0 - fx[k]) + t[3][c][k] * fx[k];
+                blend[c][k] = (top * (1.0 - fy[k]) + bottom * fy[k]) * s;
+            }
+        }
+        // Lanes past `n` are left as they were.
+        for (o, b) in out.iter_mut().zip(&blend) {
+            o[..n].copy_from_slice(&b[..n]);
+        }
+    }
+
+    /// The column of whole-number `x` (in [−width, 2·width): one turn either way) wrapped
+    /// into the image, `x.rem_euclid(width)` as compares: the lanes' form vectorises.
+    #[inline(always)]
+    fn wrap(&self, x: i64) -> usize {
+        let w = self.width as i64;
+        let c = if x < 0 {
+            x + w
+        } else if x >= w {
+            x - w
+        } else {
+            x
+        };
+        c.clamp(0, w - 1) as usize
     }
 
     /// The bilinear look-up of an equirectangular image at (u, v) (u in [0, 1]), times the
@@ -330,8 +388,7 @@ impl Environment {
         let (fx, fy) = ((x - x0) as f32, (y - y0) as f32);
         // x0 is a whole number in [−1, width − 1] (u is in [0, 1]): wrapped in integers,
         // the same columns as f64's rem_euclid without its libm call.
-        let wrap = |i: i64| (i.rem_euclid(self.width as i64) as usize).min(self.width - 1);
-        let (c0, c1) = (wrap(x0 as i64), wrap(x0 as i64 + 1));
+        let (c0, c1) = (self.wrap(x0 as i64), self.wrap(x0 as i64 + 1));
         let r0 = y0 as usize;
         let r1 = (r0 + 1).min(self.height - 1);
         let t = |r: usize, c: usize| self.texels[r * self.width + c];

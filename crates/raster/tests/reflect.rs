@@ -258,3 +258,111 @@ fn multi_sample_secondary_is_identical_for_any_thread_count_and_instruction_set(
         }
     }
 }
+
+/// A 2 × 2 mirror grid at y = 0 (facing +y) whose vertex normals lean up to about 14°
+/// from +y, pseudo-randomly: interpolated normals vary over every triangle.
+fn bumpy_mirror_grid() -> Mesh {
+    let n = 12;
+    let mut p = Vec::new();
+    let mut normals = Vec::new();
+    let mut seed = 0x9e37_79b9u32;
+    let mut rand = || {
+        seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (seed >> 8) as f32 / (1u32 << 24) as f32 - 0.5
+    };
+    for j in 0..=n {
+        for i in 0..=n {
+            p.push(Vec3::new(
+                2.0 * i as f32 / n as f32 - 1.0,
+                0.0,
+                2.0 * j as f32 / n as f32 - 1.0,
+            ));
+            normals.push(Vec3::new(0.5 * rand(), 1.0, 0.5 * rand()).normalize());
+        }
+    }
+    let at = |i: u32, j: u32| j * (n + 1) + i;
+    let mut idx = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            idx.push([at(i, j), at(i, j + 1), at(i + 1, j + 1)]);
+            idx.push([at(i, j), at(i + 1, j + 1), at(i + 1, j)]);
+        }
+    }
+    Mesh::new(p, idx, Some(normals), None).unwrap()
+}
+
+/// Mirrors whose reflected rays escape to the sky (a bumpy mirror seen steeply from above,
+/// and its back face from below, nothing else in the scene) look the same traced as looked
+/// up, bit for bit: the environment technique shades their pixels eight at a time (the
+/// point, the split and the look-ups over lanes), the traced one a pixel at a time through
+/// `mix`, whose escaping rays read the same sky unattenuated. In every mode, with screen-
+/// and perspective-correct interpolation, fog, and two-sided lighting.
+#[test]
+fn environment_mirrors_match_escaping_rays_bit_for_bit() {
+    let sky: Vec<f32> = (0..16 * 32)
+        .flat_map(|k| {
+            let (r, c) = ((k / 32) as f32, (k % 32) as f32);
+            [r / 16.0, 0.3 + 0.02 * c, 1.0 - r * c / 512.0]
+        })
+        .collect();
+    let mirror = Material::new(Vec3::splat(0.1), Vec3::splat(0.3), Vec3::splat(0.5), 20.0)
+        .unwrap()
+        .with_optics(Vec3::new(0.8, 0.6, 0.7), 0.0, 1.0, true, Vec3::ZERO)
+        .unwrap();
+    let grid = Arc::new(bumpy_mirror_grid());
+    let mut checked = 0;
+    for (eye, two_sided) in [
+        (DVec3::new(0.2, 3.0, 1.2), false),
+        (DVec3::new(-0.3, -3.0, 1.0), true),
+        (DVec3::new(-0.3, -3.0, 1.0), false),
+    ] {
+        for fog in [false, true] {
+            let mut scene = Scene::new(Vec3::splat(0.1)).unwrap();
+            scene.set_environment(Some(Environment::new(&sky, 16, 32, 30.0, 1.0).unwrap()));
+            scene.add(grid.clone(), mirror, Mat4::IDENTITY).unwrap();
+            scene.add_light(
+                DirectionalLight::new(Vec3::new(-0.3, -1.0, -0.2), Vec3::ONE, 1.0).unwrap(),
+            );
+            scene.set_two_sided(two_sided);
+            if fog {
+                scene.set_fog(Some(
+                    Fog::new(FogMode::Exp2 { density: 0.2 }, Vec3::new(0.5, 0.6, 0.7)).unwrap(),
+                ));
+            }
+            let cam = Camera::look_at(eye, DVec3::ZERO, DVec3::Y, 40.0, 0.1, 100.0).unwrap();
+            for mode in [ShadingMode::Flat, ShadingMode::Gouraud, ShadingMode::Phong] {
+                for interpolation in [Interpolation::Perspective, Interpolation::Screen] {
+                    let frame = |tech: Technique| {
+                        let mut o = RenderOptions::new(61, 47);
+                        o.shading = mode;
+                        o.interpolation = interpolation;
+                        o.reflections = tech;
+                        o.max_depth = 1;
+                        match render(&scene, &cam, &o, ColorFormat::F32, false)
+                            .unwrap()
+                            .color
+                        {
+                            ColorBuffer::F32(c) => c,
+                            _ => unreachable!(),
+                        }
+                    };
+                    let (looked, traced) = (frame(Technique::Environment), frame(Technique::Ray));
+                    let what = format!(
+                        "eye {eye}, two-sided {two_sided}, fog {fog}, {mode:?}, {interpolation:?}"
+                    );
+                    // The mirror covers most of the frame, and its colours vary.
+                    let background = RenderOptions::new(1, 1).background;
+                    let covered = looked
+                        .chunks(3)
+                        .filter(|c| *c != background.to_array())
+                        .count();
+                    assert!(covered > 61 * 47 / 2, "{what}: {covered}");
+                    let bits = |c: &[f32]| c.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+                    assert_eq!(bits(&looked), bits(&traced), "{what}");
+                    checked += 1;
+                }
+            }
+        }
+    }
+    assert_eq!(checked, 36);
+}

@@ -73,14 +73,14 @@ pub(crate) enum FirstSurface {
     /// [`SecondaryEffect::mix`], a pixel at a time (not optical, or a secondary ray to follow).
     Mix,
     /// A mirror reading its reflected direction from the environment: one look-up
-    /// ([`SecondaryEffect::mix_lookup`]).
+    /// ([`Lookup::of`]).
     Mirror,
     /// Glass reading its reflected and refracted directions from the environment: two.
     Glass,
 }
 
 /// A first-surface mix that reads every direction it follows from the environment
-/// ([`SecondaryEffect::mix_lookup`]): `base + reflect·sky(reflected) +
+/// ([`Lookup::of`]): `base + reflect·sky(reflected) +
 /// transmit·sky(refracted)`, so that callers can look the directions up over lanes.
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct Lookup {
@@ -96,6 +96,29 @@ pub(crate) struct Lookup {
 }
 
 impl Lookup {
+    /// The look-ups of a first-surface point of a [`FirstSurface::Mirror`] or
+    /// [`FirstSurface::Glass`] whose material splits the light as `s`
+    /// ([`SecondaryEffect::indices`] and [`optics::split`] at the point), local colour
+    /// `local`: its colour, given the sky along its two directions, is `mix(w, pt, local, 0,
+    /// 0, false).color` bit for bit (the same operations in the same order), so that the
+    /// caller can look the directions up with other pixels' over lanes.
+    #[inline(always)]
+    pub fn of(s: optics::Split, local: Vec3) -> Self {
+        // As `mix`: the refracted light is added where something is transmitted along a
+        // refracted direction (a lookup-only transparent object has a refraction technique).
+        let (transmit, refracted) = match s.refracted {
+            Some(t) if s.transmit > 0.0 => (s.transmit, t),
+            _ => (0.0, Vec3::ZERO),
+        };
+        Lookup {
+            base: local * s.local,
+            reflect: s.reflect,
+            reflected: s.reflected,
+            transmit,
+            refracted,
+        }
+    }
+
     /// The colour, given the light along `reflected` and along `refracted`:
     /// [`SecondaryEffect::mix`]'s operations in its order, so the same bits.
     #[inline(always)]
@@ -263,9 +286,18 @@ impl SecondaryEffect {
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
     pub(crate) fn view_rays(&self, x0: usize, y: usize, out: &mut [Lanes; 3]) {
-        let py = y as f64 + 0.5;
+        let px = std::array::from_fn(|k| (x0 + k) as f64 + 0.5);
+        self.view_rays_at(&px, y as f64 + 0.5, out);
+    }
+
+    /// The unit view rays through pixel coordinates `(px[k], py)`, channel-major (the
+    /// centre of pixel (x, y) is (x + 0.5, y + 0.5)): [`SecondaryEffect::view_ray`]'s
+    /// values, bit for bit, over the lanes at once.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
+    pub(crate) fn view_rays_at(&self, px: &[f64; LANES], py: f64, out: &mut [Lanes; 3]) {
         for k in 0..LANES {
-            let d = self.ray_at((x0 + k) as f64 + 0.5, py);
+            let d = self.ray_at(px[k], py);
             set_lane(out, k, Vec3::from(d));
         }
     }
@@ -343,44 +375,29 @@ impl SecondaryEffect {
     /// side and the refraction technique make.
     #[inline]
     fn split(&self, m: &Material, pt: &Point) -> optics::Split {
-        // Without a refraction technique transparency is a see-through blend: no
-        // interface is modelled (no bending, no Fresnel, no total internal reflection).
-        let (n1, n2) = match (self.refractions, pt.entering) {
-            (None, _) => (1.0, 1.0),
-            (Some(_), true) => (1.0, m.ior),
-            (Some(_), false) => (m.ior, 1.0),
-        };
+        let (n1, n2) = self.indices(m, pt.entering);
         optics::split(m, pt.n, pt.v, n1, n2)
     }
 
+    /// The refractive indices `(n1, n2)` on the two sides of material `m`'s interface, the
+    /// light `entering` the object or leaving it. Without a refraction technique
+    /// transparency is a see-through blend: no interface is modelled (no bending, no
+    /// Fresnel, no total internal reflection), `(1, 1)`.
+    #[inline]
+    pub(crate) fn indices(&self, m: &Material, entering: bool) -> (f32, f32) {
+        match (self.refractions, entering) {
+            (None, _) => (1.0, 1.0),
+            (Some(_), true) => (1.0, m.ior),
+            (Some(_), false) => (m.ior, 1.0),
+        }
+    }
+
     /// How `object`'s first surface is mixed: where it only looks directions up in the
-    /// environment, [`SecondaryEffect::mix_lookup`] may stand in for
+    /// environment, [`Lookup::of`] may stand in for
     /// [`SecondaryEffect::mix`].
     #[inline]
     pub(crate) fn first_surface(&self, object: u32) -> FirstSurface {
         self.first_surface[object as usize]
-    }
-
-    /// For a first-surface point of a [`FirstSurface::Mirror`] or [`FirstSurface::Glass`]: the
-    /// [`Lookup`] whose colour, given `sky` along its two directions, is `mix(w, pt, local,
-    /// 0, 0, false).color` bit for bit (the same operations in the same order), so that the
-    /// caller can look the directions up with other pixels' over lanes.
-    #[inline]
-    pub(crate) fn mix_lookup(&self, pt: &Point, local: Vec3) -> Lookup {
-        let s = self.split(self.material(pt.object, pt.side), pt);
-        // As `mix`: the refracted light is added where something is transmitted along a
-        // refracted direction (a lookup-only transparent object has a refraction technique).
-        let (transmit, refracted) = match s.refracted {
-            Some(t) if s.transmit > 0.0 => (s.transmit, t),
-            _ => (0.0, Vec3::ZERO),
-        };
-        Lookup {
-            base: local * s.local,
-            reflect: s.reflect,
-            reflected: s.reflected,
-            transmit,
-            refracted,
-        }
     }
 
     /// The light arriving at `pt` along `dir` by technique `tech`: the environment, or a
@@ -596,7 +613,9 @@ mod tests {
                     };
                     let local = Vec3::new(0.3, 0.6 * (k % 3) as f32, 0.9);
                     let want = sec.mix(&w, &pt, local, 0, Vec3::ZERO, false).color;
-                    let l = sec.mix_lookup(&pt, local);
+                    let m = sec.material(pt.object, pt.side);
+                    let (n1, n2) = sec.indices(m, pt.entering);
+                    let l = Lookup::of(optics::split(m, pt.n, pt.v, n1, n2), local);
                     if materials[object as usize].is_transparent() {
                         seen[usize::from(l.transmit > 0.0)] += 1;
                     }

@@ -74,6 +74,7 @@ pub struct Split {
 /// transmitted is reflected instead (`reflect = R + T`, `transmit = 0`) with or without
 /// Fresnel. `F` moves only the transmitted share: the reflectivity of an opaque mirror
 /// (a metal) is its constant, colour-tinted reflectance.
+#[inline]
 pub fn split(m: &Material, n: Vec3, v: Vec3, n1: f32, n2: f32) -> Split {
     let r = m.reflectivity;
     let t = m.transparency;

@@ -14,20 +14,20 @@
 //!    result never depends on threads), blended front to back over the pixel:
 //!    `c = Σ_i (Π_{j<i} T_j)·a_i + (Π_i T_i)·opaque`, where `a_i` is the fragment's own
 //!    mix (local and reflected light) and `T_i` what it lets through.
-//! 5. The colour stored once into the user's rows.
+//! 5. The colour stored once into the user's rows, a row at a time.
 
 use glam::Vec3;
 
 use super::phong::face_normal;
 use super::planes::{weight_planes, PlaneCache};
-use super::store::{store_out, Out, Pixel};
+use super::store::{Out, Pixel, RowColors, ROW_LANES};
 use super::{shade_textured_tile, shade_tile, ShadeContext};
-use crate::lighting::{lane, set_lane, LANES};
+use crate::lighting::{lane, normalize_lanes, set_lane, LANES};
 use crate::options::ShadingMode;
 use crate::pipeline::raster::{self, Span, SpanSink, TileBuffers, NO_TRIANGLE};
 use crate::pipeline::setup::SetupTri;
 use crate::pipeline::tiles::{TileRect, TILE};
-use crate::reflect::{FirstSurface, Kind, Lookup, Point, SecondaryEffect, World};
+use crate::reflect::{optics, FirstSurface, Kind, Lookup, Point, SecondaryEffect, World};
 
 /// A transparent fragment in front of the opaque layer.
 #[derive(Debug, Clone, Copy)]
@@ -137,7 +137,18 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
     let world = world(ctx, mode);
     let mut cache = PointCache::new();
     let mut next = 0;
-    for (j, out) in color.iter_mut().enumerate().take(rect.h) {
+    // A row's final colours, channel-major, stored into the output at the row's end (a
+    // vectorised store: a pixel at a time, quantising was a tenth of a mirror frame).
+    let mut colors: RowColors = [[0.0; ROW_LANES]; 3];
+    for (j, dst) in color.iter_mut().enumerate().take(rect.h) {
+        let out = &mut colors;
+        let row = Row {
+            ctx,
+            sec,
+            mode,
+            x0: rect.x0,
+            y: rect.y0 + j,
+        };
         let mut sky = SkyRun::default();
         let mut mirrors = Lookups::<false>::default();
         let mut glass = Lookups::<true>::default();
@@ -167,12 +178,10 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
             if id != NO_TRIANGLE && next == first {
                 let surface = sec.first_surface(ctx.tris.get(id).object);
                 if surface != FirstSurface::Mix {
-                    let (pt, _) = point_at::<AFFINE>(ctx, sec, mode, id, x, y, &mut cache);
-                    let mix = sec.mix_lookup(&pt, local);
                     if surface == FirstSurface::Mirror {
-                        mirrors.push(i, mix, z, ctx, sec, rect, j, out);
+                        mirrors.push::<AFFINE, WIDE>(i, id, local, z, &row, &mut cache, out);
                     } else {
-                        glass.push(i, mix, z, ctx, sec, rect, j, out);
+                        glass.push::<AFFINE, WIDE>(i, id, local, z, &row, &mut cache, out);
                     }
                     continue;
                 }
@@ -188,100 +197,205 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
             } else {
                 c
             };
-            store_out(&mut out[i * 3..i * 3 + 3], c);
+            set_lane(out, i, c);
         }
         sky.flush(sec, rect, j, out);
-        mirrors.flush(ctx, sec, rect, j, out);
-        glass.flush(ctx, sec, rect, j, out);
+        mirrors.flush::<AFFINE, WIDE>(&row, &mut cache, out);
+        glass.flush::<AFFINE, WIDE>(&row, &mut cache, out);
+        P::store_row(&mut dst[..rect.w * 3], &colors, WIDE);
     }
 }
 
-/// Pixels of a tile row whose colour is their [`Lookup`]'s (mirrors, or with `GLASS` glass,
-/// reading the environment: [`SecondaryEffect::mix_lookup`]), waiting to be looked up
-/// [`LANES`] at a time; then fogged and stored as [`opaque_color`] does, the same bits.
-/// A mirror transmits nothing: its batch has no refracted look-ups or terms to skip.
+/// What a tile row's batches read: the render, its mode, and the row (`y`, and the
+/// tile's first column `x0`, in image pixels).
+struct Row<'a, 'c> {
+    ctx: &'a ShadeContext<'c>,
+    sec: &'a SecondaryEffect,
+    mode: ShadingMode,
+    x0: usize,
+    y: usize,
+}
+
+/// Pixels of one triangle in a tile row whose colour is their [`Lookup`]'s (mirrors, or
+/// with `GLASS` glass, reading the environment: [`Lookup::of`]), waiting
+/// to be shaded [`LANES`] at a time: the surface point's normal and view direction
+/// ([`point_at`]'s), the split of the light and the look-ups, over all lanes at once; then
+/// fogged as [`opaque_color`] does. Each lane is [`point_at`]'s and [`Lookup::of`]'s
+/// operations in their order (no fused multiply-add), so the same bits (the integration
+/// test `environment_mirrors_match_escaping_rays_bit_for_bit`: against the pixel path).
+///
+/// A batch holds one triangle (a new one flushes it): its weight planes, face normal,
+/// vertices, side and material are the batch's, read once. One pixel at a time, the
+/// surface point and the mix (returned by value through memory, then stored a field at a
+/// time into lanes) were two thirds of a mirror floor's secondary stage.
 #[derive(Default)]
 struct Lookups<const GLASS: bool> {
+    id: u32,
     col: [usize; LANES],
-    /// The [`Lookup`]s' weights ...
-    base: [Vec3; LANES],
-    reflect: [Vec3; LANES],
-    transmit: [f32; LANES],
-    /// ... and directions, channel-major (a lane's refracted direction is stale where it
-    /// transmits nothing: its weight then leaves it out). Kept apart, not as an array of
-    /// `Lookup`s: that layout (directions gathered at the flush, or copied beside them)
-    /// cost the mirror and glass frames 1.3-2.5 % more instructions, the same bits.
-    reflected: [[f32; LANES]; 3],
-    refracted: [[f32; LANES]; 3],
     z: [f32; LANES],
+    /// The local colours, channel-major.
+    local: [[f32; LANES]; 3],
     len: usize,
 }
 
 impl<const GLASS: bool> Lookups<GLASS> {
-    /// Adds the pixel in column `i` of row `j` (window depth `z`), flushing a full batch.
+    /// Adds the pixel in column `i` of the row (triangle `id`, window depth `z`, local
+    /// colour `local`), flushing the batch first when it holds another triangle, and after
+    /// when it is full.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
-    fn push<P: Pixel>(
+    fn push<const AFFINE: bool, const WIDE: bool>(
         &mut self,
         i: usize,
-        mix: Lookup,
+        id: u32,
+        local: Vec3,
         z: f32,
-        ctx: &ShadeContext<'_>,
-        sec: &SecondaryEffect,
-        rect: TileRect,
-        j: usize,
-        out: &mut [Out<P>],
+        row: &Row<'_, '_>,
+        cache: &mut PointCache,
+        out: &mut RowColors,
     ) {
-        debug_assert!(GLASS || mix.transmit == 0.0, "a mirror transmits nothing");
-        let k = self.len;
-        (self.col[k], self.z[k]) = (i, z);
-        (self.base[k], self.reflect[k], self.transmit[k]) = (mix.base, mix.reflect, mix.transmit);
-        set_lane(&mut self.reflected, k, mix.reflected);
-        if GLASS && mix.transmit > 0.0 {
-            set_lane(&mut self.refracted, k, mix.refracted);
+        if self.len > 0 && self.id != id {
+            self.flush::<AFFINE, WIDE>(row, cache, out);
         }
+        let k = self.len;
+        self.id = id;
+        (self.col[k], self.z[k]) = (i, z);
+        set_lane(&mut self.local, k, local);
         self.len += 1;
         if self.len == LANES {
-            self.flush(ctx, sec, rect, j, out);
+            self.flush::<AFFINE, WIDE>(row, cache, out);
         }
     }
 
-    /// Looks the batch up, mixes, fogs and stores it into row `j` of the tile's output.
+    /// Shades the batch, looks it up, mixes, fogs and writes it into the row's colours.
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // lane loops index several arrays
-    fn flush<P: Pixel>(
+    fn flush<const AFFINE: bool, const WIDE: bool>(
         &mut self,
-        ctx: &ShadeContext<'_>,
-        sec: &SecondaryEffect,
-        rect: TileRect,
-        j: usize,
-        out: &mut [Out<P>],
+        row: &Row<'_, '_>,
+        cache: &mut PointCache,
+        out: &mut RowColors,
     ) {
         let n = self.len;
         if n == 0 {
             return;
         }
+        self.len = 0;
+        let (ctx, sec) = (row.ctx, row.sec);
+        let t = ctx.tris.get(self.id);
+        let (pl, face) = cache.0.get(self.id, || {
+            (
+                weight_planes::<AFFINE>(ctx, t),
+                face_normal(t, &ctx.verts.world),
+            )
+        });
+        // The pixel centres (dead lanes repeat the last pixel: every lane stays finite).
+        let mut px = [0.0f64; LANES];
+        for k in 0..LANES {
+            px[k] = (row.x0 + self.col[k.min(n - 1)]) as f64 + 0.5;
+        }
+        let py = row.y as f64 + 0.5;
+        // The perspective weights, as `point_at`.
+        let mut b = [[0.0f32; LANES]; 3];
+        for k in 0..LANES {
+            let q = pl.map(|p| p[0] * px[k] + p[1] * py + p[2]);
+            let sum = q[0] + q[1] + q[2];
+            for m in 0..3 {
+                b[m][k] = (q[m] / sum) as f32;
+            }
+        }
+        // The shading normal: the interpolated vertex normals, normalised (the face
+        // normal where there are none or they cancel); turned toward the viewer.
+        let mut nrm = [[0.0f32; LANES]; 3];
+        let smooth = row.mode != ShadingMode::Flat && !ctx.verts.normal.is_empty();
+        if smooth {
+            let nv = t.v.map(|k| ctx.verts.normal[k as usize].to_array());
+            let mut sum = [[0.0f32; LANES]; 3];
+            for c in 0..3 {
+                for k in 0..LANES {
+                    sum[c][k] = nv[0][c] * b[0][k] + nv[1][c] * b[1][k] + nv[2][c] * b[2][k];
+                }
+            }
+            normalize_lanes(&mut nrm, &sum, WIDE);
+        }
+        // Toward the viewer: the view rays negated.
+        let mut v = [[0.0f32; LANES]; 3];
+        sec.view_rays_at(&px, py, &mut v);
+        for c in 0..3 {
+            for k in 0..LANES {
+                v[c][k] = -v[c][k];
+            }
+        }
+        // The normal on the viewer's side (the interpolated one, or the face normal where
+        // there is none, it cancels or it turns away from the viewer at a silhouette).
+        let g = if t.front { face } else { -face }.to_array();
+        let face = face.to_array();
+        let mut nk = [[0.0f32; LANES]; 3];
+        for k in 0..LANES {
+            let zero = !smooth || (nrm[0][k] == 0.0 && nrm[1][k] == 0.0 && nrm[2][k] == 0.0);
+            for c in 0..3 {
+                // `-x` as `point_at`'s `-n_out`: a sign flip, not a product.
+                let n_out = if zero { face[c] } else { nrm[c][k] };
+                nk[c][k] = if t.front { n_out } else { -n_out };
+            }
+            let d = nk[0][k] * v[0][k] + nk[1][k] * v[1][k] + nk[2][k] * v[2][k];
+            let facing = d > 0.0;
+            for c in 0..3 {
+                nk[c][k] = if facing { nk[c][k] } else { g[c] };
+            }
+        }
+        let mut reflected = [[0.0f32; LANES]; 3];
+        let mut refracted = [[0.0f32; LANES]; 3];
+        let mut base = [[0.0f32; LANES]; 3];
+        let mut reflect = [[0.0f32; LANES]; 3];
+        let mut transmit = [0.0f32; LANES];
+        let side = (ctx.two_sided && !t.front) as usize;
+        let m = sec.material(t.object, side);
+        if m.transparency == 0.0 {
+            // `optics::split` of an opaque material, over the lanes: its local share and
+            // reflected weight are the material's, the direction the mirror's.
+            let share = (Vec3::ONE - m.reflectivity - Vec3::splat(m.transparency)).to_array();
+            let r = m.reflectivity.to_array();
+            for k in 0..LANES {
+                let d2 = 2.0 * (nk[0][k] * v[0][k] + nk[1][k] * v[1][k] + nk[2][k] * v[2][k]);
+                for c in 0..3 {
+                    reflected[c][k] = d2 * nk[c][k] - v[c][k];
+                    base[c][k] = self.local[c][k] * share[c];
+                    reflect[c][k] = r[c];
+                }
+            }
+        } else {
+            let (n1, n2) = sec.indices(m, t.front);
+            for k in 0..n {
+                let split = optics::split(m, lane(&nk, k), lane(&v, k), n1, n2);
+                let mix = Lookup::of(split, lane(&self.local, k));
+                set_lane(&mut base, k, mix.base);
+                set_lane(&mut reflect, k, mix.reflect);
+                set_lane(&mut reflected, k, mix.reflected);
+                transmit[k] = mix.transmit;
+                set_lane(&mut refracted, k, mix.refracted);
+            }
+        }
         let mut r = [[0.0; LANES]; 3];
-        sec.sky_dirs(&self.reflected, n, &mut r);
+        sec.sky_dirs(&reflected, n, &mut r);
         // The refracted directions only where a pixel of the batch transmits.
-        let mut t = [[0.0; LANES]; 3];
-        if GLASS && self.transmit[..n].iter().any(|&t| t > 0.0) {
-            sec.sky_dirs(&self.refracted, n, &mut t);
+        let mut tr = [[0.0; LANES]; 3];
+        if GLASS && transmit[..n].iter().any(|&t| t > 0.0) {
+            sec.sky_dirs(&refracted, n, &mut tr);
         }
         for k in 0..n {
             let i = self.col[k];
             let mix = Lookup {
-                base: self.base[k],
-                reflect: self.reflect[k],
+                base: lane(&base, k),
+                reflect: lane(&reflect, k),
                 // A mirror's is zero: known here, its term is compiled out.
-                transmit: if GLASS { self.transmit[k] } else { 0.0 },
+                transmit: if GLASS { transmit[k] } else { 0.0 },
                 ..Lookup::default()
             };
-            let c = mix.color(lane(&r, k), lane(&t, k));
-            let c = fogged(ctx, sec, c, rect.x0 + i, rect.y0 + j, self.z[k]);
-            store_out(&mut out[i * 3..i * 3 + 3], c);
+            let c = mix.color(lane(&r, k), lane(&tr, k));
+            let c = fogged(ctx, sec, c, row.x0 + i, row.y, self.z[k]);
+            set_lane(out, i, c);
         }
-        self.len = 0;
     }
 }
 
@@ -298,13 +412,13 @@ struct SkyRun {
 impl SkyRun {
     /// Adds the pixel in column `i` (right after the run's last, or starting a run).
     #[inline(always)]
-    fn push<P: Pixel>(
+    fn push(
         &mut self,
         i: usize,
         sec: &SecondaryEffect,
         rect: TileRect,
         j: usize,
-        out: &mut [Out<P>],
+        out: &mut RowColors,
     ) {
         if self.len == LANES || (self.len > 0 && self.start + self.len != i) {
             self.flush(sec, rect, j, out);
@@ -315,16 +429,10 @@ impl SkyRun {
         self.len += 1;
     }
 
-    /// Looks the run up and stores it into row `j` of the tile's output.
+    /// Looks the run up and writes it into row `j`'s colours.
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // lane loops index several arrays
-    fn flush<P: Pixel>(
-        &mut self,
-        sec: &SecondaryEffect,
-        rect: TileRect,
-        j: usize,
-        out: &mut [Out<P>],
-    ) {
+    fn flush(&mut self, sec: &SecondaryEffect, rect: TileRect, j: usize, out: &mut RowColors) {
         if self.len == 0 {
             return;
         }
@@ -332,7 +440,7 @@ impl SkyRun {
         sec.sky_lanes(rect.x0 + self.start, rect.y0 + j, self.len, &mut c);
         for k in 0..self.len {
             let i = self.start + k;
-            store_out(&mut out[i * 3..i * 3 + 3], lane(&c, k));
+            set_lane(out, i, lane(&c, k));
         }
         self.len = 0;
     }
@@ -366,8 +474,9 @@ pub(crate) fn world<'a>(ctx: &ShadeContext<'a>, mode: ShadingMode) -> World<'a> 
 /// The opaque colour of pixel (x, y) owned by triangle `id` (window depth `z` at the pixel
 /// centre, colour `local` as the mode's loops shaded it): the environment along the view
 /// ray where no triangle is (when asked), the mix at an [`Kind::Optical`] surface, then the
-/// fog on surfaces.
-#[inline]
+/// fog on surfaces. Inlined: most pixels of a scene with the secondary stage are plain
+/// surfaces whose colour is their local one, and a call per pixel was 7 % of a mirror frame.
+#[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn opaque_color<const AFFINE: bool>(
     ctx: &ShadeContext<'_>,
