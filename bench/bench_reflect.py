@@ -312,7 +312,10 @@ def markdown(ctx: dict, runs: list[dict]) -> str:
             "point, the mirror's split and the look-ups over lanes; the glass's Fresnel "
             "split a pixel at a time), a row's colours stored at once; llvmpipe runs its "
             "whole shader over SIMD lanes. `frame_cost phong 0 600 mirror` (and `glass`, "
-            "`opaque`) draws these scenes from Rust for perf and callgrind.",
+            "`opaque`) draws these scenes from Rust for perf and callgrind. Instructions "
+            "per 800 × 600 frame at one thread (callgrind, release build, 679d8c3 against "
+            "the tree before it): mirror 278 M → 182 M, glass 313 M → 235 M, the same "
+            "scenes opaque 27 M and 36 M; the same pixels, bit for bit.",
             "",
         ]
     )
