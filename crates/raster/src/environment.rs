@@ -325,21 +325,14 @@ impl Environment {
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // lane loops index several arrays; this form vectorises
     fn bilinear_lanes(&self, u: &[f64; LANES], v: &[f64; LANES], n: usize, out: &mut [Lanes; 3]) {
-        let (w, h) = (self.width as f64, self.height as f64);
         let (mut fx, mut fy) = ([0.0f32; LANES], [0.0f32; LANES]);
         let mut at = [[0usize; LANES]; 4];
         for k in 0..LANES {
-            let x = u[k] * w - 0.5;
-            let y = (v[k] * h - 0.5).clamp(0.0, h - 1.0);
-            let (x0, y0) = (x.floor(), y.floor());
-            (fx[k], fy[k]) = ((x - x0) as f32, (y - y0) as f32);
-            let (c0, c1) = (self.wrap(x0 as i64), self.wrap(x0 as i64 + 1));
-            let r0 = y0 as usize;
-            let r1 = (r0 + 1).min(self.height - 1);
-            at[0][k] = r0 * self.width + c0;
-            at[1][k] = r0 * self.width + c1;
-            at[2][k] = r1 * self.width + c0;
-            at[3][k] = r1 * self.width + c1;
+            let corners;
+            (corners, fx[k], fy[k]) = self.corners(u[k], v[k]);
+            for (a, c) in at.iter_mut().zip(corners) {
+                a[k] = c;
+            }
         }
         let mut t = [[[0.0f32; LANES]; 3]; 4];
         for (corner, at) in t.iter_mut().zip(&at) {
@@ -381,6 +374,18 @@ impl Environment {
     /// intensity.
     #[inline(always)]
     fn bilinear(&self, u: f64, v: f64) -> Vec3 {
+        let ([a, b, c, d], fx, fy) = self.corners(u, v);
+        let t = &self.texels;
+        let top = t[a] * (1.0 - fx) + t[b] * fx;
+        let bottom = t[c] * (1.0 - fx) + t[d] * fx;
+        (top * (1.0 - fy) + bottom * fy) * self.intensity
+    }
+
+    /// The texels around equirectangular (u, v) (u in [0, 1]) and the blend's weights: the
+    /// indices of the top-left, top-right, bottom-left and bottom-right texels (wrapping in
+    /// u, clamped in v) and the fractions (fx, fy) toward the right and the bottom.
+    #[inline(always)]
+    fn corners(&self, u: f64, v: f64) -> ([usize; 4], f32, f32) {
         let (w, h) = (self.width as f64, self.height as f64);
         let x = u * w - 0.5;
         let y = (v * h - 0.5).clamp(0.0, h - 1.0);
@@ -391,10 +396,12 @@ impl Environment {
         let (c0, c1) = (self.wrap(x0 as i64), self.wrap(x0 as i64 + 1));
         let r0 = y0 as usize;
         let r1 = (r0 + 1).min(self.height - 1);
-        let t = |r: usize, c: usize| self.texels[r * self.width + c];
-        let top = t(r0, c0) * (1.0 - fx) + t(r0, c1) * fx;
-        let bottom = t(r1, c0) * (1.0 - fx) + t(r1, c1) * fx;
-        (top * (1.0 - fy) + bottom * fy) * self.intensity
+        let wd = self.width;
+        (
+            [r0 * wd + c0, r0 * wd + c1, r1 * wd + c0, r1 * wd + c1],
+            fx,
+            fy,
+        )
     }
 
     /// Bilinear lookup of the cube along the unit direction `d` (unrotated), seamless.
