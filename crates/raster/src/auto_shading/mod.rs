@@ -426,21 +426,39 @@ fn object_estimate(
             ..work
         }
     };
-    let mut sums = [[0.0; SLOTS]; 2];
-    let mut taken = 0;
-    for (done, &batch) in BATCH_ORDER.iter().enumerate() {
-        sums = add(sums, pass(batch, false));
-        taken += (batch..n).step_by(BATCHES).len();
-        if done + 1 < BATCHES
-            && taken >= MIN_SETTLED.min(n)
+    // Several batches in one parallel pass, summed in their order (the same sums as one
+    // after the other, with fewer joins and both threads busy: one batch is two chunks).
+    let passes = |batches: &[usize], back: bool, start: Sums| -> Sums {
+        let sums: Vec<Sums> = batches.par_iter().map(|&b| pass(b, back)).collect();
+        sums.into_iter().fold(start, add)
+    };
+    let size = |batch: usize| (batch..n).step_by(BATCHES).len();
+    let needed = MIN_SETTLED.min(n);
+    // The batches before the first that may settle the choice (`taken >= needed` after it)
+    // go together; the rest one at a time, each followed by the test.
+    let (mut head, mut taken) = (0, 0);
+    while head < BATCHES && taken < needed {
+        taken += size(BATCH_ORDER[head]);
+        head += 1;
+    }
+    let stop = |sums: &Sums, taken: usize, done: usize| {
+        done + 1 < BATCHES
+            && taken >= needed
             && sums[0][0] > 0.0
             && settled(
                 rmse(&sums[0], taken),
                 cost::mode_costs(&scaled(&sums[0], taken)),
                 tolerance,
             )
-        {
-            break;
+    };
+    let mut sums = passes(&BATCH_ORDER[..head], false, [[0.0; SLOTS]; 2]);
+    if !stop(&sums, taken, head - 1) {
+        for (done, &batch) in BATCH_ORDER.iter().enumerate().skip(head) {
+            sums = add(sums, pass(batch, false));
+            taken += size(batch);
+            if stop(&sums, taken, done) {
+                break;
+            }
         }
     }
     // Back faces count only for an object seen from behind everywhere (an open surface):
@@ -449,10 +467,7 @@ fn object_estimate(
         sums[0]
     } else if sums[1][0] > 0.0 {
         // The back faces' area was summed over the batches taken; their lighting now.
-        let mut back = [[0.0; SLOTS]; 2];
-        for &batch in &BATCH_ORDER[..] {
-            back = add(back, pass(batch, true));
-        }
+        let back = passes(&BATCH_ORDER, true, [[0.0; SLOTS]; 2]);
         taken = n;
         back[1]
     } else {
