@@ -428,9 +428,9 @@ fn object_estimate(
     };
     // Several batches in one parallel pass, summed in their order (the same sums as one
     // after the other, with fewer joins and both threads busy: one batch is two chunks).
-    let passes = |batches: &[usize], back: bool, start: Sums| -> Sums {
+    let passes = |batches: &[usize], back: bool| -> Sums {
         let sums: Vec<Sums> = batches.par_iter().map(|&b| pass(b, back)).collect();
-        sums.into_iter().fold(start, add)
+        sums.into_iter().fold([[0.0; SLOTS]; 2], add)
     };
     let size = |batch: usize| (batch..n).step_by(BATCHES).len();
     let needed = MIN_SETTLED.min(n);
@@ -451,7 +451,7 @@ fn object_estimate(
                 tolerance,
             )
     };
-    let mut sums = passes(&BATCH_ORDER[..head], false, [[0.0; SLOTS]; 2]);
+    let mut sums = passes(&BATCH_ORDER[..head], false);
     if !stop(&sums, taken, head - 1) {
         for (done, &batch) in BATCH_ORDER.iter().enumerate().skip(head) {
             sums = add(sums, pass(batch, false));
@@ -467,7 +467,7 @@ fn object_estimate(
         sums[0]
     } else if sums[1][0] > 0.0 {
         // The back faces' area was summed over the batches taken; their lighting now.
-        let back = passes(&BATCH_ORDER, true, [[0.0; SLOTS]; 2]);
+        let back = passes(&BATCH_ORDER, true);
         taken = n;
         back[1]
     } else {
