@@ -247,11 +247,20 @@ fn non_finite_scales_are_refused() {
     assert!(e.to_string().contains("normal_scale"), "{e}");
 }
 
-#[test]
-fn textured_frames_are_identical_on_every_instruction_set_and_thread_count() {
-    // The textured tile body has an AVX2 copy (its batches lit with wide lane loops): it
-    // must give the baseline's bits, with every filter and wrap mode, vertex colours and a
-    // normal map, shadows and fog, in every mode.
+/// Filters, wraps and anisotropy the identity tests below cover.
+const CASES: [(Filter, Wrap, u32); 5] = [
+    (Filter::Nearest, Wrap::Repeat, 1),
+    (Filter::Bilinear, Wrap::Mirror, 1),
+    (Filter::Bilinear, Wrap::Clamp, 1),
+    (Filter::Trilinear, Wrap::Repeat, 1),
+    (Filter::Trilinear, Wrap::Mirror, 8),
+];
+
+/// A gold sphere with a 12 × 12 diffuse and specular map of `filter`, `wrap` and `aniso`
+/// (with vertex colours for bilinear, a normal map for trilinear in Phong), a shadow-casting
+/// sun and a point light, fog if asked; and a camera on it.
+fn mapped_sphere(case: (Filter, Wrap, u32), mode: ShadingMode, fog: bool) -> (Scene, Camera) {
+    let (filter, wrap, aniso) = case;
     let texels: Vec<f32> = (0..12 * 12)
         .flat_map(|k| {
             let (i, j) = (k % 12, k / 12);
@@ -259,22 +268,55 @@ fn textured_frames_are_identical_on_every_instruction_set_and_thread_count() {
         })
         .collect();
     let img = Arc::new(texture::Image::from_top_rows(12, 12, 3, &texels, false).unwrap());
-    let sphere = || {
-        let s = primitives::uv_sphere(12, 24);
-        let uvs: Vec<glam::Vec2> = s
-            .positions()
-            .iter()
-            .map(|p| glam::Vec2::new(3.0 * p.x - 0.2, 2.5 * p.z + 0.7))
-            .collect();
-        Mesh::new(
-            s.positions().to_vec(),
-            s.indices().to_vec(),
-            s.given_normals().map(<[Vec3]>::to_vec),
-            Some(uvs),
-        )
-        .unwrap()
+    let s = primitives::uv_sphere(12, 24);
+    let uvs: Vec<glam::Vec2> = s
+        .positions()
+        .iter()
+        .map(|p| glam::Vec2::new(3.0 * p.x - 0.2, 2.5 * p.z + 0.7))
+        .collect();
+    let mut mesh = Mesh::new(
+        s.positions().to_vec(),
+        s.indices().to_vec(),
+        s.given_normals().map(<[Vec3]>::to_vec),
+        Some(uvs),
+    )
+    .unwrap();
+    if filter == Filter::Bilinear {
+        let colors = mesh.positions().iter().map(|p| p.abs()).collect();
+        mesh = mesh.with_colors(colors).unwrap();
+    }
+    let tex = Arc::new(
+        Texture::from_image(img, filter, [wrap; 2])
+            .with_anisotropy(aniso)
+            .unwrap(),
+    );
+    let maps = Maps {
+        diffuse: Some(tex.clone()),
+        specular: Some(tex.clone()),
+        // Normal maps need per-pixel lighting.
+        normal: (filter == Filter::Trilinear && mode == ShadingMode::Phong).then(|| tex.clone()),
+        ..Maps::default()
     };
-    let colors: Vec<Vec3> = sphere().positions().iter().map(|p| p.abs()).collect();
+    let mut scene = Scene::new(Vec3::splat(0.2)).unwrap();
+    let obj = Object::new(
+        Arc::new(mesh),
+        Material::preset("gold").unwrap(),
+        Mat4::IDENTITY,
+    )
+    .unwrap()
+    .with_maps(Some(Arc::new(maps)))
+    .unwrap();
+    scene.add_object(obj);
+    let sun = DirectionalLight::new(Vec3::new(-1.0, -1.0, -0.5), Vec3::ONE, 0.8)
+        .unwrap()
+        .with_shadows(Shadows::Map(ShadowSettings::default()));
+    scene.add_light(sun);
+    scene.add_light(PointLight::new(Vec3::new(1.0, 2.0, 2.0), Vec3::splat(0.5), 1.0).unwrap());
+    if fog {
+        scene.set_fog(Some(
+            Fog::new(FogMode::Exp2 { density: 0.2 }, Vec3::new(0.5, 0.6, 0.7)).unwrap(),
+        ));
+    }
     let cam = Camera::look_at(
         DVec3::new(0.4, 1.1, 2.4),
         DVec3::ZERO,
@@ -284,65 +326,63 @@ fn textured_frames_are_identical_on_every_instruction_set_and_thread_count() {
         100.0,
     )
     .unwrap();
-    let cases: [(Filter, Wrap, u32); 5] = [
-        (Filter::Nearest, Wrap::Repeat, 1),
-        (Filter::Bilinear, Wrap::Mirror, 1),
-        (Filter::Bilinear, Wrap::Clamp, 1),
-        (Filter::Trilinear, Wrap::Repeat, 1),
-        (Filter::Trilinear, Wrap::Mirror, 8),
-    ];
-    for (mode, (filter, wrap, aniso)) in MODES.into_iter().flat_map(|m| cases.map(|c| (m, c))) {
-        let tex = Arc::new(
-            Texture::from_image(img.clone(), filter, [wrap; 2])
-                .with_anisotropy(aniso)
-                .unwrap(),
-        );
-        let maps = Maps {
-            diffuse: Some(tex.clone()),
-            specular: Some(tex.clone()),
-            // Normal maps need per-pixel lighting.
-            normal: (filter == Filter::Trilinear && mode == ShadingMode::Phong)
-                .then(|| tex.clone()),
-            ..Maps::default()
-        };
-        let mut mesh = sphere();
-        if filter == Filter::Bilinear {
-            mesh = mesh.with_colors(colors.clone()).unwrap();
-        }
-        let mut scene = Scene::new(Vec3::splat(0.2)).unwrap();
-        let obj = Object::new(
-            Arc::new(mesh),
-            Material::preset("gold").unwrap(),
-            Mat4::IDENTITY,
-        )
-        .unwrap()
-        .with_maps(Some(Arc::new(maps)))
-        .unwrap();
-        scene.add_object(obj);
-        let sun = DirectionalLight::new(Vec3::new(-1.0, -1.0, -0.5), Vec3::ONE, 0.8)
-            .unwrap()
-            .with_shadows(Shadows::Map(ShadowSettings::default()));
-        scene.add_light(sun);
-        scene.add_light(PointLight::new(Vec3::new(1.0, 2.0, 2.0), Vec3::splat(0.5), 1.0).unwrap());
-        scene.set_fog(Some(
-            Fog::new(FogMode::Exp2 { density: 0.2 }, Vec3::new(0.5, 0.6, 0.7)).unwrap(),
-        ));
-        let mut frames = Vec::new();
-        for (baseline, threads) in [(false, 1), (true, 1), (false, 2), (true, 3)] {
-            let mut o = RenderOptions::new(97, 71);
-            o.shading = mode;
-            o.baseline_isa = baseline;
-            o.threads = Some(threads);
-            let f = render(&scene, &cam, &o, ColorFormat::F32, false).unwrap();
-            let ColorBuffer::F32(c) = f.color else {
-                unreachable!()
-            };
-            frames.push(c.iter().map(|x| x.to_bits()).collect::<Vec<_>>());
-        }
+    (scene, cam)
+}
+
+/// The colour bits of a 97 × 71 f32 render (with a depth output if asked).
+fn color_bits(
+    scene: &Scene,
+    cam: &Camera,
+    mode: ShadingMode,
+    baseline: bool,
+    threads: usize,
+    depth: bool,
+) -> Vec<u32> {
+    let mut o = RenderOptions::new(97, 71);
+    o.shading = mode;
+    o.baseline_isa = baseline;
+    o.threads = Some(threads);
+    let f = render(scene, cam, &o, ColorFormat::F32, depth).unwrap();
+    let ColorBuffer::F32(c) = f.color else {
+        unreachable!()
+    };
+    c.iter().map(|x| x.to_bits()).collect()
+}
+
+#[test]
+fn textured_frames_are_identical_on_every_instruction_set_and_thread_count() {
+    // The textured tile body has an AVX2 copy (its batches lit with wide lane loops): it
+    // must give the baseline's bits, with every filter and wrap mode, vertex colours and a
+    // normal map, shadows and fog, in every mode.
+    for (mode, case) in MODES.into_iter().flat_map(|m| CASES.map(|c| (m, c))) {
+        let (scene, cam) = mapped_sphere(case, mode, true);
+        let frames: Vec<Vec<u32>> = [(false, 1), (true, 1), (false, 2), (true, 3)]
+            .iter()
+            .map(|&(baseline, threads)| color_bits(&scene, &cam, mode, baseline, threads, false))
+            .collect();
         for f in &frames[1..] {
+            assert!(*f == frames[0], "{case:?} {mode:?} differs");
+        }
+    }
+}
+
+#[test]
+fn flat_and_gouraud_rows_give_the_batch_paths_bits() {
+    // Without fog or a depth output, flat and Gouraud texture a tile row at a time; with a
+    // depth output they go through the batches that Phong uses. Same operations per pixel,
+    // so the same bits: every filter and wrap, vertex colours, shadows, both instruction
+    // sets, and Phong with no light reaching the surface (shaded flat, so by rows too).
+    for (mode, case) in [ShadingMode::Flat, ShadingMode::Gouraud]
+        .into_iter()
+        .flat_map(|m| CASES.map(|c| (m, c)))
+    {
+        let (scene, cam) = mapped_sphere(case, mode, false);
+        for baseline in [false, true] {
+            let rows = color_bits(&scene, &cam, mode, baseline, 2, false);
+            let batches = color_bits(&scene, &cam, mode, baseline, 2, true);
             assert!(
-                *f == frames[0],
-                "{filter:?} {wrap:?} {aniso} {mode:?} differs"
+                rows == batches,
+                "{case:?} {mode:?} baseline {baseline} differs"
             );
         }
     }

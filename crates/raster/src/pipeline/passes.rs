@@ -115,6 +115,7 @@ pub(crate) fn color_pass<P: Pixel>(
                     .objects()
                     .iter()
                     .any(|o| o.maps().is_some_and(|m| m.perturbs())),
+            lit: prep.units.iter().flatten().any(|u| !u.lights.is_empty()),
         }),
         secondary,
         isa,

@@ -25,6 +25,11 @@
 //! then a bump map in the frame it made). Shadows keep the unperturbed normal (they are
 //! geometry). That work is compiled only into the `PERTURB` body, chosen once per render
 //! ([`TexturedScene::perturb`]), so textured scenes without such maps run the loop they ran.
+//!
+//! Pixels lit per pixel (Phong) wait in a [`Batch`] of [`LANES`] and are lit, textured and
+//! stored together; where none is (flat and Gouraud, or no light reaches any surface) and
+//! there is no depth output or fog, a tile goes a row at a time instead ([`textured_rows`]),
+//! through the same per-pixel functions, so with the same bits.
 
 use glam::{Vec2, Vec3, Vec4};
 
@@ -32,7 +37,7 @@ use super::id_runs::{row_runs, Run};
 use super::phong::face_normal;
 use super::planes::{weight_planes, Plane, PlaneCache};
 use super::program::finish_batch;
-use super::store::{fill_out, put, Out, Pixel};
+use super::store::{fill_out, put, Out, Pixel, RowColors, ROW_LANES};
 use super::{background_row, ShadeContext};
 use crate::lighting::{lane, normalize_lanes, set_lane, Lanes, Split, Surface, LANES};
 use crate::material::Material;
@@ -63,6 +68,9 @@ pub(crate) struct TexturedScene<'a> {
     pub objects: Vec<TexturedObject<'a>>,
     /// Whether any object has a normal or bump map (Phong): the tile body that perturbs.
     pub perturb: bool,
+    /// Whether a light reaches some surface ([`Surface::lights`]): Phong then lights
+    /// pixels one by one, else every mode shades flat ([`shaded_as`]).
+    pub lit: bool,
 }
 
 /// Split lighting terms of one point.
@@ -239,6 +247,178 @@ struct Chunk {
     k0: usize,
 }
 
+/// One group of [`LANES`] pixels of a row of triangle `c`, centres `base + k + ½` (lane k)
+/// on the row centre `y`: q_m = the weight planes there, W = Σ q_m, the perspective-correct
+/// weights b_m = q_m / W and the texture coordinates they blend. Every lane is evaluated
+/// (a fixed trip count, so the loops widen); the callers keep the lanes they cover.
+struct Group {
+    w: [f64; LANES],
+    r: [f64; LANES],
+    b: [[f64; LANES]; 3],
+    u: [f64; LANES],
+    v: [f64; LANES],
+}
+
+impl Group {
+    #[allow(clippy::needless_range_loop)] // lane k of several arrays
+    #[inline(always)]
+    fn new(c: &Current, base: f64, y: f64) -> Self {
+        let pl = &c.plane;
+        let by = [0, 1, 2].map(|m| pl[m][1] * y);
+        let us = c.uv.map(|t| t.x as f64);
+        let vs = c.uv.map(|t| t.y as f64);
+        let mut w = [0.0f64; LANES];
+        let mut r = [0.0f64; LANES];
+        let mut b = [[0.0f64; LANES]; 3];
+        for k in 0..LANES {
+            let x = base + k as f64 + 0.5;
+            let q = [0, 1, 2].map(|m| pl[m][0] * x + by[m] + pl[m][2]);
+            w[k] = q[0] + q[1] + q[2];
+            r[k] = 1.0 / w[k];
+            for m in 0..3 {
+                b[m][k] = q[m] * r[k];
+            }
+        }
+        let mut u = [0.0f64; LANES];
+        let mut v = [0.0f64; LANES];
+        for k in 0..LANES {
+            u[k] = us[0] * b[0][k] + us[1] * b[1][k] + us[2] * b[2][k];
+            v[k] = vs[0] * b[0][k] + vs[1] * b[1][k] + vs[2] * b[2][k];
+        }
+        Group { w, r, b, u, v }
+    }
+
+    /// The exact screen-space derivatives of (u, v) at `lanes`, into `out`:
+    /// ∂(Σ q_k·a_k / W)/∂x = (Σ ∂q_k/∂x·a_k − a·∂W/∂x) / W.
+    #[inline(always)]
+    fn footprints(&self, c: &Current, lanes: std::ops::Range<usize>, out: &mut [Footprint]) {
+        let pl = &c.plane;
+        let us = c.uv.map(|t| t.x as f64);
+        let vs = c.uv.map(|t| t.y as f64);
+        let da =
+            |a: [f64; 3], axis: usize| pl[0][axis] * a[0] + pl[1][axis] * a[1] + pl[2][axis] * a[2];
+        let dw = [0, 1].map(|axis| pl[0][axis] + pl[1][axis] + pl[2][axis]);
+        let (dux, dvx, duy, dvy) = (da(us, 0), da(vs, 0), da(us, 1), da(vs, 1));
+        for k in lanes {
+            out[k] = Footprint {
+                du_dx: (dux - self.u[k] * dw[0]) * self.r[k],
+                dv_dx: (dvx - self.v[k] * dw[0]) * self.r[k],
+                du_dy: (duy - self.u[k] * dw[1]) * self.r[k],
+                dv_dy: (dvy - self.v[k] * dw[1]) * self.r[k],
+            };
+        }
+    }
+
+    /// The weights in f32, what the vertex values are blended with.
+    #[inline(always)]
+    fn weights_f32(&self) -> [[f32; LANES]; 3] {
+        self.b.map(|bm| bm.map(|x| x as f32))
+    }
+}
+
+/// Three vertex values `a` blended by the weights `bf` into `lanes` of `out`, as `Vec3`
+/// arithmetic does it per component: a₀·b₀ + a₁·b₁ + a₂·b₂.
+#[inline(always)]
+fn blend(a: [f32; 3], bf: &[[f32; LANES]; 3], lanes: std::ops::Range<usize>, out: &mut Lanes) {
+    for k in lanes {
+        out[k] = a[0] * bf[0][k] + a[1] * bf[1][k] + a[2] * bf[2][k];
+    }
+}
+
+/// Flat and Gouraud: the split terms of `lanes` (the face's, or the vertices' blended).
+#[inline(always)]
+fn vertex_terms(
+    c: &Current,
+    bf: &[[f32; LANES]; 3],
+    lanes: std::ops::Range<usize>,
+    out: &mut Split,
+) {
+    let tt = &c.terms;
+    if c.mode == ShadingMode::Gouraud {
+        for ch in 0..3 {
+            blend(tt.map(|x| x.a[ch]), bf, lanes.clone(), &mut out.ambient[ch]);
+            blend(tt.map(|x| x.d[ch]), bf, lanes.clone(), &mut out.diffuse[ch]);
+            blend(
+                tt.map(|x| x.s[ch]),
+                bf,
+                lanes.clone(),
+                &mut out.specular[ch],
+            );
+        }
+    } else {
+        let f = &tt[0];
+        for ch in 0..3 {
+            out.ambient[ch][lanes.clone()].fill(f.a[ch]);
+            out.diffuse[ch][lanes.clone()].fill(f.d[ch]);
+            out.specular[ch][lanes.clone()].fill(f.s[ch]);
+        }
+    }
+}
+
+/// The textured colour of every lane, `ke·Te + ka·Ta ⊙ A + kd·Td ⊙ D + ks·Ts ⊙ S` (the
+/// module's doc), from the lit `terms`, the vertex colours `vcolor` (read when the object
+/// has them) and the maps read at (u, v) for the first `n` lanes. Channel by channel over
+/// all lanes (dead lanes compute garbage nobody stores), in the order of the per-pixel
+/// expression, so each lane's value is what the per-lane `Vec3` arithmetic gave.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn textured_color(
+    obj: &TexturedObject<'_>,
+    m: &Material,
+    terms: &Split,
+    vcolor: &[Lanes; 3],
+    u: &[f64; LANES],
+    v: &[f64; LANES],
+    fp: &[Footprint; LANES],
+    n: usize,
+    wide: bool,
+) -> [Lanes; 3] {
+    // Each map read for all lanes at once (one dispatch per map); 1 without a map.
+    let read = |t: &Option<std::sync::Arc<Texture>>, out: &mut [Lanes; 3]| {
+        if let Some(t) = t {
+            t.sample_many(u, v, fp, n, out, wide);
+        }
+    };
+    let mut td = [[1.0; LANES]; 3];
+    let mut ts = [[1.0; LANES]; 3];
+    let mut te = [[1.0; LANES]; 3];
+    let mut ta = [[1.0; LANES]; 3];
+    let mut own_ambient = false;
+    if let Some(maps) = obj.maps {
+        read(&maps.diffuse, &mut td);
+        read(&maps.specular, &mut ts);
+        if m.emission != Vec3::ZERO {
+            read(&maps.emission, &mut te);
+        }
+        if maps.ambient.is_some() {
+            read(&maps.ambient, &mut ta);
+            own_ambient = true;
+        }
+    }
+    let ta = if own_ambient { &ta } else { &td };
+    let mut c = [[0.0; LANES]; 3];
+    for ch in 0..3 {
+        let (ke, ks) = (m.emission[ch], m.specular[ch]);
+        let k_ad = if obj.colors {
+            vcolor[ch]
+        } else {
+            [m.ambient[ch]; LANES]
+        };
+        let k_d = if obj.colors {
+            vcolor[ch]
+        } else {
+            [m.diffuse[ch]; LANES]
+        };
+        for k in 0..LANES {
+            c[ch][k] = ke * te[ch][k]
+                + k_ad[k] * ta[ch][k] * terms.ambient[ch][k]
+                + k_d[k] * td[ch][k] * terms.diffuse[ch][k]
+                + ks * ts[ch][k] * terms.specular[ch][k];
+        }
+    }
+    c
+}
+
 /// Pixels waiting to be lit and textured together, all of one material.
 struct Batch {
     len: usize,
@@ -333,89 +513,30 @@ impl Batch {
         want_depth: bool,
         depth_row: Option<&mut [Out<f32>]>,
     ) {
-        let pl = &c.plane;
         let (lo, hi) = (lanes.start, lanes.end);
         // Pixel of lane k: at.s + (k − at.k0); its centre x is an integer plus ½ (exact:
         // small integers, so the same bits as summing in usize first). Lanes outside
-        // `lo..hi` get a pixel off the chunk: the loops below run over all lanes (a fixed
-        // trip count, so they widen) and only `lo..hi` is kept.
-        let base = (at.x0 + at.s) as f64 - at.k0 as f64;
-        let by = [0, 1, 2].map(|m| pl[m][1] * at.y);
-        let us = c.uv.map(|t| t.x as f64);
-        let vs = c.uv.map(|t| t.y as f64);
-        let mut w = [0.0f64; LANES];
-        let mut r = [0.0f64; LANES];
-        let mut b = [[0.0f64; LANES]; 3];
-        for k in 0..LANES {
-            let x = base + k as f64 + 0.5;
-            let q = [0, 1, 2].map(|m| pl[m][0] * x + by[m] + pl[m][2]);
-            w[k] = q[0] + q[1] + q[2];
-            r[k] = 1.0 / w[k];
-            for m in 0..3 {
-                b[m][k] = q[m] * r[k];
-            }
-        }
-        let mut u = [0.0f64; LANES];
-        let mut v = [0.0f64; LANES];
-        for k in 0..LANES {
-            u[k] = us[0] * b[0][k] + us[1] * b[1][k] + us[2] * b[2][k];
-            v[k] = vs[0] * b[0][k] + vs[1] * b[1][k] + vs[2] * b[2][k];
-        }
-        self.u[lo..hi].copy_from_slice(&u[lo..hi]);
-        self.v[lo..hi].copy_from_slice(&v[lo..hi]);
+        // `lo..hi` get a pixel off the chunk: the loops run over all lanes (a fixed trip
+        // count, so they widen) and only `lo..hi` is kept.
+        let g = Group::new(c, (at.x0 + at.s) as f64 - at.k0 as f64, at.y);
+        self.u[lo..hi].copy_from_slice(&g.u[lo..hi]);
+        self.v[lo..hi].copy_from_slice(&g.v[lo..hi]);
         for k in lo..hi {
             self.at[k] = (at.j, at.s + k - at.k0);
         }
         if c.footprint {
-            // ∂(Σ q_k·a_k / W)/∂x = (Σ ∂q_k/∂x·a_k − a·∂W/∂x) / W.
-            let da = |a: [f64; 3], axis: usize| {
-                pl[0][axis] * a[0] + pl[1][axis] * a[1] + pl[2][axis] * a[2]
-            };
-            let dw = [0, 1].map(|axis| pl[0][axis] + pl[1][axis] + pl[2][axis]);
-            let (dux, dvx, duy, dvy) = (da(us, 0), da(vs, 0), da(us, 1), da(vs, 1));
-            for k in lo..hi {
-                self.fp[k] = Footprint {
-                    du_dx: (dux - u[k] * dw[0]) * r[k],
-                    dv_dx: (dvx - v[k] * dw[0]) * r[k],
-                    du_dy: (duy - u[k] * dw[1]) * r[k],
-                    dv_dy: (dvy - v[k] * dw[1]) * r[k],
-                };
-            }
+            g.footprints(c, lo..hi, &mut self.fp);
         }
-        let mut bf = [[0.0f32; LANES]; 3];
-        for m in 0..3 {
-            for k in 0..LANES {
-                bf[m][k] = b[m][k] as f32;
-            }
-        }
-        // Channel `ch` of three vertex values blended into lanes, as `Vec3` arithmetic
-        // does it per component: a₀·b₀ + a₁·b₁ + a₂·b₂.
-        let blend = |a: [f32; 3], out: &mut Lanes| {
-            for k in lo..hi {
-                out[k] = a[0] * bf[0][k] + a[1] * bf[1][k] + a[2] * bf[2][k];
-            }
-        };
+        let bf = g.weights_f32();
         if c.colors {
             for ch in 0..3 {
-                blend(c.vcolor.map(|vc| vc[ch]), &mut self.vcolor[ch]);
+                blend(c.vcolor.map(|vc| vc[ch]), &bf, lo..hi, &mut self.vcolor[ch]);
             }
         }
+        let w = g.w;
         match c.mode {
-            ShadingMode::Flat => {
-                let f = &c.terms[0];
-                for ch in 0..3 {
-                    self.terms.ambient[ch][lo..hi].fill(f.a[ch]);
-                    self.terms.diffuse[ch][lo..hi].fill(f.d[ch]);
-                    self.terms.specular[ch][lo..hi].fill(f.s[ch]);
-                }
-            }
-            ShadingMode::Gouraud => {
-                let tt = &c.terms;
-                for ch in 0..3 {
-                    blend(tt.map(|x| x.a[ch]), &mut self.terms.ambient[ch]);
-                    blend(tt.map(|x| x.d[ch]), &mut self.terms.diffuse[ch]);
-                    blend(tt.map(|x| x.s[ch]), &mut self.terms.specular[ch]);
-                }
+            ShadingMode::Flat | ShadingMode::Gouraud => {
+                vertex_terms(c, &bf, lo..hi, &mut self.terms);
             }
             ShadingMode::Phong => {
                 for k in lo..hi {
@@ -544,54 +665,17 @@ impl Batch {
             };
             self.terms = t;
         }
-        // Each map read for all lanes at once (one dispatch per map); 1 without a map.
-        let (u, v, fp, n, wide) = (&self.u, &self.v, &self.fp, self.len, ctx.wide());
-        let read = |t: &Option<std::sync::Arc<Texture>>, out: &mut [Lanes; 3]| {
-            if let Some(t) = t {
-                t.sample_many(u, v, fp, n, out, wide);
-            }
-        };
-        let mut td = [[1.0; LANES]; 3];
-        let mut ts = [[1.0; LANES]; 3];
-        let mut te = [[1.0; LANES]; 3];
-        let mut ta = [[1.0; LANES]; 3];
-        let mut own_ambient = false;
-        if let Some(maps) = obj.maps {
-            read(&maps.diffuse, &mut td);
-            read(&maps.specular, &mut ts);
-            if m.emission != Vec3::ZERO {
-                read(&maps.emission, &mut te);
-            }
-            if maps.ambient.is_some() {
-                read(&maps.ambient, &mut ta);
-                own_ambient = true;
-            }
-        }
-        let ta = if own_ambient { &ta } else { &td };
-        // Channel by channel over all lanes (dead lanes compute garbage nobody stores), in
-        // the order of the per-pixel expression `ke·Te + ka·Ta·A + kd·Td·D + ks·Ts·S`, so
-        // each lane's value is what the per-lane Vec3 arithmetic gave.
-        let mut c = [[0.0; LANES]; 3];
-        let t = &self.terms;
-        for ch in 0..3 {
-            let (ke, ks) = (m.emission[ch], m.specular[ch]);
-            let k_ad = if obj.colors {
-                self.vcolor[ch]
-            } else {
-                [m.ambient[ch]; LANES]
-            };
-            let k_d = if obj.colors {
-                self.vcolor[ch]
-            } else {
-                [m.diffuse[ch]; LANES]
-            };
-            for k in 0..LANES {
-                c[ch][k] = ke * te[ch][k]
-                    + k_ad[k] * ta[ch][k] * t.ambient[ch][k]
-                    + k_d[k] * td[ch][k] * t.diffuse[ch][k]
-                    + ks * ts[ch][k] * t.specular[ch][k];
-            }
-        }
+        let c = textured_color(
+            obj,
+            m,
+            &self.terms,
+            &self.vcolor,
+            &self.u,
+            &self.v,
+            &self.fp,
+            self.len,
+            ctx.wide(),
+        );
         finish_batch(ctx, c, &self.at[..self.len], &self.depth, rect, color);
         self.len = 0;
     }
@@ -658,6 +742,9 @@ fn shade_textured_body<P: Pixel, const AFFINE: bool, const PERTURB: bool, const 
     color: &mut [&mut [Out<P>]],
     mut depth: Option<&mut [&mut [Out<f32>]]>,
 ) {
+    if depth.is_none() && ctx.program.is_empty() && (mode != ShadingMode::Phong || !tex.lit) {
+        return textured_rows::<P, AFFINE>(ctx, tex, mode, rect, buf, color);
+    }
     let on = Tile {
         ctx,
         tex,
@@ -765,4 +852,79 @@ fn shade_textured_body<P: Pixel, const AFFINE: bool, const PERTURB: bool, const 
         }
     }
     batch.flush_on::<P, PERTURB, WIDE>(&on, color);
+}
+
+/// Flat and Gouraud (every surface lit per face or per vertex, or by no light) without
+/// depth output or fog, the common case: each tile row's colours go into a row buffer,
+/// every run over whole [`LANES`] from its start (a run's last group spills into the next
+/// run's pixels, which that run then overwrites), and the row is stored once, as Gouraud's
+/// untextured rows are. No batch: a group's coordinates, terms and texels stay in lanes
+/// from the interpolation to the row (the batch copied them in and out a lane at a time,
+/// and stored each batch on its own). Per pixel the same operations as the batch path
+/// ([`Group`], [`vertex_terms`], [`textured_color`]), so the same bits.
+#[inline(always)]
+fn textured_rows<P: Pixel, const AFFINE: bool>(
+    ctx: &ShadeContext<'_>,
+    tex: &TexturedScene<'_>,
+    mode: ShadingMode,
+    rect: TileRect,
+    buf: &TileBuffers,
+    color: &mut [&mut [Out<P>]],
+) {
+    let wide = ctx.wide();
+    let mut planes = PlaneCache::new();
+    let mut loaded: [Option<Current>; LOADED] = std::array::from_fn(|_| None);
+    let bg = ctx.background.to_array();
+    let mut lin: RowColors = [[0.0; ROW_LANES]; 3];
+    let mut terms = Split::default();
+    let mut vcolor = [[0.0; LANES]; 3];
+    // Lanes past a run's end keep their last footprint (finite), as a batch's dead lanes do.
+    let mut fp = [Footprint::default(); LANES];
+    for (j, row) in color[..rect.h].iter_mut().enumerate() {
+        let y = (rect.y0 + j) as f64 + 0.5;
+        for run in row_runs(buf, j, rect.w) {
+            let (id, whole) = (run.id, run.whole_lanes());
+            if id == NO_TRIANGLE {
+                for (ch, v) in lin.iter_mut().zip(bg) {
+                    ch[whole.clone()].fill(v);
+                }
+                continue;
+            }
+            let slot = &mut loaded[id as usize % LOADED];
+            if slot.as_ref().map_or(true, |c| c.id != id) {
+                let t = ctx.tris.get(id);
+                *slot = Some(Current::load::<AFFINE, false>(
+                    ctx,
+                    tex,
+                    mode,
+                    id,
+                    t,
+                    &mut planes,
+                ));
+            }
+            let c = slot.as_ref().expect("loaded");
+            let (object, back) = c.key;
+            let obj = &tex.objects[object as usize];
+            let m = &obj.material[back as usize];
+            for s in whole.step_by(LANES) {
+                let live = LANES.min(run.end - s);
+                let g = Group::new(c, (rect.x0 + s) as f64, y);
+                if c.footprint {
+                    g.footprints(c, 0..live, &mut fp);
+                }
+                let bf = g.weights_f32();
+                if c.colors {
+                    for (ch, out) in vcolor.iter_mut().enumerate() {
+                        blend(c.vcolor.map(|vc| vc[ch]), &bf, 0..LANES, out);
+                    }
+                }
+                vertex_terms(c, &bf, 0..LANES, &mut terms);
+                let out = textured_color(obj, m, &terms, &vcolor, &g.u, &g.v, &fp, live, wide);
+                for (ch, o) in lin.iter_mut().zip(&out) {
+                    ch[s..s + LANES].copy_from_slice(o);
+                }
+            }
+        }
+        P::store_row(&mut row[..rect.w * 3], &lin, wide);
+    }
 }
