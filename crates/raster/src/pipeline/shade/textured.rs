@@ -684,6 +684,45 @@ impl Batch {
 /// How many loaded triangles [`shade_textured`] keeps (direct-mapped by id).
 const LOADED: usize = 16;
 
+/// The last triangles loaded ([`Current`]), direct-mapped by id, with their weight planes:
+/// rows of a tile cross the same few triangles again and again, and loading one lights it
+/// (flat and Gouraud), which cost more than the texturing of a small triangle's pixels when
+/// only the last one was kept.
+struct Loaded {
+    slots: [Option<Current>; LOADED],
+    planes: PlaneCache<[Plane; 3]>,
+}
+
+impl Loaded {
+    fn new() -> Self {
+        Loaded {
+            slots: std::array::from_fn(|_| None),
+            planes: PlaneCache::new(),
+        }
+    }
+
+    /// Triangle `id`, loaded if it is not in the table.
+    #[inline(always)]
+    fn get<const AFFINE: bool, const PERTURB: bool>(
+        &mut self,
+        ctx: &ShadeContext<'_>,
+        tex: &TexturedScene<'_>,
+        mode: ShadingMode,
+        id: u32,
+    ) -> &Current {
+        let slot = &mut self.slots[id as usize % LOADED];
+        match slot {
+            Some(c) if c.id == id => {}
+            _ => {
+                let t = ctx.tris.get(id);
+                let c = Current::load::<AFFINE, PERTURB>(ctx, tex, mode, id, t, &mut self.planes);
+                *slot = Some(c);
+            }
+        }
+        slot.as_ref().expect("loaded")
+    }
+}
+
 /// Shades one tile of a textured scene (any mode); `WIDE`: compiled for AVX2 + FMA, its
 /// batches lit with AVX2 too ([`Batch::flush_on`]). Never inlined: the untextured tile
 /// bodies that branch past it keep their own code layout.
@@ -753,11 +792,7 @@ fn shade_textured_body<P: Pixel, const AFFINE: bool, const PERTURB: bool, const 
     };
     let want_depth = depth.is_some() || ctx.program.reads_depth();
     let background = background_row::<P>(ctx);
-    let mut planes = PlaneCache::new();
-    // The last triangles loaded, by id: rows of a tile cross the same few triangles again
-    // and again, and loading one lights it (flat and Gouraud), which cost more than the
-    // texturing of a small triangle's pixels when only the last one was kept.
-    let mut loaded: [Option<Current>; LOADED] = std::array::from_fn(|_| None);
+    let mut loaded = Loaded::new();
     let mut batch = Batch {
         len: 0,
         at: [(0, 0); LANES],
@@ -789,18 +824,7 @@ fn shade_textured_body<P: Pixel, const AFFINE: bool, const PERTURB: bool, const 
                 continue;
             }
             let t = ctx.tris.get(id);
-            let slot = &mut loaded[id as usize % LOADED];
-            if slot.as_ref().map_or(true, |c| c.id != id) {
-                *slot = Some(Current::load::<AFFINE, PERTURB>(
-                    ctx,
-                    tex,
-                    mode,
-                    id,
-                    t,
-                    &mut planes,
-                ));
-            }
-            let c = slot.as_ref().expect("loaded");
+            let c = loaded.get::<AFFINE, PERTURB>(ctx, tex, mode, id);
             if batch.len > 0 && batch.key != c.key {
                 batch.flush_on::<P, PERTURB, WIDE>(&on, color);
             }
@@ -872,8 +896,8 @@ fn textured_rows<P: Pixel, const AFFINE: bool>(
     color: &mut [&mut [Out<P>]],
 ) {
     let wide = ctx.wide();
-    let mut planes = PlaneCache::new();
-    let mut loaded: [Option<Current>; LOADED] = std::array::from_fn(|_| None);
+    // Normal and bump maps need Phong, which never comes here: loaded without them.
+    let mut loaded = Loaded::new();
     let bg = ctx.background.to_array();
     let mut lin: RowColors = [[0.0; ROW_LANES]; 3];
     let mut terms = Split::default();
@@ -890,19 +914,7 @@ fn textured_rows<P: Pixel, const AFFINE: bool>(
                 }
                 continue;
             }
-            let slot = &mut loaded[id as usize % LOADED];
-            if slot.as_ref().map_or(true, |c| c.id != id) {
-                let t = ctx.tris.get(id);
-                *slot = Some(Current::load::<AFFINE, false>(
-                    ctx,
-                    tex,
-                    mode,
-                    id,
-                    t,
-                    &mut planes,
-                ));
-            }
-            let c = slot.as_ref().expect("loaded");
+            let c = loaded.get::<AFFINE, false>(ctx, tex, mode, id);
             let (object, back) = c.key;
             let obj = &tex.objects[object as usize];
             let m = &obj.material[back as usize];
