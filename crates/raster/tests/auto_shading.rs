@@ -222,17 +222,22 @@ fn scenes_that_cannot_mix_use_the_most_accurate_mode_for_all() {
 }
 
 #[test]
-fn the_estimate_is_the_same_for_any_thread_count() {
-    // A mesh large enough to be split into many parallel chunks.
-    let scene = two_objects(200);
+fn the_estimate_is_the_same_for_any_thread_count_and_instruction_set() {
+    // A mesh large enough to be split into many parallel chunks, and a point light besides
+    // the sun (its lane loop has an AVX2 copy of its own).
+    let mut scene = two_objects(200);
+    scene.add_light(PointLight::new(Vec3::new(2.0, 3.0, 4.0), Vec3::splat(0.5), 1.0).unwrap());
     let mut want = None;
     for threads in [1, 2, 3] {
-        let mut o = options(ShadingMode::Phong);
-        o.threads = Some(threads);
-        let e = explain_shading(&scene, &camera(), &o, 1.0).unwrap();
-        match &want {
-            None => want = Some(e),
-            Some(w) => assert_eq!(&e, w, "threads {threads}"),
+        for baseline in [false, true] {
+            let mut o = options(ShadingMode::Phong);
+            o.threads = Some(threads);
+            o.baseline_isa = baseline;
+            let e = explain_shading(&scene, &camera(), &o, 1.0).unwrap();
+            match &want {
+                None => want = Some(e),
+                Some(w) => assert_eq!(&e, w, "threads {threads}, baseline {baseline}"),
+            }
         }
     }
 }

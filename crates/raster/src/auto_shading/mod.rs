@@ -23,6 +23,7 @@ use crate::options::{
     check_tolerance, EdgeMode, GouraudMethod, Interpolation, RenderOptions, ShadingMode,
     SpecularModel,
 };
+use crate::pipeline::isa::Isa;
 use crate::scene::{Object, Scene};
 use bound::{quantized_square, sensitivity, Spread};
 use cost::Work;
@@ -346,7 +347,8 @@ fn object_estimate(
         shading.clamps,
         options.gouraud == GouraudMethod::Normals
             && options.interpolation == Interpolation::Perspective,
-    );
+    )
+    .with_wide_lanes(Isa::detect(options.baseline_isa) != Isa::Baseline);
     let indices = mesh.indices();
     let n_tri = indices.len();
     let mut work = Work {
@@ -363,7 +365,8 @@ fn object_estimate(
     let world = |k: u32| to_world.transform_point3(positions[k as usize].as_dvec3());
     let normal = |k: u32| (normal_matrix * normals[k as usize].as_dvec3()).normalize_or_zero();
     // Sample j of n is triangle ⌊j·T/n⌋: evenly strided over the index order.
-    let triangle_of = |j: usize| &indices[(j as u128 * n_tri as u128 / n as u128) as usize];
+    // j < n ≤ MAX_SAMPLED: the product fits 64 bits for any mesh that fits in memory.
+    let triangle_of = |j: usize| &indices[(j as u64 * n_tri as u64 / n as u64) as usize];
     let one = |j: usize, back_wanted: bool| -> Sums {
         let mut acc = [[0.0f64; SLOTS]; 2];
         let t = triangle_of(j);

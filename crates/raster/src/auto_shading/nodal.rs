@@ -81,6 +81,17 @@ impl Nodal {
         }
     }
 
+    /// Lights the points in an AVX2 + FMA copy of the lighting's lane loops when `wide` (the
+    /// CPU has both: `Isa::detect`): eight lanes at a time where the baseline's SSE2 takes
+    /// four, with the same bits ([`Surface::with_wide_lanes`]). Only the f32 lanes: the
+    /// estimate's f64 work inlined into one AVX2 copy saved about a tenth more, but LLVM
+    /// then emits a `vmovq` register form that valgrind 3.19 cannot decode (an illegal
+    /// instruction under callgrind, our instruction counter, and under memcheck).
+    pub(super) fn with_wide_lanes(mut self, wide: bool) -> Self {
+        self.surface = self.surface.with_wide_lanes(wide);
+        self
+    }
+
     /// Whether Gouraud's error can be found here (its vertex-normal method, colours blended
     /// over the world triangle); otherwise the bound stands for both modes.
     pub(super) fn covers_gouraud(&self) -> bool {
@@ -236,6 +247,26 @@ impl Nodal {
 
     /// The renderer's colours at eight points (position, unit normal).
     fn shade(&self, points: &[(DVec3, DVec3); LANES]) -> [[f32; LANES]; 3] {
+        #[cfg(target_arch = "x86_64")]
+        if self.surface.wide() {
+            // SAFETY: `wide()` only where the CPU reported AVX2 and FMA.
+            return unsafe { self.shade_avx2(points) };
+        }
+        self.shade_body(points)
+    }
+
+    /// [`Nodal::shade_body`] compiled for AVX2 + FMA.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn shade_avx2(&self, points: &[(DVec3, DVec3); LANES]) -> [[f32; LANES]; 3] {
+        self.shade_body(points)
+    }
+
+    #[inline(always)]
+    fn shade_body(&self, points: &[(DVec3, DVec3); LANES]) -> [[f32; LANES]; 3] {
         let mut pos = [[0.0f32; LANES]; 3];
         let mut nrm = [[0.0f32; LANES]; 3];
         for (k, (q, m)) in points.iter().enumerate() {
