@@ -23,7 +23,6 @@ use crate::options::{
     check_tolerance, EdgeMode, GouraudMethod, Interpolation, RenderOptions, ShadingMode,
     SpecularModel,
 };
-use crate::pipeline::isa::Isa;
 use crate::scene::{Object, Scene};
 use bound::{quantized_square, sensitivity, Spread};
 use cost::Work;
@@ -348,7 +347,7 @@ fn object_estimate(
         options.gouraud == GouraudMethod::Normals
             && options.interpolation == Interpolation::Perspective,
     )
-    .with_wide_lanes(Isa::detect(options.baseline_isa) != Isa::Baseline);
+    .with_wide_lanes(!options.baseline_isa);
     let indices = mesh.indices();
     let n_tri = indices.len();
     let mut work = Work {
