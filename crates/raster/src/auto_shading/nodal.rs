@@ -83,8 +83,9 @@ impl Nodal {
 
     /// Lights the points in an AVX2 + FMA copy of the lighting's lane loops when `wide` and
     /// the CPU has both (as the pipeline's `Isa::detect` decides; not called here, which
-    /// would make `auto_shading` and `pipeline` import each other): eight lanes at a time where the baseline's SSE2 takes
-    /// four, with the same bits ([`Surface::with_wide_lanes`]). Only the f32 lanes: the
+    /// would make `auto_shading` and `pipeline` import each other): eight lanes at a time
+    /// where the baseline's SSE2 takes four, with the same bits
+    /// ([`Surface::with_wide_lanes`]). Only the f32 lanes: the
     /// estimate's f64 work inlined into one AVX2 copy saved about a tenth more, but LLVM
     /// then emits a `vmovq` register form that valgrind 3.19 cannot decode (an illegal
     /// instruction under callgrind, our instruction counter, and under memcheck).
