@@ -15,6 +15,7 @@
 //!   bilinear and seamless: a tap beyond a face's border reads the neighbouring face's
 //!   texel in that direction (as `GL_TEXTURE_CUBE_MAP_SEAMLESS`), so no seam shows.
 
+use std::f64::consts::{FRAC_1_PI, TAU};
 use std::sync::Arc;
 
 use glam::{DVec3, Vec3};
@@ -25,6 +26,9 @@ use crate::trig;
 
 /// Largest environment side in texels.
 pub const MAX_ENVIRONMENT_SIZE: usize = 16384;
+
+/// `1/(2π)`: the turn of an angle as a product.
+const INV_TAU: f64 = 1.0 / TAU;
 
 /// Largest texel value (the lighting's float32 headroom, as for textures).
 const MAX_TEXEL: f32 = 1e30;
@@ -259,8 +263,10 @@ impl Environment {
         let (x, y, z) = (x as f64, y as f64, z as f64);
         let len = (x * x + y * y + z * z).sqrt();
         let ok = len > 0.0 && len.is_finite();
+        // One division and three products instead of three divisions.
+        let inv = 1.0 / len;
         let (x, y, z) = if ok {
-            (x / len, y / len, z / len)
+            (x * inv, y * inv, z * inv)
         } else {
             (0.0, 0.0, -1.0)
         };
@@ -274,8 +280,8 @@ impl Environment {
     /// 4096 × 2048 image in v, far less in u).
     pub fn uv(&self, d: Vec3) -> (f64, f64) {
         let (x, y, z) = self.unrotated_xyz(d.x, d.y, d.z);
-        let u = 0.5 + trig::atan2(x, -z) / std::f64::consts::TAU;
-        let v = trig::acos(y) / std::f64::consts::PI;
+        let u = 0.5 + trig::atan2(x, -z) * INV_TAU;
+        let v = trig::acos(y) * FRAC_1_PI;
         (u, v)
     }
 
@@ -307,9 +313,9 @@ impl Environment {
         let mut exact = [false; LANES];
         for k in 0..LANES {
             let (x, y, z) = self.unrotated_xyz(d[0][k], d[1][k], d[2][k]);
-            u[k] = 0.5 + trig::atan2_core(x, -z) / std::f64::consts::TAU;
+            u[k] = 0.5 + trig::atan2_core(x, -z) * INV_TAU;
             exact[k] = trig::atan2_in_range(x, -z);
-            v[k] = trig::acos(y) / std::f64::consts::PI;
+            v[k] = trig::acos(y) * FRAC_1_PI;
         }
         for k in 0..n {
             if !exact[k] {
@@ -356,10 +362,11 @@ impl Environment {
     }
 
     /// The column of whole-number `x` (in [−width, 2·width): one turn either way) wrapped
-    /// into the image, `x.rem_euclid(width)` as compares: the lanes' form vectorises.
+    /// into the image, `x.rem_euclid(width)` as compares: the lanes' form vectorises (in
+    /// 32 bits: AVX2 has no 64-bit conversions from f64 nor 64-bit products).
     #[inline(always)]
-    fn wrap(&self, x: i64) -> usize {
-        let w = self.width as i64;
+    fn wrap(&self, x: i32) -> i32 {
+        let w = self.width as i32;
         let c = if x < 0 {
             x + w
         } else if x >= w {
@@ -367,7 +374,7 @@ impl Environment {
         } else {
             x
         };
-        c.clamp(0, w - 1) as usize
+        c.clamp(0, w - 1)
     }
 
     /// The bilinear look-up of an equirectangular image at (u, v) (u in [0, 1]), times the
@@ -392,16 +399,14 @@ impl Environment {
         let (x0, y0) = (x.floor(), y.floor());
         let (fx, fy) = ((x - x0) as f32, (y - y0) as f32);
         // x0 is a whole number in [−1, width − 1] (u is in [0, 1]): wrapped in integers,
-        // the same columns as f64's rem_euclid without its libm call.
-        let (c0, c1) = (self.wrap(x0 as i64), self.wrap(x0 as i64 + 1));
-        let r0 = y0 as usize;
-        let r1 = (r0 + 1).min(self.height - 1);
-        let wd = self.width;
-        (
-            [r0 * wd + c0, r0 * wd + c1, r1 * wd + c0, r1 * wd + c1],
-            fx,
-            fy,
-        )
+        // the same columns as f64's rem_euclid without its libm call. Sizes are at most
+        // MAX_ENVIRONMENT_SIZE, so every index fits 32 bits.
+        let (c0, c1) = (self.wrap(x0 as i32), self.wrap(x0 as i32 + 1));
+        let r0 = y0 as i32;
+        let r1 = (r0 + 1).min(self.height as i32 - 1);
+        let wd = self.width as i32;
+        let at = |r: i32, c: i32| (r * wd + c) as usize;
+        ([at(r0, c0), at(r0, c1), at(r1, c0), at(r1, c1)], fx, fy)
     }
 
     /// Bilinear lookup of the cube along the unit direction `d` (unrotated), seamless.

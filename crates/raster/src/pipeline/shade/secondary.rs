@@ -152,7 +152,8 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
         let mut sky = SkyRun::default();
         let mut mirrors = Lookups::<false>::default();
         let mut glass = Lookups::<true>::default();
-        for i in 0..rect.w {
+        let mut i = 0;
+        while i < rect.w {
             let slot = j * TILE + i;
             let (x, y) = (rect.x0 + i, rect.y0 + j);
             let (id, z) = (buf.id[slot], buf.depth[slot]);
@@ -160,9 +161,33 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
             while next < work.frags.len() && work.frags[next].slot as usize == slot {
                 next += 1;
             }
+            // 3 (plain). A run of pixels of one triangle (or of bare background) whose
+            // colour is the local one the loops wrote: copied into the row's colours as
+            // they are. Through `opaque_color` a pixel at a time, the colour went through
+            // memory as a `Vec3` and its reload stalled: a tenth of a mirror frame.
+            if next == first && is_plain(ctx, sec, id) {
+                let mut end = i + 1;
+                while end < rect.w
+                    && buf.id[j * TILE + end] == id
+                    && !matches!(work.frags.get(next), Some(f) if f.slot as usize == j * TILE + end)
+                {
+                    end += 1;
+                }
+                for k in i..end {
+                    // SAFETY: the shading loops wrote every sample of the rows they were given.
+                    unsafe {
+                        out[0][k] = rows[j][k * 3].assume_init();
+                        out[1][k] = rows[j][k * 3 + 1].assume_init();
+                        out[2][k] = rows[j][k * 3 + 2].assume_init();
+                    }
+                }
+                i = end;
+                continue;
+            }
             // 3 (background). Runs of bare background pixels are looked up over lanes.
             if id == NO_TRIANGLE && sec.env_background && next == first {
                 sky.push(i, sec, rect, j, out);
+                i += 1;
                 continue;
             }
             sky.flush(sec, rect, j, out);
@@ -183,6 +208,7 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
                     } else {
                         glass.push::<AFFINE, WIDE>(i, id, local, z, &row, &mut cache, out);
                     }
+                    i += 1;
                     continue;
                 }
             }
@@ -198,11 +224,25 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
                 c
             };
             set_lane(out, i, c);
+            i += 1;
         }
         sky.flush(sec, rect, j, out);
         mirrors.flush::<AFFINE, WIDE>(&row, &mut cache, out);
         glass.flush::<AFFINE, WIDE>(&row, &mut cache, out);
         P::store_row(&mut dst[..rect.w * 3], &colors, WIDE);
+    }
+}
+
+/// Whether a pixel of triangle `id` (or of no triangle, [`NO_TRIANGLE`]) with no transparent
+/// fragment over it shows the local colour the loops wrote, unchanged ([`opaque_color`]'s
+/// value): the background when the environment is not shown there; a surface of an
+/// [`Kind::Opaque`] object when there is no fog.
+#[inline(always)]
+fn is_plain(ctx: &ShadeContext<'_>, sec: &SecondaryEffect, id: u32) -> bool {
+    if id == NO_TRIANGLE {
+        !sec.env_background
+    } else {
+        sec.fog.is_none() && sec.kinds[ctx.tris.get(id).object as usize] == Kind::Opaque
     }
 }
 
@@ -299,9 +339,9 @@ impl<const GLASS: bool> Lookups<GLASS> {
         let mut b = [[0.0f32; LANES]; 3];
         for k in 0..LANES {
             let q = pl.map(|p| p[0] * px[k] + p[1] * py + p[2]);
-            let sum = q[0] + q[1] + q[2];
+            let inv = 1.0 / (q[0] + q[1] + q[2]);
             for m in 0..3 {
-                b[m][k] = (q[m] / sum) as f32;
+                b[m][k] = (q[m] * inv) as f32;
             }
         }
         // The shading normal: the interpolated vertex normals, normalised (the face
@@ -382,6 +422,23 @@ impl<const GLASS: bool> Lookups<GLASS> {
         let mut tr = [[0.0; LANES]; 3];
         if GLASS && transmit[..n].iter().any(|&t| t > 0.0) {
             sec.sky_dirs(&refracted, n, &mut tr);
+        }
+        if !GLASS && sec.fog.is_none() {
+            // `Lookup::color` of a mirror over the lanes, `base + reflect·sky(reflected)`
+            // where the weight is not zero, in its operations. A lane at a time, the mix
+            // and the colour went through memory as `Vec3`s.
+            for c in 0..3 {
+                for k in 0..n {
+                    let reflects =
+                        reflect[0][k] != 0.0 || reflect[1][k] != 0.0 || reflect[2][k] != 0.0;
+                    out[c][self.col[k]] = if reflects {
+                        base[c][k] + reflect[c][k] * r[c][k]
+                    } else {
+                        base[c][k]
+                    };
+                }
+            }
+            return;
         }
         for k in 0..n {
             let i = self.col[k];
@@ -591,8 +648,11 @@ fn point_at<const AFFINE: bool>(
         .get(id, || (weight_planes::<AFFINE>(ctx, t), face_normal(t, w)));
     let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
     let q = pl.map(|p| p[0] * px + p[1] * py + p[2]);
-    let sum = q[0] + q[1] + q[2];
-    let b = q.map(|v| (v / sum) as f32);
+    // One division and three products instead of three divisions, the slowest operation
+    // here (in f64 then rounded to f32: an f32 weight moves only where the f64 quotient
+    // and product differ across an f32 rounding boundary).
+    let inv = 1.0 / (q[0] + q[1] + q[2]);
+    let b = q.map(|v| (v * inv) as f32);
     let v = t.v.map(|k| k as usize);
     let p = w[v[0]] * b[0] + w[v[1]] * b[1] + w[v[2]] * b[2];
     let n_out = if mode == ShadingMode::Flat || ctx.verts.normal.is_empty() {
