@@ -201,14 +201,21 @@ def test_ctrl_c_between_frames_stops_the_batch(scene_cams):
     the next frame boundary: KeyboardInterrupt, and no further frame renders."""
     scene, cams = scene_cams
     done: list[int] = []
+    # Python's own Ctrl-C handler, as in a terminal: a process started in the background
+    # by a shell without job control inherits SIGINT ignored, and interrupt_main then
+    # does nothing (this test failed under such a `make test`).
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
 
     def progress(n, total):
         done.append(n)
         if n == 2:
             _thread.interrupt_main()
 
-    with pytest.raises(KeyboardInterrupt):
-        sl.render_batch(scene, cams, progress=progress, **KW)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            sl.render_batch(scene, cams, progress=progress, **KW)
+    finally:
+        signal.signal(signal.SIGINT, previous)
     assert done[-1] in (2, 3) and len(done) < len(cams)
 
 
