@@ -70,7 +70,11 @@ pub(crate) struct Mixed {
 /// How the secondary stage mixes an object's first surface.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum FirstSurface {
-    /// [`SecondaryEffect::mix`], a pixel at a time (not optical, or a secondary ray to follow).
+    /// Its local colour as the loops shaded it, unchanged: a [`Kind::Opaque`] object when
+    /// there is no fog.
+    Plain,
+    /// [`SecondaryEffect::mix`], a pixel at a time (not optical, or a secondary ray to follow),
+    /// then the fog.
     Mix,
     /// A mirror reading its reflected direction from the environment: one look-up
     /// ([`Lookup::of`]).
@@ -201,9 +205,10 @@ impl SecondaryEffect {
             && (options.reflections == Technique::Ray
                 || options.refractions == Some(Technique::Ray));
         let rays = uses_rays.then(|| RayScene::new(scene, world));
-        // Optical objects whose first surface follows no secondary ray: the reflected
-        // direction, and the refracted one of a transparent object, are read from the
-        // environment (an Optical transparent object always has a refraction technique).
+        // Opaque objects without fog keep the loops' colour (plain). Optical objects whose
+        // first surface follows no secondary ray: the reflected direction, and the
+        // refracted one of a transparent object, are read from the environment (an Optical
+        // transparent object always has a refraction technique).
         let first_surface = optics
             .iter()
             .zip(&kinds)
@@ -212,6 +217,9 @@ impl SecondaryEffect {
                 let follows_rays = rays.is_some()
                     && (options.reflections == Technique::Ray
                         || (transparent && options.refractions == Some(Technique::Ray)));
+                if k == Kind::Opaque && fog.is_none() {
+                    return FirstSurface::Plain;
+                }
                 match (k == Kind::Optical && !follows_rays, transparent) {
                     (false, _) => FirstSurface::Mix,
                     (true, false) => FirstSurface::Mirror,
@@ -454,6 +462,7 @@ fn absorb(sigma: Vec3, d: f32) -> Vec3 {
 mod tests {
     use super::*;
     use crate::camera::Intrinsics;
+    use crate::effects::{Fog, FogMode};
     use crate::lighting::lane;
 
     /// The view ray as two clip points a pixel apart in depth: the definition
@@ -577,17 +586,24 @@ mod tests {
             let world = plane.positions().repeat(materials.len());
             let sec = SecondaryEffect::new(&scene, &cam, &options, &world, None);
             // Rays (max depth 5) for reflections: no object is look-ups only; for
-            // refractions: the mirror still is. A zero reflectivity is no mirror.
-            use FirstSurface::{Glass, Mirror, Mix};
+            // refractions: the mirror still is. A zero reflectivity is no mirror: plain
+            // without fog, mixed (then fogged) with it.
+            use FirstSurface::{Glass, Mirror, Mix, Plain};
             let mirror = if reflections == Env { Mirror } else { Mix };
             let glass = if reflections == Env && refractions == Env {
                 Glass
             } else {
                 Mix
             };
-            let want = [mirror, Mix, glass, glass, Mix];
+            let want = [mirror, Plain, glass, glass, Plain];
             let got: Vec<FirstSurface> = (0..5).map(|o| sec.first_surface(o)).collect();
             assert_eq!(got, want, "{reflections:?} {refractions:?}");
+            let fog = Fog::new(FogMode::Exp { density: 0.5 }, Vec3::ONE).unwrap();
+            let fog = FogEffect::new(fog, cam.eye_distance(16, 16));
+            let fogged = SecondaryEffect::new(&scene, &cam, &options, &world, Some(fog));
+            let got: Vec<FirstSurface> = (0..5).map(|o| fogged.first_surface(o)).collect();
+            let want = [mirror, Mix, glass, glass, Mix];
+            assert_eq!(got, want, "fogged {reflections:?} {refractions:?}");
             let w = World {
                 world: &world,
                 normal: &[],
@@ -596,7 +612,7 @@ mod tests {
             };
             // Points of the glass that transmit, and under total internal reflection.
             let mut seen = [0; 2];
-            for object in (0..5).filter(|&o| sec.first_surface(o) != Mix) {
+            for object in (0..5).filter(|&o| matches!(sec.first_surface(o), Mirror | Glass)) {
                 for k in 0..400 {
                     let a = k as f32 * 0.37;
                     let n = Vec3::new(a.sin() * 0.3, 1.0, a.cos() * 0.2).normalize();

@@ -161,70 +161,72 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
             while next < work.frags.len() && work.frags[next].slot as usize == slot {
                 next += 1;
             }
-            // 3 (plain). A run of pixels of one triangle (or of bare background) whose
-            // colour is the local one the loops wrote: copied into the row's colours as
-            // they are. Through `opaque_color` a pixel at a time, the colour went through
-            // memory as a `Vec3` and its reload stalled: a tenth of a mirror frame.
-            if next == first && is_plain(ctx, sec, id) {
-                let mut end = i + 1;
-                while end < rect.w
-                    && buf.id[j * TILE + end] == id
-                    && !matches!(work.frags.get(next), Some(f) if f.slot as usize == j * TILE + end)
-                {
-                    end += 1;
-                }
-                for k in i..end {
-                    // SAFETY: the shading loops wrote every sample of the rows they were given.
-                    unsafe {
-                        out[0][k] = rows[j][k * 3].assume_init();
-                        out[1][k] = rows[j][k * 3 + 1].assume_init();
-                        out[2][k] = rows[j][k * 3 + 2].assume_init();
+            let route = Route::of(ctx, sec, id, next > first);
+            i = match route {
+                // 3 (plain). A run of pixels of one triangle (or of bare background) whose
+                // colour is the local one the loops wrote: copied into the row's colours as
+                // they are. Through `opaque_color` a pixel at a time, the colour went
+                // through memory as a `Vec3` and its reload stalled: a tenth of a mirror
+                // frame.
+                Route::Plain => {
+                    let end = plain_run_end(buf, &work.frags[next..], j, i, rect.w);
+                    for k in i..end {
+                        // SAFETY: the shading loops wrote every sample of their rows.
+                        unsafe {
+                            out[0][k] = rows[j][k * 3].assume_init();
+                            out[1][k] = rows[j][k * 3 + 1].assume_init();
+                            out[2][k] = rows[j][k * 3 + 2].assume_init();
+                        }
                     }
+                    end
                 }
-                i = end;
-                continue;
-            }
-            // 3 (background). Runs of bare background pixels are looked up over lanes.
-            if id == NO_TRIANGLE && sec.env_background && next == first {
-                sky.push(i, sec, rect, j, out);
-                i += 1;
-                continue;
-            }
-            sky.flush(sec, rect, j, out);
-            // SAFETY: the shading loops wrote every sample of the rows they were given.
-            let local = unsafe {
-                Vec3::new(
-                    rows[j][i * 3].assume_init(),
-                    rows[j][i * 3 + 1].assume_init(),
-                    rows[j][i * 3 + 2].assume_init(),
-                )
-            };
-            // 3 (mirrors, glass). A mix that only looks the environment up waits for others.
-            if id != NO_TRIANGLE && next == first {
-                let surface = sec.first_surface(ctx.tris.get(id).object);
-                if surface != FirstSurface::Mix {
-                    if surface == FirstSurface::Mirror {
-                        mirrors.push::<AFFINE, WIDE>(i, id, local, z, &row, &mut cache, out);
-                    } else {
-                        glass.push::<AFFINE, WIDE>(i, id, local, z, &row, &mut cache, out);
+                // 3 (background). Runs of bare background pixels are looked up over lanes.
+                Route::Sky => {
+                    sky.push(i, sec, rect, j, out);
+                    i + 1
+                }
+                _ => {
+                    sky.flush(sec, rect, j, out);
+                    // SAFETY: the shading loops wrote every sample of their rows.
+                    let local = unsafe {
+                        Vec3::new(
+                            rows[j][i * 3].assume_init(),
+                            rows[j][i * 3 + 1].assume_init(),
+                            rows[j][i * 3 + 2].assume_init(),
+                        )
+                    };
+                    match route {
+                        // 3 (mirrors, glass). A mix that only looks the environment up
+                        // waits for others.
+                        Route::Mirror => {
+                            mirrors.push::<AFFINE, WIDE>(i, id, local, z, &row, &mut cache, out)
+                        }
+                        Route::Glass => {
+                            glass.push::<AFFINE, WIDE>(i, id, local, z, &row, &mut cache, out)
+                        }
+                        _ => {
+                            // 3. The opaque layer's colour.
+                            let c = opaque_color::<AFFINE>(
+                                ctx, sec, &world, mode, id, z, local, x, y, &mut cache,
+                            );
+                            // 4. The transparent fragments over it, front to back.
+                            let frags = &work.frags[first..next];
+                            let c = if frags.is_empty() {
+                                c
+                            } else {
+                                let layers = frags.iter().map(|f| {
+                                    fragment_mix::<AFFINE>(
+                                        ctx, sec, &world, mode, f.id, f.z, x, y, &mut cache,
+                                    )
+                                });
+                                composite(layers, c)
+                            };
+                            set_lane(out, i, c);
+                        }
                     }
-                    i += 1;
-                    continue;
+                    i + 1
                 }
-            }
-            // 3. The opaque layer's colour.
-            let c = opaque_color::<AFFINE>(ctx, sec, &world, mode, id, z, local, x, y, &mut cache);
-            // 4. The transparent fragments over it, front to back.
-            let c = if next > first {
-                let layers = work.frags[first..next].iter().map(|f| {
-                    fragment_mix::<AFFINE>(ctx, sec, &world, mode, f.id, f.z, x, y, &mut cache)
-                });
-                composite(layers, c)
-            } else {
-                c
             };
-            set_lane(out, i, c);
-            i += 1;
         }
         sky.flush(sec, rect, j, out);
         mirrors.flush::<AFFINE, WIDE>(&row, &mut cache, out);
@@ -233,17 +235,58 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
     }
 }
 
-/// Whether a pixel of triangle `id` (or of no triangle, [`NO_TRIANGLE`]) with no transparent
-/// fragment over it shows the local colour the loops wrote, unchanged ([`opaque_color`]'s
-/// value): the background when the environment is not shown there; a surface of an
-/// [`Kind::Opaque`] object when there is no fog.
-#[inline(always)]
-fn is_plain(ctx: &ShadeContext<'_>, sec: &SecondaryEffect, id: u32) -> bool {
-    if id == NO_TRIANGLE {
-        !sec.env_background
-    } else {
-        sec.fog.is_none() && sec.kinds[ctx.tris.get(id).object as usize] == Kind::Opaque
+/// How a pixel of the opaque layer is shaded: its object's [`FirstSurface`], and for the
+/// background whether it shows the environment.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Route {
+    /// The local colour the loops wrote, unchanged (a run at a time).
+    Plain,
+    /// Bare background showing the environment (a run looked up over lanes).
+    Sky,
+    /// [`FirstSurface::Mirror`] ([`Lookups`]).
+    Mirror,
+    /// [`FirstSurface::Glass`] ([`Lookups`]).
+    Glass,
+    /// [`opaque_color`] and the transparent fragments over it, a pixel at a time.
+    General,
+}
+
+impl Route {
+    /// The route of a pixel of triangle `id` (or [`NO_TRIANGLE`]), with transparent
+    /// fragments over it or not: one look-up of its object.
+    #[inline(always)]
+    fn of(ctx: &ShadeContext<'_>, sec: &SecondaryEffect, id: u32, fragments: bool) -> Route {
+        if fragments {
+            return Route::General;
+        }
+        if id == NO_TRIANGLE {
+            return if sec.env_background {
+                Route::Sky
+            } else {
+                Route::Plain
+            };
+        }
+        match sec.first_surface(ctx.tris.get(id).object) {
+            FirstSurface::Plain => Route::Plain,
+            FirstSurface::Mirror => Route::Mirror,
+            FirstSurface::Glass => Route::Glass,
+            FirstSurface::Mix => Route::General,
+        }
     }
+}
+
+/// The end (exclusive column) of the run of plain pixels that starts at column `i` of tile
+/// row `j`: the pixels that follow with the same id and no transparent fragment over them
+/// (`frags`, the row's fragments from the cursor on, sorted by slot).
+#[inline(always)]
+fn plain_run_end(buf: &TileBuffers, frags: &[Fragment], j: usize, i: usize, w: usize) -> usize {
+    let id = buf.id[j * TILE + i];
+    let next_frag = frags.first().map_or(usize::MAX, |f| f.slot as usize);
+    let mut end = i + 1;
+    while end < w && buf.id[j * TILE + end] == id && j * TILE + end != next_frag {
+        end += 1;
+    }
+    end
 }
 
 /// What a tile row's batches read: the render, its mode, and the row (`y`, and the
@@ -427,12 +470,16 @@ impl<const GLASS: bool> Lookups<GLASS> {
             // `Lookup::color` of a mirror over the lanes, `base + reflect·sky(reflected)`
             // where the weight is not zero, in its operations. A lane at a time, the mix
             // and the colour went through memory as `Vec3`s.
+            // A mirror's material is opaque on both sides: every lane's weight is its
+            // reflectivity (`reflect`'s lanes, filled above), so whether it reflects at all is
+            // the batch's.
+            debug_assert!(m.transparency == 0.0);
+            let w = m.reflectivity.to_array();
+            let reflects = m.reflectivity != Vec3::ZERO;
             for c in 0..3 {
                 for k in 0..n {
-                    let reflects =
-                        reflect[0][k] != 0.0 || reflect[1][k] != 0.0 || reflect[2][k] != 0.0;
                     out[c][self.col[k]] = if reflects {
-                        base[c][k] + reflect[c][k] * r[c][k]
+                        base[c][k] + w[c] * r[c][k]
                     } else {
                         base[c][k]
                     };
