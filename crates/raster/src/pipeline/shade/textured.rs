@@ -918,19 +918,29 @@ fn textured_rows<P: Pixel, const AFFINE: bool>(
             let (object, back) = c.key;
             let obj = &tex.objects[object as usize];
             let m = &obj.material[back as usize];
+            // Flat: the face's terms, the same in every group of the run, filled once (per
+            // group, the fill's stores were a tenth of a nearest-filtered floor's frame).
+            let gouraud = c.mode == ShadingMode::Gouraud;
+            if !gouraud {
+                vertex_terms(c, &[[0.0; LANES]; 3], 0..LANES, &mut terms);
+            }
             for s in whole.step_by(LANES) {
                 let live = LANES.min(run.end - s);
                 let g = Group::new(c, (rect.x0 + s) as f64, y);
                 if c.footprint {
                     g.footprints(c, 0..live, &mut fp);
                 }
-                let bf = g.weights_f32();
-                if c.colors {
-                    for (ch, out) in vcolor.iter_mut().enumerate() {
-                        blend(c.vcolor.map(|vc| vc[ch]), &bf, 0..LANES, out);
+                if c.colors || gouraud {
+                    let bf = g.weights_f32();
+                    if c.colors {
+                        for (ch, out) in vcolor.iter_mut().enumerate() {
+                            blend(c.vcolor.map(|vc| vc[ch]), &bf, 0..LANES, out);
+                        }
+                    }
+                    if gouraud {
+                        vertex_terms(c, &bf, 0..LANES, &mut terms);
                     }
                 }
-                vertex_terms(c, &bf, 0..LANES, &mut terms);
                 let out = textured_color(obj, m, &terms, &vcolor, &g.u, &g.v, &fp, live, wide);
                 for (ch, o) in lin.iter_mut().zip(&out) {
                     ch[s..s + LANES].copy_from_slice(o);
