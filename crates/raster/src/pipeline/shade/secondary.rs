@@ -185,45 +185,40 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
                     sky.push(i, sec, rect, j, out);
                     i + 1
                 }
-                _ => {
+                // 3 (mirrors, glass). A mix that only looks the environment up waits for
+                // others.
+                Route::Mirror => {
                     sky.flush(sec, rect, j, out);
-                    // SAFETY: the shading loops wrote every sample of their rows.
-                    let local = unsafe {
-                        Vec3::new(
-                            rows[j][i * 3].assume_init(),
-                            rows[j][i * 3 + 1].assume_init(),
-                            rows[j][i * 3 + 2].assume_init(),
-                        )
+                    let local = local_at(rows[j], i);
+                    mirrors.push::<AFFINE, WIDE>(i, id, local, z, &row, &mut cache, out);
+                    i + 1
+                }
+                Route::Glass => {
+                    sky.flush(sec, rect, j, out);
+                    let local = local_at(rows[j], i);
+                    glass.push::<AFFINE, WIDE>(i, id, local, z, &row, &mut cache, out);
+                    i + 1
+                }
+                Route::General => {
+                    sky.flush(sec, rect, j, out);
+                    let local = local_at(rows[j], i);
+                    // 3. The opaque layer's colour.
+                    let c = opaque_color::<AFFINE>(
+                        ctx, sec, &world, mode, id, z, local, x, y, &mut cache,
+                    );
+                    // 4. The transparent fragments over it, front to back.
+                    let frags = &work.frags[first..next];
+                    let c = if frags.is_empty() {
+                        c
+                    } else {
+                        let layers = frags.iter().map(|f| {
+                            fragment_mix::<AFFINE>(
+                                ctx, sec, &world, mode, f.id, f.z, x, y, &mut cache,
+                            )
+                        });
+                        composite(layers, c)
                     };
-                    match route {
-                        // 3 (mirrors, glass). A mix that only looks the environment up
-                        // waits for others.
-                        Route::Mirror => {
-                            mirrors.push::<AFFINE, WIDE>(i, id, local, z, &row, &mut cache, out)
-                        }
-                        Route::Glass => {
-                            glass.push::<AFFINE, WIDE>(i, id, local, z, &row, &mut cache, out)
-                        }
-                        _ => {
-                            // 3. The opaque layer's colour.
-                            let c = opaque_color::<AFFINE>(
-                                ctx, sec, &world, mode, id, z, local, x, y, &mut cache,
-                            );
-                            // 4. The transparent fragments over it, front to back.
-                            let frags = &work.frags[first..next];
-                            let c = if frags.is_empty() {
-                                c
-                            } else {
-                                let layers = frags.iter().map(|f| {
-                                    fragment_mix::<AFFINE>(
-                                        ctx, sec, &world, mode, f.id, f.z, x, y, &mut cache,
-                                    )
-                                });
-                                composite(layers, c)
-                            };
-                            set_lane(out, i, c);
-                        }
-                    }
+                    set_lane(out, i, c);
                     i + 1
                 }
             };
@@ -232,6 +227,19 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
         mirrors.flush::<AFFINE, WIDE>(&row, &mut cache, out);
         glass.flush::<AFFINE, WIDE>(&row, &mut cache, out);
         P::store_row(&mut dst[..rect.w * 3], &colors, WIDE);
+    }
+}
+
+/// The local colour the loops wrote for column `i` of a tile row.
+#[inline(always)]
+fn local_at(row: &[Out<f32>], i: usize) -> Vec3 {
+    // SAFETY: the shading loops wrote every sample of the rows they were given.
+    unsafe {
+        Vec3::new(
+            row[i * 3].assume_init(),
+            row[i * 3 + 1].assume_init(),
+            row[i * 3 + 2].assume_init(),
+        )
     }
 }
 
