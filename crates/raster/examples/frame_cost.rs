@@ -18,8 +18,9 @@
 //! default; the sphere's rings are then unused); `mirror` replaces it by
 //! `bench/bench_reflect.py`'s mirror floor under a red sphere (4:3, its environment looked
 //! up along the mirror directions; the rings are unused), and `glass` adds that report's glass
-//! ball in front (reflected and refracted look-ups), `opaque` makes both scenes' materials
-//! plain (the report's "none" rows: what the optics cost); `dump=PATH` writes the last frame's
+//! ball in front (reflected and refracted look-ups; `fog` fogs both scenes after the
+//! look-ups), `opaque` makes both scenes' materials plain (the report's "none" rows: what
+//! the optics cost); `dump=PATH` writes the last frame's
 //! colour samples there (raw u8, or f32 little-endian with `f32`, row-major RGB), for
 //! comparing builds; `explain=TOL` runs only `shading="auto"`'s estimate (at that
 //! tolerance) `frames` times. Prints a checksum of the last frame so the work cannot be
@@ -87,7 +88,7 @@ fn main() -> std::result::Result<(), Box<dyn std::error::Error>> {
     let (scene, camera, width) = if flag("floor") {
         floor_scene(maps.clone(), height)?
     } else if flag("mirror") || flag("glass") {
-        mirror_scene(flag("glass"), flag("opaque"), height)?
+        mirror_scene(flag("glass"), flag("opaque"), flag("fog"), height)?
     } else {
         sphere_scene(&args, place)?
     };
@@ -175,7 +176,7 @@ fn floor_scene(maps: Option<Arc<Maps>>, height: u32) -> Result<(Scene, Camera, u
 /// (reflectivity 0.8) under a red sphere, a smooth 64 × 32 sky, one sun; with `glass`, a
 /// glass ball (transparency 0.9, ior 1.5, Fresnel) in front. Seen from (0, 1.6, 3.4) towards
 /// (0, 0.3, 0), 45° vertically, at 4:3.
-fn mirror_scene(glass: bool, opaque: bool, height: u32) -> Result<(Scene, Camera, u32)> {
+fn mirror_scene(glass: bool, opaque: bool, fog: bool, height: u32) -> Result<(Scene, Camera, u32)> {
     let optics = |m: Material, r: f32, t: f32| {
         if opaque {
             Ok(m)
@@ -224,6 +225,13 @@ fn mirror_scene(glass: bool, opaque: bool, height: u32) -> Result<(Scene, Camera
             glass,
             at(0.45, Vec3::new(0.55, 0.55, 0.9)),
         )?);
+    }
+    if fog {
+        // The sphere scene's fog: mixed in the secondary stage, after the look-ups.
+        scene.set_fog(Some(Fog::new(
+            FogMode::Exp2 { density: 0.3 },
+            Vec3::new(0.5, 0.6, 0.7),
+        )?));
     }
     scene.add_light(DirectionalLight::new(
         Vec3::new(-0.4, -1.0, -0.6),

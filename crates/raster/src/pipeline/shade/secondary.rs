@@ -170,13 +170,10 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
                 // frame.
                 Route::Plain => {
                     let end = plain_run_end(buf, &work.frags[next..], j, i, rect.w);
+                    #[allow(clippy::needless_range_loop)] // one column of three channel rows
                     for k in i..end {
-                        // SAFETY: the shading loops wrote every sample of their rows.
-                        unsafe {
-                            out[0][k] = rows[j][k * 3].assume_init();
-                            out[1][k] = rows[j][k * 3 + 1].assume_init();
-                            out[2][k] = rows[j][k * 3 + 2].assume_init();
-                        }
+                        let [r, g, b] = rgb_at(rows[j], k);
+                        (out[0][k], out[1][k], out[2][k]) = (r, g, b);
                     }
                     end
                 }
@@ -230,16 +227,23 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
     }
 }
 
-/// The local colour the loops wrote for column `i` of a tile row.
+/// The local colour the shading loops wrote for column `i` of a tile row.
 #[inline(always)]
 fn local_at(row: &[Out<f32>], i: usize) -> Vec3 {
+    Vec3::from_array(rgb_at(row, i))
+}
+
+/// Column `i`'s three channels in a tile row the shading loops wrote, as values (a plain
+/// run stores them straight into lanes: through a `Vec3` in memory, the reload stalled).
+#[inline(always)]
+fn rgb_at(row: &[Out<f32>], i: usize) -> [f32; 3] {
     // SAFETY: the shading loops wrote every sample of the rows they were given.
     unsafe {
-        Vec3::new(
+        [
             row[i * 3].assume_init(),
             row[i * 3 + 1].assume_init(),
             row[i * 3 + 2].assume_init(),
-        )
+        ]
     }
 }
 
@@ -442,17 +446,18 @@ impl<const GLASS: bool> Lookups<GLASS> {
         let mut transmit = [0.0f32; LANES];
         let side = (ctx.two_sided && !t.front) as usize;
         let m = sec.material(t.object, side);
-        if m.transparency == 0.0 {
+        // An opaque material's reflected weight is its reflectivity in every lane: read
+        // from the material where it is mixed, not filled into `reflect`'s lanes.
+        let opaque = m.transparency == 0.0;
+        if opaque {
             // `optics::split` of an opaque material, over the lanes: its local share and
             // reflected weight are the material's, the direction the mirror's.
             let share = (Vec3::ONE - m.reflectivity - Vec3::splat(m.transparency)).to_array();
-            let r = m.reflectivity.to_array();
             for k in 0..LANES {
                 let d2 = 2.0 * (nk[0][k] * v[0][k] + nk[1][k] * v[1][k] + nk[2][k] * v[2][k]);
                 for c in 0..3 {
                     reflected[c][k] = d2 * nk[c][k] - v[c][k];
                     base[c][k] = self.local[c][k] * share[c];
-                    reflect[c][k] = r[c];
                 }
             }
         } else {
@@ -479,9 +484,8 @@ impl<const GLASS: bool> Lookups<GLASS> {
             // where the weight is not zero, in its operations. A lane at a time, the mix
             // and the colour went through memory as `Vec3`s.
             // A mirror's material is opaque on both sides: every lane's weight is its
-            // reflectivity (`reflect`'s lanes, filled above), so whether it reflects at all is
-            // the batch's.
-            debug_assert!(m.transparency == 0.0);
+            // reflectivity, so whether it reflects at all is the batch's.
+            debug_assert!(opaque);
             let w = m.reflectivity.to_array();
             let reflects = m.reflectivity != Vec3::ZERO;
             for c in 0..3 {
@@ -499,7 +503,11 @@ impl<const GLASS: bool> Lookups<GLASS> {
             let i = self.col[k];
             let mix = Lookup {
                 base: lane(&base, k),
-                reflect: lane(&reflect, k),
+                reflect: if opaque {
+                    m.reflectivity
+                } else {
+                    lane(&reflect, k)
+                },
                 // A mirror's is zero: known here, its term is compiled out.
                 transmit: if GLASS { transmit[k] } else { 0.0 },
                 ..Lookup::default()

@@ -333,8 +333,8 @@ fn vertex_terms(
     lanes: std::ops::Range<usize>,
     out: &mut Split,
 ) {
-    let tt = &c.terms;
     if c.mode == ShadingMode::Gouraud {
+        let tt = &c.terms;
         for ch in 0..3 {
             blend(tt.map(|x| x.a[ch]), bf, lanes.clone(), &mut out.ambient[ch]);
             blend(tt.map(|x| x.d[ch]), bf, lanes.clone(), &mut out.diffuse[ch]);
@@ -346,12 +346,18 @@ fn vertex_terms(
             );
         }
     } else {
-        let f = &tt[0];
-        for ch in 0..3 {
-            out.ambient[ch][lanes.clone()].fill(f.a[ch]);
-            out.diffuse[ch][lanes.clone()].fill(f.d[ch]);
-            out.specular[ch][lanes.clone()].fill(f.s[ch]);
-        }
+        face_terms(c, lanes, out);
+    }
+}
+
+/// Flat: the face's split terms in `lanes` (no weights: they are the same everywhere).
+#[inline(always)]
+fn face_terms(c: &Current, lanes: std::ops::Range<usize>, out: &mut Split) {
+    let f = &c.terms[0];
+    for ch in 0..3 {
+        out.ambient[ch][lanes.clone()].fill(f.a[ch]);
+        out.diffuse[ch][lanes.clone()].fill(f.d[ch]);
+        out.specular[ch][lanes.clone()].fill(f.s[ch]);
     }
 }
 
@@ -922,7 +928,7 @@ fn textured_rows<P: Pixel, const AFFINE: bool>(
             // group, the fill's stores were a tenth of a nearest-filtered floor's frame).
             let gouraud = c.mode == ShadingMode::Gouraud;
             if !gouraud {
-                vertex_terms(c, &[[0.0; LANES]; 3], 0..LANES, &mut terms);
+                face_terms(c, 0..LANES, &mut terms);
             }
             for s in whole.step_by(LANES) {
                 let live = LANES.min(run.end - s);
