@@ -139,6 +139,11 @@ fn main() -> std::result::Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
+/// The fog of every scene here that asks for one (`fog`): exp2, density 0.3, blue-grey.
+fn bench_fog() -> Result<Fog> {
+    Fog::new(FogMode::Exp2 { density: 0.3 }, Vec3::new(0.5, 0.6, 0.7))
+}
+
 /// `bench/bench_textures.py`'s scene: a 80 × 82 floor (u = x/2, v = −z/2) under a white
 /// ambient light and a black sun, so each pixel is its texture; seen from (0, 1, 2) towards
 /// (0, 0, −8), 60° vertically, at 4:3.
@@ -227,11 +232,8 @@ fn mirror_scene(glass: bool, opaque: bool, fog: bool, height: u32) -> Result<(Sc
         )?);
     }
     if fog {
-        // The sphere scene's fog: mixed in the secondary stage, after the look-ups.
-        scene.set_fog(Some(Fog::new(
-            FogMode::Exp2 { density: 0.3 },
-            Vec3::new(0.5, 0.6, 0.7),
-        )?));
+        // Mixed in the secondary stage, after the look-ups.
+        scene.set_fog(Some(bench_fog()?));
     }
     scene.add_light(DirectionalLight::new(
         Vec3::new(-0.4, -1.0, -0.6),
@@ -317,10 +319,7 @@ fn sphere_scene(
         }
     }
     if flag("fog") {
-        scene.set_fog(Some(Fog::new(
-            FogMode::Exp2 { density: 0.3 },
-            Vec3::new(0.5, 0.6, 0.7),
-        )?));
+        scene.set_fog(Some(bench_fog()?));
     }
     scene.set_two_sided(flag("two-sided"));
     let camera = Camera::look_at(
