@@ -178,23 +178,39 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
                     end
                 }
                 // 3 (background). Runs of bare background pixels are looked up over lanes.
+                // A run's pixels share the route, so it is taken a run at a time: a pixel
+                // at a time, the route and the batch's bookkeeping were a tenth of a
+                // mirror frame.
                 Route::Sky => {
-                    sky.push(i, sec, rect, j, out);
-                    i + 1
+                    let end = plain_run_end(buf, &work.frags[next..], j, i, rect.w);
+                    sky.push(i..end, sec, rect, j, out);
+                    end
                 }
                 // 3 (mirrors, glass). A mix that only looks the environment up waits for
                 // others.
                 Route::Mirror => {
                     sky.flush(sec, rect, j, out);
-                    let local = local_at(rows[j], i);
-                    mirrors.push::<AFFINE, WIDE>(i, id, local, z, &row, &mut cache, out);
-                    i + 1
+                    let end = plain_run_end(buf, &work.frags[next..], j, i, rect.w);
+                    let run = RunOf {
+                        id,
+                        cols: i..end,
+                        depth: &buf.depth[j * TILE..],
+                        local: rows[j],
+                    };
+                    mirrors.push::<AFFINE, WIDE>(run, &row, &mut cache, out);
+                    end
                 }
                 Route::Glass => {
                     sky.flush(sec, rect, j, out);
-                    let local = local_at(rows[j], i);
-                    glass.push::<AFFINE, WIDE>(i, id, local, z, &row, &mut cache, out);
-                    i + 1
+                    let end = plain_run_end(buf, &work.frags[next..], j, i, rect.w);
+                    let run = RunOf {
+                        id,
+                        cols: i..end,
+                        depth: &buf.depth[j * TILE..],
+                        local: rows[j],
+                    };
+                    glass.push::<AFFINE, WIDE>(run, &row, &mut cache, out);
+                    end
                 }
                 Route::General => {
                     sky.flush(sec, rect, j, out);
@@ -333,32 +349,45 @@ struct Lookups<const GLASS: bool> {
     len: usize,
 }
 
+/// A run of pixels of one triangle in a tile row: its id, its columns, and the row's
+/// window depths and local colours (indexed by column).
+struct RunOf<'r> {
+    id: u32,
+    cols: std::ops::Range<usize>,
+    depth: &'r [f32],
+    local: &'r [Out<f32>],
+}
+
 impl<const GLASS: bool> Lookups<GLASS> {
-    /// Adds the pixel in column `i` of the row (triangle `id`, window depth `z`, local
-    /// colour `local`), flushing the batch first when it holds another triangle, and after
-    /// when it is full.
+    /// Adds a run's pixels in order, flushing the batch first when it holds another
+    /// triangle, and whenever it is full: the same batches as adding them one at a time.
     #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
     fn push<const AFFINE: bool, const WIDE: bool>(
         &mut self,
-        i: usize,
-        id: u32,
-        local: Vec3,
-        z: f32,
+        run: RunOf<'_>,
         row: &Row<'_, '_>,
         cache: &mut PointCache,
         out: &mut RowColors,
     ) {
-        if self.len > 0 && self.id != id {
+        if self.len > 0 && self.id != run.id {
             self.flush::<AFFINE, WIDE>(row, cache, out);
         }
-        let k = self.len;
-        self.id = id;
-        (self.col[k], self.z[k]) = (i, z);
-        set_lane(&mut self.local, k, local);
-        self.len += 1;
-        if self.len == LANES {
-            self.flush::<AFFINE, WIDE>(row, cache, out);
+        self.id = run.id;
+        let mut i = run.cols.start;
+        while i < run.cols.end {
+            let k0 = self.len;
+            let m = (LANES - k0).min(run.cols.end - i);
+            for q in 0..m {
+                let (k, c) = (k0 + q, i + q);
+                (self.col[k], self.z[k]) = (c, run.depth[c]);
+                let [r, g, b] = rgb_at(run.local, c);
+                (self.local[0][k], self.local[1][k], self.local[2][k]) = (r, g, b);
+            }
+            self.len += m;
+            i += m;
+            if self.len == LANES {
+                self.flush::<AFFINE, WIDE>(row, cache, out);
+            }
         }
     }
 
@@ -530,23 +559,29 @@ struct SkyRun {
 }
 
 impl SkyRun {
-    /// Adds the pixel in column `i` (right after the run's last, or starting a run).
+    /// Adds the pixels in columns `cols` in order (each right after the run's last, or
+    /// starting a run): the same runs of at most [`LANES`] as adding them one at a time.
     #[inline(always)]
     fn push(
         &mut self,
-        i: usize,
+        cols: std::ops::Range<usize>,
         sec: &SecondaryEffect,
         rect: TileRect,
         j: usize,
         out: &mut RowColors,
     ) {
-        if self.len == LANES || (self.len > 0 && self.start + self.len != i) {
-            self.flush(sec, rect, j, out);
+        let mut i = cols.start;
+        while i < cols.end {
+            if self.len == LANES || (self.len > 0 && self.start + self.len != i) {
+                self.flush(sec, rect, j, out);
+            }
+            if self.len == 0 {
+                self.start = i;
+            }
+            let m = (LANES - self.len).min(cols.end - i);
+            self.len += m;
+            i += m;
         }
-        if self.len == 0 {
-            self.start = i;
-        }
-        self.len += 1;
     }
 
     /// Looks the run up and writes it into row `j`'s colours.
