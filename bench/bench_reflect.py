@@ -319,8 +319,8 @@ def markdown(ctx: dict, runs: list[dict]) -> str:
             "mirror 278 M before 679d8c3, 182 M after it, 145 M after the plain-pixel runs "
             "and the mirror's mix over lanes, 134 M with one route look-up per pixel, 127 M "
             "with the mirror's weight read from its material instead of filled into lanes "
-            "(2026-11-30), 112 M with the route asked once per run of one triangle instead "
-            "of once per pixel; glass 313 M, 235 M, 194 M, 185 M, 178 M, 163 M; the "
+            "(2026-11-30), 109 M with the route asked once per run of one triangle instead "
+            "of once per pixel; glass 313 M, 235 M, 194 M, 185 M, 178 M, 160 M; the "
             "same scenes opaque 27 M and 36 M. Each step gave the same uint8 pixels in "
             "both scenes (frame dumps compared byte for byte).",
             "",

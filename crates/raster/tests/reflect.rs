@@ -366,3 +366,122 @@ fn environment_mirrors_match_escaping_rays_bit_for_bit() {
     }
     assert_eq!(checked, 36);
 }
+
+/// A transparent (blended) ball in front of a mirror changes only the pixels it covers, bit
+/// for bit: the secondary stage takes a row's mirror and sky pixels a run of one triangle at
+/// a time, cut at each pixel with a fragment over it, and every other pixel must keep the
+/// colour it has without the ball (each lane of a batch is computed on its own, so how the
+/// runs are cut must not matter). The covered pixels must show the ball. In every mode,
+/// with fog and two-sided lighting, the environment as background or not.
+#[test]
+fn blended_fragments_over_a_mirror_change_only_the_pixels_they_cover() {
+    let sky: Vec<f32> = (0..16 * 32)
+        .flat_map(|k| {
+            let (r, c) = ((k / 32) as f32, (k % 32) as f32);
+            [r / 16.0, 0.3 + 0.02 * c, 1.0 - r * c / 512.0]
+        })
+        .collect();
+    let mirror = Material::new(Vec3::splat(0.1), Vec3::splat(0.3), Vec3::splat(0.5), 20.0)
+        .unwrap()
+        .with_optics(Vec3::new(0.8, 0.6, 0.7), 0.0, 1.0, true, Vec3::ZERO)
+        .unwrap();
+    let ball = Arc::new(primitives::uv_sphere(12, 24));
+    let ball_at =
+        Mat4::from_translation(Vec3::new(0.1, 1.2, 0.4)) * Mat4::from_scale(Vec3::splat(0.35));
+    let tinted = Material::new(
+        Vec3::splat(0.1),
+        Vec3::new(0.2, 0.5, 0.1),
+        Vec3::splat(0.4),
+        30.0,
+    )
+    .unwrap()
+    .with_optics(Vec3::ZERO, 0.6, 1.0, false, Vec3::ZERO)
+    .unwrap();
+    let opaque = Material::new(Vec3::splat(0.1), Vec3::splat(0.5), Vec3::ZERO, 1.0).unwrap();
+    let grid = Arc::new(bumpy_mirror_grid());
+    let cam = Camera::look_at(
+        DVec3::new(0.2, 3.0, 1.2),
+        DVec3::ZERO,
+        DVec3::Y,
+        40.0,
+        0.1,
+        100.0,
+    )
+    .unwrap();
+    let (w, h) = (67u32, 49u32);
+    // Where the ball is: its own depth, drawn opaque and alone.
+    let mut alone = Scene::new(Vec3::ZERO).unwrap();
+    alone.add(ball.clone(), opaque, ball_at).unwrap();
+    let covered: Vec<bool> = render(
+        &alone,
+        &cam,
+        &RenderOptions::new(w, h),
+        ColorFormat::F32,
+        true,
+    )
+    .unwrap()
+    .depth
+    .unwrap()
+    .iter()
+    .map(|d| d.is_finite())
+    .collect();
+    let n_covered = covered.iter().filter(|&&c| c).count();
+    assert!(
+        n_covered > 40 && n_covered < (w * h / 3) as usize,
+        "{n_covered}"
+    );
+    let mut checked = 0;
+    for (fog, two_sided) in [(false, false), (true, false), (false, true)] {
+        let scene = |with_ball: bool| {
+            let mut s = Scene::new(Vec3::splat(0.1)).unwrap();
+            s.set_environment(Some(Environment::new(&sky, 16, 32, 30.0, 1.0).unwrap()));
+            s.add(grid.clone(), mirror, Mat4::IDENTITY).unwrap();
+            if with_ball {
+                s.add(ball.clone(), tinted, ball_at).unwrap();
+            }
+            s.add_light(
+                DirectionalLight::new(Vec3::new(-0.3, -1.0, -0.2), Vec3::ONE, 1.0).unwrap(),
+            );
+            s.set_two_sided(two_sided);
+            if fog {
+                s.set_fog(Some(
+                    Fog::new(FogMode::Exp2 { density: 0.2 }, Vec3::new(0.5, 0.6, 0.7)).unwrap(),
+                ));
+            }
+            s
+        };
+        let (without, with) = (scene(false), scene(true));
+        for mode in [ShadingMode::Flat, ShadingMode::Gouraud, ShadingMode::Phong] {
+            for sky_background in [false, true] {
+                let frame = |s: &Scene| {
+                    let mut o = RenderOptions::new(w, h);
+                    o.shading = mode;
+                    o.reflections = Technique::Environment;
+                    o.environment_background = sky_background;
+                    match render(s, &cam, &o, ColorFormat::F32, false).unwrap().color {
+                        ColorBuffer::F32(c) => c,
+                        _ => unreachable!(),
+                    }
+                };
+                let (a, b) = (frame(&without), frame(&with));
+                let what =
+                    format!("fog {fog}, two-sided {two_sided}, {mode:?}, sky {sky_background}");
+                let mut changed = 0;
+                for (k, (pa, pb)) in a.chunks(3).zip(b.chunks(3)).enumerate() {
+                    let same = pa.iter().zip(pb).all(|(x, y)| x.to_bits() == y.to_bits());
+                    if covered[k] {
+                        changed += !same as usize;
+                    } else {
+                        assert!(same, "{what}: pixel {k} not under the ball changed");
+                    }
+                }
+                assert!(
+                    changed * 10 >= n_covered * 9,
+                    "{what}: {changed} of {n_covered}"
+                );
+                checked += 1;
+            }
+        }
+    }
+    assert_eq!(checked, 18);
+}

@@ -18,6 +18,7 @@
 
 use glam::Vec3;
 
+use super::id_runs::row_runs;
 use super::phong::face_normal;
 use super::planes::{weight_planes, PlaneCache};
 use super::store::{Out, Pixel, RowColors, ROW_LANES};
@@ -152,89 +153,93 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
         let mut sky = SkyRun::default();
         let mut mirrors = Lookups::<false>::default();
         let mut glass = Lookups::<true>::default();
-        let mut i = 0;
-        while i < rect.w {
-            let slot = j * TILE + i;
-            let (x, y) = (rect.x0 + i, rect.y0 + j);
-            let (id, z) = (buf.id[slot], buf.depth[slot]);
-            let first = next;
-            while next < work.frags.len() && work.frags[next].slot as usize == slot {
-                next += 1;
-            }
-            let route = Route::of(ctx, sec, id, next > first);
-            i = match route {
-                // 3 (plain). A run of pixels of one triangle (or of bare background) whose
-                // colour is the local one the loops wrote: copied into the row's colours as
-                // they are. Through `opaque_color` a pixel at a time, the colour went
-                // through memory as a `Vec3` and its reload stalled: a tenth of a mirror
-                // frame.
-                Route::Plain => {
-                    let end = plain_run_end(buf, &work.frags[next..], j, i, rect.w);
-                    #[allow(clippy::needless_range_loop)] // one column of three channel rows
-                    for k in i..end {
-                        let [r, g, b] = rgb_at(rows[j], k);
-                        (out[0][k], out[1][k], out[2][k]) = (r, g, b);
+        // The row's runs of one triangle (or bare background), each cut where a pixel has
+        // transparent fragments over it (that pixel on its own): a piece's pixels share a
+        // route, asked once. A pixel at a time, the route, the run's end and a batch's
+        // bookkeeping were a fifth of a mirror frame's instructions.
+        for run in row_runs(buf, j, rect.w) {
+            let id = run.id;
+            let mut i = run.start;
+            while i < run.end {
+                let slot = j * TILE + i;
+                let first = next;
+                while next < work.frags.len() && work.frags[next].slot as usize == slot {
+                    next += 1;
+                }
+                // Up to the next pixel with a fragment over it, or the run's end.
+                let end = match work.frags.get(next) {
+                    Some(f) if (f.slot as usize) < j * TILE + run.end => f.slot as usize - j * TILE,
+                    _ => run.end,
+                };
+                let route = Route::of(ctx, sec, id, next > first);
+                i = match route {
+                    // 3 (plain). A run of pixels of one triangle (or of bare background) whose
+                    // colour is the local one the loops wrote: copied into the row's colours as
+                    // they are. Through `opaque_color` a pixel at a time, the colour went
+                    // through memory as a `Vec3` and its reload stalled: a tenth of a mirror
+                    // frame.
+                    Route::Plain => {
+                        #[allow(clippy::needless_range_loop)] // one column of three channel rows
+                        for k in i..end {
+                            let [r, g, b] = rgb_at(rows[j], k);
+                            (out[0][k], out[1][k], out[2][k]) = (r, g, b);
+                        }
+                        end
                     }
-                    end
-                }
-                // 3 (background). Runs of bare background pixels are looked up over lanes.
-                // A run's pixels share the route, so it is taken a run at a time: a pixel
-                // at a time, the route and the batch's bookkeeping were a tenth of a
-                // mirror frame.
-                Route::Sky => {
-                    let end = plain_run_end(buf, &work.frags[next..], j, i, rect.w);
-                    sky.push(i..end, sec, rect, j, out);
-                    end
-                }
-                // 3 (mirrors, glass). A mix that only looks the environment up waits for
-                // others.
-                Route::Mirror => {
-                    sky.flush(sec, rect, j, out);
-                    let end = plain_run_end(buf, &work.frags[next..], j, i, rect.w);
-                    let run = RunOf {
-                        id,
-                        cols: i..end,
-                        depth: &buf.depth[j * TILE..],
-                        local: rows[j],
-                    };
-                    mirrors.push::<AFFINE, WIDE>(run, &row, &mut cache, out);
-                    end
-                }
-                Route::Glass => {
-                    sky.flush(sec, rect, j, out);
-                    let end = plain_run_end(buf, &work.frags[next..], j, i, rect.w);
-                    let run = RunOf {
-                        id,
-                        cols: i..end,
-                        depth: &buf.depth[j * TILE..],
-                        local: rows[j],
-                    };
-                    glass.push::<AFFINE, WIDE>(run, &row, &mut cache, out);
-                    end
-                }
-                Route::General => {
-                    sky.flush(sec, rect, j, out);
-                    let local = local_at(rows[j], i);
-                    // 3. The opaque layer's colour.
-                    let c = opaque_color::<AFFINE>(
-                        ctx, sec, &world, mode, id, z, local, x, y, &mut cache,
-                    );
-                    // 4. The transparent fragments over it, front to back.
-                    let frags = &work.frags[first..next];
-                    let c = if frags.is_empty() {
-                        c
-                    } else {
-                        let layers = frags.iter().map(|f| {
-                            fragment_mix::<AFFINE>(
-                                ctx, sec, &world, mode, f.id, f.z, x, y, &mut cache,
-                            )
-                        });
-                        composite(layers, c)
-                    };
-                    set_lane(out, i, c);
-                    i + 1
-                }
-            };
+                    // 3 (background). Runs of bare background pixels are looked up over lanes.
+                    Route::Sky => {
+                        sky.push(i..end, sec, rect, j, out);
+                        end
+                    }
+                    // 3 (mirrors, glass). A mix that only looks the environment up waits for
+                    // others.
+                    Route::Mirror => {
+                        sky.flush(sec, rect, j, out);
+                        let run = RunOf {
+                            id,
+                            cols: i..end,
+                            depth: &buf.depth[j * TILE..],
+                            local: rows[j],
+                        };
+                        mirrors.push::<AFFINE, WIDE>(run, &row, &mut cache, out);
+                        end
+                    }
+                    Route::Glass => {
+                        sky.flush(sec, rect, j, out);
+                        let run = RunOf {
+                            id,
+                            cols: i..end,
+                            depth: &buf.depth[j * TILE..],
+                            local: rows[j],
+                        };
+                        glass.push::<AFFINE, WIDE>(run, &row, &mut cache, out);
+                        end
+                    }
+                    Route::General => {
+                        sky.flush(sec, rect, j, out);
+                        let (x, y, z) = (rect.x0 + i, rect.y0 + j, buf.depth[slot]);
+                        let local = local_at(rows[j], i);
+                        // 3. The opaque layer's colour.
+                        let c = opaque_color::<AFFINE>(
+                            ctx, sec, &world, mode, id, z, local, x, y, &mut cache,
+                        );
+                        // 4. The transparent fragments over it, front to back.
+                        let frags = &work.frags[first..next];
+                        let c = if frags.is_empty() {
+                            c
+                        } else {
+                            let layers = frags.iter().map(|f| {
+                                fragment_mix::<AFFINE>(
+                                    ctx, sec, &world, mode, f.id, f.z, x, y, &mut cache,
+                                )
+                            });
+                            composite(layers, c)
+                        };
+                        set_lane(out, i, c);
+                        i + 1
+                    }
+                };
+            }
         }
         sky.flush(sec, rect, j, out);
         mirrors.flush::<AFFINE, WIDE>(&row, &mut cache, out);
@@ -301,20 +306,6 @@ impl Route {
             FirstSurface::Mix => Route::General,
         }
     }
-}
-
-/// The end (exclusive column) of the run of plain pixels that starts at column `i` of tile
-/// row `j`: the pixels that follow with the same id and no transparent fragment over them
-/// (`frags`, the row's fragments from the cursor on, sorted by slot).
-#[inline(always)]
-fn plain_run_end(buf: &TileBuffers, frags: &[Fragment], j: usize, i: usize, w: usize) -> usize {
-    let id = buf.id[j * TILE + i];
-    let next_frag = frags.first().map_or(usize::MAX, |f| f.slot as usize);
-    let mut end = i + 1;
-    while end < w && buf.id[j * TILE + end] == id && j * TILE + end != next_frag {
-        end += 1;
-    }
-    end
 }
 
 /// What a tile row's batches read: the render, its mode, and the row (`y`, and the
