@@ -156,7 +156,7 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
         // The row's runs of one triangle (or bare background), each cut where a pixel has
         // transparent fragments over it (that pixel on its own): a piece's pixels share a
         // route, asked once. A pixel at a time, the route, the run's end and a batch's
-        // bookkeeping were a fifth of a mirror frame's instructions.
+        // bookkeeping were about a seventh of a mirror frame's instructions.
         for run in row_runs(buf, j, rect.w) {
             let id = run.id;
             let mut i = run.start;
@@ -195,24 +195,24 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
                     // others.
                     Route::Mirror => {
                         sky.flush(sec, rect, j, out);
-                        let run = RunOf {
+                        let piece = RunOf {
                             id,
                             cols: i..end,
                             depth: &buf.depth[j * TILE..],
                             local: rows[j],
                         };
-                        mirrors.push::<AFFINE, WIDE>(run, &row, &mut cache, out);
+                        mirrors.push::<AFFINE, WIDE>(piece, &row, &mut cache, out);
                         end
                     }
                     Route::Glass => {
                         sky.flush(sec, rect, j, out);
-                        let run = RunOf {
+                        let piece = RunOf {
                             id,
                             cols: i..end,
                             depth: &buf.depth[j * TILE..],
                             local: rows[j],
                         };
-                        glass.push::<AFFINE, WIDE>(run, &row, &mut cache, out);
+                        glass.push::<AFFINE, WIDE>(piece, &row, &mut cache, out);
                         end
                     }
                     Route::General => {
