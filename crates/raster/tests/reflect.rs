@@ -259,6 +259,36 @@ fn multi_sample_secondary_is_identical_for_any_thread_count_and_instruction_set(
     }
 }
 
+/// The 16 × 32 sky of the bumpy-mirror tests, turned 30° about +y: its colours vary in
+/// both directions, so a look-up at the wrong texel shows.
+fn test_sky() -> Environment {
+    let sky: Vec<f32> = (0..16 * 32)
+        .flat_map(|k| {
+            let (r, c) = ((k / 32) as f32, (k % 32) as f32);
+            [r / 16.0, 0.3 + 0.02 * c, 1.0 - r * c / 512.0]
+        })
+        .collect();
+    Environment::new(&sky, 16, 32, 30.0, 1.0).unwrap()
+}
+
+/// The bumpy grid's material: lit, and a tinted mirror.
+fn bumpy_mirror() -> Material {
+    Material::new(Vec3::splat(0.1), Vec3::splat(0.3), Vec3::splat(0.5), 20.0)
+        .unwrap()
+        .with_optics(Vec3::new(0.8, 0.6, 0.7), 0.0, 1.0, true, Vec3::ZERO)
+        .unwrap()
+}
+
+/// The bumpy-mirror scenes' one light.
+fn test_sun() -> DirectionalLight {
+    DirectionalLight::new(Vec3::new(-0.3, -1.0, -0.2), Vec3::ONE, 1.0).unwrap()
+}
+
+/// The bumpy-mirror scenes' fog, when they have one.
+fn test_fog() -> Fog {
+    Fog::new(FogMode::Exp2 { density: 0.2 }, Vec3::new(0.5, 0.6, 0.7)).unwrap()
+}
+
 /// A 2 × 2 mirror grid at y = 0 (facing +y) whose vertex normals lean up to about 14°
 /// from +y, pseudo-randomly: interpolated normals vary over every triangle.
 fn bumpy_mirror_grid() -> Mesh {
@@ -299,16 +329,7 @@ fn bumpy_mirror_grid() -> Mesh {
 /// and perspective-correct interpolation, fog, and two-sided lighting.
 #[test]
 fn environment_mirrors_match_escaping_rays_bit_for_bit() {
-    let sky: Vec<f32> = (0..16 * 32)
-        .flat_map(|k| {
-            let (r, c) = ((k / 32) as f32, (k % 32) as f32);
-            [r / 16.0, 0.3 + 0.02 * c, 1.0 - r * c / 512.0]
-        })
-        .collect();
-    let mirror = Material::new(Vec3::splat(0.1), Vec3::splat(0.3), Vec3::splat(0.5), 20.0)
-        .unwrap()
-        .with_optics(Vec3::new(0.8, 0.6, 0.7), 0.0, 1.0, true, Vec3::ZERO)
-        .unwrap();
+    let mirror = bumpy_mirror();
     let grid = Arc::new(bumpy_mirror_grid());
     let mut checked = 0;
     for (eye, two_sided) in [
@@ -318,16 +339,12 @@ fn environment_mirrors_match_escaping_rays_bit_for_bit() {
     ] {
         for fog in [false, true] {
             let mut scene = Scene::new(Vec3::splat(0.1)).unwrap();
-            scene.set_environment(Some(Environment::new(&sky, 16, 32, 30.0, 1.0).unwrap()));
+            scene.set_environment(Some(test_sky()));
             scene.add(grid.clone(), mirror, Mat4::IDENTITY).unwrap();
-            scene.add_light(
-                DirectionalLight::new(Vec3::new(-0.3, -1.0, -0.2), Vec3::ONE, 1.0).unwrap(),
-            );
+            scene.add_light(test_sun());
             scene.set_two_sided(two_sided);
             if fog {
-                scene.set_fog(Some(
-                    Fog::new(FogMode::Exp2 { density: 0.2 }, Vec3::new(0.5, 0.6, 0.7)).unwrap(),
-                ));
+                scene.set_fog(Some(test_fog()));
             }
             let cam = Camera::look_at(eye, DVec3::ZERO, DVec3::Y, 40.0, 0.1, 100.0).unwrap();
             for mode in [ShadingMode::Flat, ShadingMode::Gouraud, ShadingMode::Phong] {
@@ -375,16 +392,7 @@ fn environment_mirrors_match_escaping_rays_bit_for_bit() {
 /// with fog and two-sided lighting, the environment as background or not.
 #[test]
 fn blended_fragments_over_a_mirror_change_only_the_pixels_they_cover() {
-    let sky: Vec<f32> = (0..16 * 32)
-        .flat_map(|k| {
-            let (r, c) = ((k / 32) as f32, (k % 32) as f32);
-            [r / 16.0, 0.3 + 0.02 * c, 1.0 - r * c / 512.0]
-        })
-        .collect();
-    let mirror = Material::new(Vec3::splat(0.1), Vec3::splat(0.3), Vec3::splat(0.5), 20.0)
-        .unwrap()
-        .with_optics(Vec3::new(0.8, 0.6, 0.7), 0.0, 1.0, true, Vec3::ZERO)
-        .unwrap();
+    let mirror = bumpy_mirror();
     let ball = Arc::new(primitives::uv_sphere(12, 24));
     let ball_at =
         Mat4::from_translation(Vec3::new(0.1, 1.2, 0.4)) * Mat4::from_scale(Vec3::splat(0.35));
@@ -434,19 +442,15 @@ fn blended_fragments_over_a_mirror_change_only_the_pixels_they_cover() {
     for (fog, two_sided) in [(false, false), (true, false), (false, true)] {
         let scene = |with_ball: bool| {
             let mut s = Scene::new(Vec3::splat(0.1)).unwrap();
-            s.set_environment(Some(Environment::new(&sky, 16, 32, 30.0, 1.0).unwrap()));
+            s.set_environment(Some(test_sky()));
             s.add(grid.clone(), mirror, Mat4::IDENTITY).unwrap();
             if with_ball {
                 s.add(ball.clone(), tinted, ball_at).unwrap();
             }
-            s.add_light(
-                DirectionalLight::new(Vec3::new(-0.3, -1.0, -0.2), Vec3::ONE, 1.0).unwrap(),
-            );
+            s.add_light(test_sun());
             s.set_two_sided(two_sided);
             if fog {
-                s.set_fog(Some(
-                    Fog::new(FogMode::Exp2 { density: 0.2 }, Vec3::new(0.5, 0.6, 0.7)).unwrap(),
-                ));
+                s.set_fog(Some(test_fog()));
             }
             s
         };

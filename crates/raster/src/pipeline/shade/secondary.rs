@@ -193,7 +193,7 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
                     }
                     // 3 (mirrors, glass). A mix that only looks the environment up waits for
                     // others.
-                    Route::Mirror => {
+                    Route::Mirror | Route::Glass => {
                         sky.flush(sec, rect, j, out);
                         let piece = RunOf {
                             id,
@@ -201,18 +201,11 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
                             depth: &buf.depth[j * TILE..],
                             local: rows[j],
                         };
-                        mirrors.push::<AFFINE, WIDE>(piece, &row, &mut cache, out);
-                        end
-                    }
-                    Route::Glass => {
-                        sky.flush(sec, rect, j, out);
-                        let piece = RunOf {
-                            id,
-                            cols: i..end,
-                            depth: &buf.depth[j * TILE..],
-                            local: rows[j],
-                        };
-                        glass.push::<AFFINE, WIDE>(piece, &row, &mut cache, out);
+                        if route == Route::Mirror {
+                            mirrors.push::<AFFINE, WIDE>(piece, &row, &mut cache, out);
+                        } else {
+                            glass.push::<AFFINE, WIDE>(piece, &row, &mut cache, out);
+                        }
                         end
                     }
                     Route::General => {
