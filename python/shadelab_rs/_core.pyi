@@ -760,7 +760,8 @@ class Environment:
     ``array``: (H, 2H, 3) float32/float64 (linear, HDR values allowed, each finite and
     >= 0) or uint8 (divided by 255; ``srgb=True`` decodes sRGB instead). A unit direction d
     maps to ``u = 0.5 + atan2(d.x, -d.z)/(2 pi)``, ``v = acos(d.y)/pi``: column ``u*W`` and
-    row ``v*H`` (texel centres at half-integers), so row 0 looks straight up (+y) and the
+    row ``v*H`` (texel centres at half-integers; in float32, u and v within 3e-7 of the
+    exact values), so row 0 looks straight up (+y) and the
     centre column along -z; sampled bilinearly, wrapping in u and clamped in v.
     ``rotation`` turns it about +y (degrees; positive turns what was seen along -z toward
     -x); ``intensity`` (>= 0) scales every value. Six cube faces: :meth:`from_cube`."""

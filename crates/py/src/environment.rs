@@ -12,8 +12,8 @@ use crate::errors::{to_py, type_error, value_error};
 /// An equirectangular (latitude–longitude) environment: an (H, 2H, 3) float32/float64
 /// (linear, HDR allowed) or uint8 array (divided by 255, or sRGB-decoded with `srgb=True`).
 /// A unit direction d maps to u = 0.5 + atan2(d.x, -d.z)/(2 pi), v = acos(d.y)/pi: column
-/// u*W, row v*H, so row 0 looks straight up (+y) and the centre column along -z; sampled
-/// bilinearly, wrapping in u. `rotation` turns it about +y (degrees; positive turns what
+/// u*W, row v*H (in float32: u and v within 3e-7 of the exact values), so row 0 looks
+/// straight up (+y) and the centre column along -z; sampled bilinearly, wrapping in u. `rotation` turns it about +y (degrees; positive turns what
 /// was seen along -z toward -x); `intensity` scales every value. Six cube faces:
 /// `Environment.from_cube`.
 #[pyclass(name = "Environment", module = "shadelab_rs._core", frozen, eq)]
