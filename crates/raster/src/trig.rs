@@ -40,9 +40,9 @@ pub(crate) fn acos(x: f64) -> f64 {
 /// `x`, `y`, within 3.5·10⁻⁷ rad of the exact angle (3·10⁻⁷ measured below against f64's):
 /// `atan t` for `t = min/max(|x|, |y|)` in [0, 1] as `t·P(t²)` (P of degree 7, a
 /// near-minimax fit of `atan(t)/t`, 4·10⁻⁸ in exact arithmetic; the rest is f32 rounding),
-/// placed in its octant (which rounds to f32's π). Exact on the axes (0, ±π/2, ±π in f32); where both are zero,
-/// libm's signed zero or ±π. Branch-free: it vectorises over lanes, eight to an AVX
-/// register.
+/// placed in its octant (which rounds to f32's π). Exact on the axes (0, ±π/2, ±π in
+/// f32); where both are zero, libm's signed zero or ±π. Branch-free: it vectorises over
+/// lanes, eight to an AVX register.
 #[inline(always)]
 pub(crate) fn atan2_f32(y: f32, x: f32) -> f32 {
     use std::f32::consts::{FRAC_PI_2, PI};
