@@ -682,6 +682,35 @@ def markdown(
         "loads for the environment's texels (mirror 101.40M → 99.38M instructions, medians "
         "1.07 → 1.19 s mirror, 1.60 → 1.86 s glass: no faster, as when first tried on the f64"
         " angles).",
+        "",
+        "Trilinear's level of detail, and run ends in SSE2 (issue 15, 2026-11-30, fourth "
+        "session; a quiet AMD EPYC machine, where user times of the same builds are about "
+        "half of earlier sessions'). perf (cpu-clock samples) on `frame_cost flat 0 360 floor"
+        " texture=trilinear` put a tenth of the frame's time on one line: the Horner step of "
+        "`log2_normal`'s atanh series, eleven dependent f64 multiply-adds per group of lanes "
+        "for λ, within 2 ulp of libm. λ only picks two mip levels and an f32 blend fraction, "
+        "so the series now stops at t⁹ (five coefficients): λ within 5.2·10⁻¹⁰ of exact (the "
+        "series' remainder at |t| = 3 − 2√2; the unit test `log2_normal_is_within_its_bound` "
+        "finds the bound reached within a tenth), exact at powers of two. callgrind per frame"
+        " floor trilinear 25.71M → 25.19M (−2.0 %), `gouraud 50 512 lights=sun "
+        "texture=trilinear` 108.31M → 106.41M; user time, alternating runs: floor trilinear "
+        "1,500 frames, nine runs, median 2.89 → 2.71 s (−6.2 %; 2.88 → 2.68 s in nine runs "
+        "before them), the Gouraud sphere 300 frames, seven runs, 2.64 → 2.49 s (−5.7 %), "
+        "floor trilinear with 4× anisotropy 2.62 → 2.61 s. Not the same bytes where the blend"
+        " fraction's f32 rounding moved: of `frame_cost dump=`'s 37 configurations, the floor"
+        " in trilinear (6 of 518,400 bytes, one level each) and the f32 trilinear sphere (108"
+        " of 691,200 samples, at most 6·10⁻⁸); the other 35 are the same bytes, and of the "
+        "texture gallery's pictures only `shadows.png` moved (6 pixels, one level). Then "
+        "`id_runs::run_ends` compares a group of eight ids with two SSE2 compares and two "
+        "sign-bit moves (`differ`; SSE2 is part of x86-64) instead of the lane loop, which "
+        "compiled to about 35 mixed vector and scalar instructions a group and which "
+        "callgrind put at 8 % of a Gouraud frame of small triangles; the lane loop stays as "
+        "its definition (other architectures, and a unit test over all 256 patterns). Same "
+        "bytes (37 configurations); callgrind per frame `gouraud 50 1080 lights=sun` 52.33M →"
+        " 48.99M (−6.4 %), `flat 50 1080 lights=sun` 40.11M → 37.08M (−7.6 %), `phong 0 600 "
+        "mirror` 101.40M → 98.64M; user time, alternating runs: 1,000 frames, nine runs, "
+        "medians Gouraud 3.16 → 3.10 s, flat 2.52 → 2.41 s (ranges 3.14–3.23 → 3.04–3.15 s "
+        "and 2.43–2.54 → 2.37–2.49 s), mirror 150 frames, seven runs, 1.15 → 1.13 s.",
     ]
     out += [
         "",
