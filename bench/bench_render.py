@@ -728,7 +728,15 @@ def markdown(
         " lights=sun,point` 400 frames, 1.70 → 1.62 s (−4.7 %), `gouraud 50 1080 "
         "lights=sun,point` 800 frames, 2.47 → 2.42 s, `flat 50 1080 lights=sun` 800 frames "
         "1.91 → 1.93 s and `gouraud 500 1080 lights=sun,point` 30 frames 1.12 → 1.12 s "
-        "(within the noise: few windows, or few mixed ones).",
+        "(within the noise: few windows, or few mixed ones). Tried and not kept, the same "
+        "session: windows from 3 rows up (`WINDOW_MIN_HEIGHT` 6 → 3), which sends the "
+        "998k-triangle sphere's triangles of about 3 × 3 pixels at 1080p into them instead of"
+        " the pixel loop and its branch per pixel: same bytes, callgrind per frame `gouraud "
+        "500 1080 lights=sun,point` 565.75M → 576.90M, user time of 100 frames, nine "
+        "alternating runs, 3.61 → 3.56 s (−1.4 %; ranges 3.55–3.65 → 3.52–3.58 s), `flat 500 "
+        "512 lights=sun` 1.97 → 1.96 s; from 4 rows up 571.13M, 2.17 → 2.18 s (60 frames). A "
+        "gain of that size for 2 % more instructions, with the other scenes unmeasured, was "
+        "left for a later A/B.",
     ]
     out += [
         "",
