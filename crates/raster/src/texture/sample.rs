@@ -150,7 +150,7 @@ fn lod_of_squares(sx: f64, sy: f64) -> (f64, bool) {
 /// m in [√½, √2); log2 m = (2/ln 2)·atanh(t), t = (m − 1)/(m + 1), |t| ≤ 3 − 2√2 (0.1716),
 /// by its series through t⁹. The rest is at most (2/ln 2)·t¹¹/(11·(1 − t²)) = 1.03·10⁻⁹,
 /// so λ (half of this) is within 5.2·10⁻¹⁰ of exact: below the f32 rounding of the blend
-/// fraction made from it wherever that fraction is above 0.01. The series through t²³,
+/// fraction made from it wherever that fraction is at least 1/64. The series through t²³,
 /// within 2 ulp, was a tenth of a trilinear frame's time in its eleven dependent steps
 /// (`log2_normal_is_within_its_bound`). Exact at powers of two (t = 0).
 #[inline(always)]
