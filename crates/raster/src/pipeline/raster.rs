@@ -309,22 +309,17 @@ fn depth_window(z: &[f32; 8], id: u32, dw: &mut [f32; 8], iw: &mut [u32; 8]) {
             _mm_storeu_si128(ip, v);
             _mm_storeu_si128(ip.add(1), v);
         } else if mask != 0 {
-            let pick =
-                |n: __m128, a: __m128, b: __m128| _mm_or_ps(_mm_and_ps(n, a), _mm_andnot_ps(n, b));
-            _mm_storeu_ps(dp, pick(n0, z0, d0));
-            _mm_storeu_ps(dp.add(4), pick(n1, z1, d1));
-            let vf = _mm_castsi128_ps(v);
-            let i0 = _mm_castsi128_ps(_mm_loadu_si128(ip));
-            let i1 = _mm_castsi128_ps(_mm_loadu_si128(ip.add(1)));
-            _mm_storeu_si128(ip, _mm_castps_si128(pick(n0, vf, i0)));
-            _mm_storeu_si128(ip.add(1), _mm_castps_si128(pick(n1, vf, i1)));
+            // The same loads and compares, inlined next to these (nothing is stored in
+            // between, so they are the values above).
+            depth_window_blend(z, id, dw, iw);
         }
     }
 }
 
-/// [`depth_window`] without its branches: every window blended and stored whole. A small
-/// triangle's windows are mostly mixed (its edges cross them), and which of the three
-/// cases a window is depends on the data, so the branches there were mispredicted.
+/// [`depth_window`] without its branches: every window blended and stored whole (what
+/// `depth_window` does to a mixed window). A small triangle's windows are mostly mixed
+/// (its edges cross them), and which of the three cases a window is depends on the data,
+/// so the branches there were mispredicted.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn depth_window_blend(z: &[f32; 8], id: u32, dw: &mut [f32; 8], iw: &mut [u32; 8]) {
