@@ -109,7 +109,7 @@ bench-aa: build  ## anti-aliasing only: edge error against exact coverage, time 
 bench-threads: build $(BENCH_DEPS)  ## ours against llvmpipe at 1 and at 2 threads, one process per thread count -> docs/BENCHMARKS.md (~8 min)
 	$(BENCH_ENV) $(PY) bench/bench_threads.py --write docs/BENCHMARKS.md
 
-bench-shadows: build $(BENCH_DEPS)  ## shadow maps against llvmpipe's (GLSL depth pass + sampler2DShadow PCF) and exact rays: time and error -> docs/BENCHMARKS.md (~6 min)
+bench-shadows: build $(BENCH_DEPS)  ## shadow maps against llvmpipe's (GLSL depth pass + sampler2DShadow PCF) and exact rays at 1 and 2 threads, one process per thread count: time and error -> docs/BENCHMARKS.md (~1 min)
 	$(BENCH_ENV) $(PY) bench/bench_shadows.py --write docs/BENCHMARKS.md
 
 bench-textures: build $(BENCH_DEPS)  ## texture filters against the exact area-filtered checkerboard, ours and llvmpipe's: RMSE and time per filter -> docs/BENCHMARKS.md (~2 min)
