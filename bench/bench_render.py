@@ -737,6 +737,35 @@ def markdown(
         "512 lights=sun` 1.97 → 1.96 s; from 4 rows up 571.13M, 2.17 → 2.18 s (60 frames). A "
         "gain of that size for 2 % more instructions, with the other scenes unmeasured, was "
         "left for a later A/B.",
+        "",
+        "Shadow-map look-up without gathers or scalar conversions (issue 15, 2026-12-01): "
+        "with the shadow report at one and two threads (0.36–0.55 of llvmpipe's time at one "
+        "thread, none at the goal), perf (cpu-clock samples) on `frame_cost phong 50 600 "
+        "lights=sun plane shadows=map` put 30 % of the frame in the batched look-up "
+        "(`map_lanes_avx2`), almost half of it on the nine `vgatherdps` of the 3 × 3 PCF "
+        "kernel (microcoded and slow on AMD's cores) and a fifth on 64 scalar `cvttss2si`: "
+        "the saturating `as i32` of the texel coordinates kept LLVM from vectorising that "
+        "conversion in the per-lane set-up. Now (`shadows/lookup.rs`) the 3 × 3 kernel, when "
+        "all 8 lanes' texels lie inside the map (lanes the map does not decide read texel (1,"
+        " 1)), loads each row's 4 texels per lane with one unaligned load and transposes them"
+        " (`rows_3x3`), the gathers kept for edges and other widths; and `floor_near` clamps "
+        "with `max`/`min` (NaN to −2²⁴: such lanes are not decided by the map) and converts "
+        "unchecked, which vectorises. Same bytes (`frame_cost dump=` of the 37 "
+        "configurations, and map shadows from a sun, a point light's cube, a spot and an area"
+        " light); unit tests hold the AVX2 kernel's counts to the lane loop's on both paths "
+        "(a broken transpose fails them) and `floor_near` to the clamped floor. callgrind per"
+        " frame: sun 163.72M → 157.90M, point light (six faces) 403.97M → 394.43M (a gather "
+        "counts as one instruction: the gain is in cycles). User time, alternating runs on "
+        "the quiet machine, medians: sun, 100 frames, seven runs, 1.37 → 1.13 s (−17.5 %; the"
+        " loads alone 1.37 → 1.28 s), point light, 40 frames, five runs, 1.08 → 1.00 s. `make"
+        " bench-shadows` at one thread: ours / llvmpipe 0.36–0.55 → 0.31–0.48 (geometric mean"
+        " 0.44 → 0.37; sphere over a plane at 800 × 600 10.1 → 8.7 ms), two threads 0.34–0.58"
+        " → 0.30–0.50. Tried and not kept, the same session: the depth pass, the secondary "
+        "stage and mixed modes through the AVX2 copy of the small-triangle rasteriser (they "
+        "inline the baseline visibility pass, whose small triangles go through its SSE2 "
+        "copy): same bytes, no change in time (sun map, 100 frames, 1.10 → 1.11 s; the "
+        "998,000-triangle sphere over the plane with a sun's map, 20 frames, 1.35 → 1.35 s; "
+        "the mirror, 150 frames, 1.11 → 1.10 s).",
     ]
     out += [
         "",
