@@ -415,6 +415,8 @@ fn floor_near(v: f32) -> i32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    #[cfg(target_arch = "x86_64")]
+    use crate::shadows::lcg::Lcg;
 
     /// `floor_near` is the floor of the value clamped to ±FAR (the saturating form it
     /// replaced, `floor(v.clamp(-FAR, FAR))` with `as i32`), and NaN reads −FAR.
@@ -445,21 +447,6 @@ mod tests {
             assert_eq!(floor_near(v), want, "{v}");
         }
         assert_eq!(floor_near(f32::NAN), -(FAR as i32));
-    }
-
-    /// A deterministic stream of numbers in [0, 1).
-    struct Lcg(u64);
-    impl Lcg {
-        fn next(&mut self) -> f32 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (self.0 >> 40) as f32 / (1u64 << 24) as f32
-        }
-        fn below(&mut self, n: i32) -> i32 {
-            (self.next() * n as f32) as i32
-        }
     }
 
     /// The AVX2 kernel counts what the lane loop counts, on its gather-free 3 × 3 path

@@ -388,6 +388,7 @@ mod tests {
     use crate::camera::Projection;
     use crate::lighting::LightSet;
     use crate::lights::{DirectionalLight, Light, PointLight, Shadows, SpotLight};
+    use crate::shadows::lcg::Lcg;
 
     /// The point-at-a-time f64 look-up (the form before the batched one): each kernel
     /// texel's receiver depth from the light's ray through its centre and the point's plane,
@@ -462,21 +463,6 @@ mod tests {
             }
         }
         lit as f32 / (k * k) as f32
-    }
-
-    /// A deterministic stream of numbers in [0, 1).
-    struct Lcg(u64);
-    impl Lcg {
-        fn next(&mut self) -> f32 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (self.0 >> 40) as f32 / (1u64 << 24) as f32
-        }
-        fn in_box(&mut self, lo: f32, hi: f32) -> Vec3 {
-            Vec3::new(self.next(), self.next(), self.next()) * (hi - lo) + lo
-        }
     }
 
     /// The batched f32 look-up agrees with the f64 reference for every light kind and

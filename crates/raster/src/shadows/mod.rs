@@ -11,6 +11,8 @@
 
 mod exact;
 mod fit;
+#[cfg(test)]
+mod lcg;
 mod lookup;
 mod map;
 
