@@ -180,8 +180,9 @@ mod tests {
 
     #[test]
     fn differ_is_its_lane_loop() {
-        // Every pattern of equal and unequal lanes, with ids that differ in the top bit,
-        // the bottom bit, or by a sign (no signed compare may treat them as equal).
+        // Every pattern of equal and unequal lanes, with ids that differ in the bottom bit,
+        // the top (sign) bit only, or in every bit (no signed compare may treat them as
+        // equal).
         for pattern in 0..=255u8 {
             for flip in [1u32, 1 << 31, u32::MAX] {
                 let a: [u32; LANES] = std::array::from_fn(|l| 0x5a5a_0000 + l as u32);
