@@ -268,7 +268,7 @@ fn depth_tile(
     buf: &mut TileBuffers,
     rows: &mut [&mut [Out<f32>]],
 ) {
-    raster::rasterize_tile(tris, job.index, job.rect, buf);
+    raster::rasterize_depth_tile(tris, job.index, job.rect, &mut buf.depth);
     for (j, row) in rows.iter_mut().enumerate() {
         let z = &buf.depth[j * tiles::TILE..j * tiles::TILE + job.rect.w];
         match job.camera {

@@ -33,12 +33,14 @@ impl TileBuffers {
     }
 
     pub(crate) fn clear(&mut self) {
-        // Below every valid reversed-Z depth, so even a surface exactly on the far plane
-        // (z = 0) is drawn.
-        self.depth.fill(-1.0);
+        self.depth.fill(EMPTY_DEPTH);
         self.id.fill(NO_TRIANGLE);
     }
 }
+
+/// The depth of a slot no triangle covers: below every valid reversed-Z depth, so even a
+/// surface exactly on the far plane (z = 0) is drawn.
+pub(crate) const EMPTY_DEPTH: f32 = -1.0;
 
 /// Rows at least this wide compute their covered span with one division per edge instead
 /// of testing every pixel.
@@ -124,6 +126,20 @@ unsafe fn rasterize_tile_avx2(tris: &Binned, index: usize, rect: TileRect, buf: 
     rasterize_into(tris, index, rect, &mut WideBuffers(buf));
 }
 
+/// The depths alone of the triangles binned to tile `index` into `depth` (a depth pass,
+/// which reads no ids): the same depths as [`rasterize_tile`]'s, without clearing or
+/// writing a triangle id per slot.
+#[inline(always)]
+pub(crate) fn rasterize_depth_tile(
+    tris: &Binned,
+    index: usize,
+    rect: TileRect,
+    depth: &mut [f32; TILE * TILE],
+) {
+    depth.fill(EMPTY_DEPTH);
+    rasterize_into(tris, index, rect, &mut DepthOnly(depth));
+}
+
 /// [`rasterize_tile`] with every pixel's sample point moved from the centre by `offset`
 /// (fixed-point units): one sample position of a multi-sample tile.
 #[inline(always)]
@@ -185,6 +201,81 @@ impl SpanSink for TileBuffers {
     #[inline(always)]
     fn small(&mut self, t: &SetupTri, id: u32, at: TriangleAt) -> bool {
         small_baseline(self, t, id, at)
+    }
+}
+
+/// A tile's depth buffer alone, for [`rasterize_depth_tile`]: each covered slot keeps the
+/// larger of its depth and the triangle's, as [`depth_test`] does, with no id. Small
+/// triangles go by spans and pixels (the windows path writes ids; both give the same
+/// depths, which the tests below hold them to).
+struct DepthOnly<'a>(&'a mut [f32; TILE * TILE]);
+
+impl SpanSink for DepthOnly<'_> {
+    #[inline(always)]
+    fn span(&mut self, s: Span) {
+        depth_only_span(&s, &mut self.0[..]);
+    }
+
+    #[inline(always)]
+    fn pixel(&mut self, slot: usize, z: f32, _id: u32) {
+        let d = &mut self.0[slot];
+        if z > *d {
+            *d = z;
+        }
+    }
+}
+
+/// [`depth_test_span`] without ids: windows of 8 slots as one `max` of their depths and the
+/// span's (`maxps` is `z > d ? z : d`, NaN and ±0 included, which is `depth_test`'s rule).
+#[inline(always)]
+fn depth_only_span(s: &Span, depth: &mut [f32]) {
+    const LANES: usize = 8;
+    let depth = &mut depth[s.start..s.start + s.len];
+    if s.len < LANES {
+        for (k, d) in depth.iter_mut().enumerate() {
+            let z = s.z_at(k);
+            if z > *d {
+                *d = z;
+            }
+        }
+        return;
+    }
+    let mut k0 = 0;
+    loop {
+        let k0_window = k0.min(s.len - LANES);
+        let dw: &mut [f32; LANES] = (&mut depth[k0_window..k0_window + LANES])
+            .try_into()
+            .unwrap();
+        depth_only_window(&s.z_window(k0_window), dw);
+        k0 += LANES;
+        if k0 >= s.len {
+            return;
+        }
+    }
+}
+
+/// `dw[k] = z[k] > dw[k] ? z[k] : dw[k]` for 8 slots, in SSE2 (every x86-64).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn depth_only_window(z: &[f32; 8], dw: &mut [f32; 8]) {
+    use std::arch::x86_64::*;
+    // SAFETY: SSE2 is part of x86-64; both pointers are to 8 lanes of 4 bytes, read and
+    // written as two unaligned halves. `maxps(z, d)` returns d unless z > d.
+    unsafe {
+        let dp = dw.as_mut_ptr();
+        let (z0, z1) = (_mm_loadu_ps(z.as_ptr()), _mm_loadu_ps(z.as_ptr().add(4)));
+        let (d0, d1) = (_mm_loadu_ps(dp), _mm_loadu_ps(dp.add(4)));
+        _mm_storeu_ps(dp, _mm_max_ps(z0, d0));
+        _mm_storeu_ps(dp.add(4), _mm_max_ps(z1, d1));
+    }
+}
+
+/// [`depth_only_window`] elsewhere: the lane loop.
+#[cfg(not(target_arch = "x86_64"))]
+#[inline(always)]
+fn depth_only_window(z: &[f32; 8], dw: &mut [f32; 8]) {
+    for k in 0..8 {
+        dw[k] = if z[k] > dw[k] { z[k] } else { dw[k] };
     }
 }
 
@@ -658,6 +749,43 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
 
+    /// The depth pass's window keeps `depth_test`'s rule bit for bit on every pair of
+    /// awkward depths: NaN on either side, zeros of both signs, infinities.
+    #[test]
+    fn depth_only_window_is_the_depth_test() {
+        let vals = [
+            f32::NAN,
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            0.5,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+        ];
+        for (a, &za) in vals.iter().enumerate() {
+            for (b, &da) in vals.iter().enumerate() {
+                // Every pair in lane 0 and lane 5 (both halves), others mixed around them.
+                let z: [f32; 8] =
+                    std::array::from_fn(|k| if k % 5 == 0 { za } else { vals[(a + k) % 8] });
+                let d: [f32; 8] = std::array::from_fn(|k| {
+                    if k % 5 == 0 {
+                        da
+                    } else {
+                        vals[(b + 3 * k) % 8]
+                    }
+                });
+                let mut got = d;
+                depth_only_window(&z, &mut got);
+                for k in 0..8 {
+                    let (mut want, mut id) = (d[k], 0);
+                    depth_test(&mut want, &mut id, z[k], 1);
+                    assert_eq!(got[k].to_bits(), want.to_bits(), "z {} d {}", z[k], d[k]);
+                }
+            }
+        }
+    }
+
     proptest! {
         /// The windowed, branch-free depth test keeps exactly what a plain `z > depth` loop
         /// keeps, ties (the earlier triangle wins) included, and leaves every slot outside
@@ -743,9 +871,13 @@ mod tests {
                 let each = || set_up.iter().enumerate().map(|(i, t)| (i as u32, t));
                 for_each_span_at(each(), rect, offset, &mut with);
                 for_each_span_at(each(), rect, offset, &mut without);
+                // The depth pass's sink: the same depths with no ids.
+                let mut alone = Box::new([EMPTY_DEPTH; TILE * TILE]);
+                for_each_span_at(each(), rect, offset, &mut DepthOnly(&mut alone));
                 prop_assert_eq!(&with.id[..], &without.0.id[..]);
                 let bits = |d: &[f32]| d.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
                 prop_assert_eq!(bits(&with.depth[..]), bits(&without.0.depth[..]));
+                prop_assert_eq!(bits(&alone[..]), bits(&with.depth[..]));
                 // The AVX2 copy of the small-triangle path, where the CPU has it.
                 #[cfg(target_arch = "x86_64")]
                 if super::super::isa::Isa::detect(false) != super::super::isa::Isa::Baseline {
