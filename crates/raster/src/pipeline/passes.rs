@@ -6,7 +6,7 @@
 use rayon::prelude::*;
 
 use super::lines::{LinePass, LineScratch, TileRows};
-use super::raster::{self, TileBuffers};
+use super::raster;
 use super::shade::{put, Out, Pixel, Program, ShadeContext, TexturedObject, TexturedScene};
 use super::{isa, prepare, tiles, Needs};
 use crate::camera::{Camera, Projection};
@@ -232,7 +232,8 @@ pub(crate) fn depth_pass(
         .par_iter()
         .zip(rows.par_iter_mut())
         .enumerate()
-        .for_each_init(TileBuffers::new, |buf, (i, (rect, rows))| {
+        // A tile of depths per worker: the depth pass reads no ids.
+        .for_each_init(DepthTileBuf::default, |buf, (i, (rect, rows))| {
             let job = DepthTile {
                 index: i,
                 rect: *rect,
@@ -252,6 +253,15 @@ pub(crate) fn depth_pass(
     Ok(stats)
 }
 
+/// A tile's depths, reused from tile to tile by a worker of the depth pass.
+struct DepthTileBuf(Box<[f32; tiles::TILE * tiles::TILE]>);
+
+impl Default for DepthTileBuf {
+    fn default() -> Self {
+        DepthTileBuf(Box::new([raster::EMPTY_DEPTH; tiles::TILE * tiles::TILE]))
+    }
+}
+
 /// One tile of the depth pass: its index and rectangle, and the camera whose eye depths are
 /// written (`None`: window depths).
 struct DepthTile<'a> {
@@ -265,12 +275,12 @@ struct DepthTile<'a> {
 fn depth_tile(
     tris: &super::bin::Binned,
     job: &DepthTile<'_>,
-    buf: &mut TileBuffers,
+    buf: &mut DepthTileBuf,
     rows: &mut [&mut [Out<f32>]],
 ) {
-    raster::rasterize_depth_tile(tris, job.index, job.rect, &mut buf.depth);
+    raster::rasterize_depth_tile(tris, job.index, job.rect, &mut buf.0);
     for (j, row) in rows.iter_mut().enumerate() {
-        let z = &buf.depth[j * tiles::TILE..j * tiles::TILE + job.rect.w];
+        let z = &buf.0[j * tiles::TILE..j * tiles::TILE + job.rect.w];
         match job.camera {
             Some(camera) => put_eye_depths(camera, row, z),
             None => put(row, z),
@@ -284,7 +294,7 @@ fn depth_tile(
 unsafe fn depth_tile_avx2(
     tris: &super::bin::Binned,
     job: &DepthTile<'_>,
-    buf: &mut TileBuffers,
+    buf: &mut DepthTileBuf,
     rows: &mut [&mut [Out<f32>]],
 ) {
     depth_tile(tris, job, buf, rows)
