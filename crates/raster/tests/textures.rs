@@ -437,3 +437,87 @@ fn unlit_textured_surfaces_are_the_same_in_every_mode() {
         }
     }
 }
+
+/// A 16 × 8 map (powers of two, so `Repeat` wraps by a mask) as the only map of a sphere,
+/// with `filter`, a (u, v) transform of scale `scale`, the material's emission `ke` and an
+/// emission map when `emission_map`; `lit`: a sun with a shadow map and a point light, else
+/// none.
+fn diffuse_only_sphere(
+    filter: Filter,
+    scale: f64,
+    ke: Vec3,
+    emission_map: bool,
+    lit: bool,
+) -> (Scene, Camera) {
+    let texels: Vec<f32> = (0..16 * 8)
+        .flat_map(|k| {
+            let (i, j) = (k % 16, k / 16);
+            [
+                i as f32 / 15.0,
+                j as f32 / 7.0,
+                ((i * 3 + j) % 5) as f32 / 4.0,
+            ]
+        })
+        .collect();
+    let img = Arc::new(texture::Image::from_top_rows(16, 8, 3, &texels, false).unwrap());
+    // `mapped_sphere`'s mesh (without vertex colours when nearest), lights and camera.
+    let (base, cam) = mapped_sphere((Filter::Nearest, Wrap::Repeat, 1), ShadingMode::Flat, false);
+    let tex = Arc::new(
+        Texture::from_image(img, filter, [Wrap::Repeat; 2]).with_uv_transform(
+            glam::DVec2::new(scale, -0.75 * scale),
+            glam::DVec2::new(0.3, -0.1),
+        ),
+    );
+    let maps = Maps {
+        diffuse: Some(tex.clone()),
+        emission: emission_map.then(|| tex.clone()),
+        ..Maps::default()
+    };
+    let mut material = Material::preset("jade").unwrap();
+    material.emission = ke;
+    let obj = Object::new(base.objects()[0].mesh().clone(), material, Mat4::IDENTITY)
+        .unwrap()
+        .with_maps(Some(Arc::new(maps)))
+        .unwrap();
+    let mut scene = Scene::new(Vec3::splat(0.2)).unwrap();
+    scene.add_object(obj);
+    if lit {
+        scene.lights_mut().extend(base.lights().iter().cloned());
+    }
+    (scene, cam)
+}
+
+#[test]
+fn diffuse_only_rows_give_the_batch_paths_bits() {
+    // A diffuse image map alone, nearest or bilinear under `Repeat` on powers of two, goes
+    // through the rows' register path with AVX2 (`textured::lean`): the same bits as the
+    // batches (with a depth output) and as the baseline's rows. Coordinates beyond 2³¹
+    // texels (scale 10¹⁰) take the sampler's general path mid-run; emission without a map
+    // is added, an emission map with no emission is not read.
+    let cases = [
+        (1.0, Vec3::ZERO, false, true),
+        (3.0, Vec3::new(0.05, 0.1, 0.0), false, true),
+        (1.0, Vec3::ZERO, true, true),
+        (1e10, Vec3::ZERO, false, true),
+        (2.0, Vec3::ZERO, false, false),
+    ];
+    for filter in [Filter::Nearest, Filter::Bilinear] {
+        for (scale, ke, emission_map, lit) in cases {
+            let (scene, cam) = diffuse_only_sphere(filter, scale, ke, emission_map, lit);
+            for mode in [ShadingMode::Flat, ShadingMode::Gouraud] {
+                let what = format!(
+                    "{filter:?} scale {scale} ke {ke} map {emission_map} lit {lit} {mode:?}"
+                );
+                let rows = color_bits(&scene, &cam, mode, false, 2, false);
+                assert!(rows.iter().any(|&b| b != 0), "{what}: drawn");
+                for (baseline, depth) in [(false, true), (true, false), (true, true)] {
+                    let other = color_bits(&scene, &cam, mode, baseline, 2, depth);
+                    assert!(
+                        rows == other,
+                        "{what}: baseline {baseline} depth {depth} differs"
+                    );
+                }
+            }
+        }
+    }
+}

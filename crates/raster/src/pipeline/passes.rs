@@ -103,12 +103,7 @@ pub(crate) fn color_pass<P: Pixel>(
             objects: scene
                 .objects()
                 .iter()
-                .map(|o| TexturedObject {
-                    material: [*o.material(), *o.material_for(true, scene.two_sided())],
-                    maps: o.maps().map(|m| &**m),
-                    colors: o.mesh().colors().is_some(),
-                    footprint: o.maps().is_some_and(|m| m.reads_footprint()),
-                })
+                .map(|o| TexturedObject::new(o, scene.two_sided()))
                 .collect(),
             perturb: options.shading == crate::options::ShadingMode::Phong
                 && scene

@@ -13,6 +13,7 @@
 
 mod decode;
 mod image;
+mod lanes_avx2;
 mod procedural;
 mod sample;
 mod wrap;
@@ -22,6 +23,7 @@ use std::sync::Arc;
 use glam::{DVec2, Vec3};
 
 pub use self::image::{srgb_to_linear, Image, MAX_TEXEL_VALUE, MAX_TEXTURE_SIZE};
+pub(crate) use lanes_avx2::ImageLanes;
 pub use procedural::Procedural;
 pub use sample::{Filter, Footprint, MAX_ANISOTROPY};
 pub use wrap::Wrap;

@@ -49,6 +49,9 @@ use crate::pipeline::Sides;
 use crate::shadows::ShadowEffect;
 use crate::texture::{Footprint, Maps, Texture};
 
+#[cfg(target_arch = "x86_64")]
+mod lean;
+
 /// What the texture stage reads of each object, per render.
 pub(crate) struct TexturedObject<'a> {
     /// Front material and the one lighting back faces (two-sided).
@@ -59,6 +62,27 @@ pub(crate) struct TexturedObject<'a> {
     /// Whether a map reads the screen-space derivatives ([`Maps::reads_footprint`]):
     /// without one, the pixel loop skips them.
     pub footprint: bool,
+    /// Per material (front, back): the diffuse map where the rows' register path draws it
+    /// ([`lean::lean_map`]).
+    #[cfg(target_arch = "x86_64")]
+    lean: [Option<(&'a Texture, crate::texture::ImageLanes<'a>)>; 2],
+}
+
+impl<'a> TexturedObject<'a> {
+    /// What the texture stage reads of `o` (`two_sided`: the scene lights back faces).
+    pub(crate) fn new(o: &'a crate::scene::Object, two_sided: bool) -> Self {
+        let material = [*o.material(), *o.material_for(true, two_sided)];
+        let maps = o.maps().map(|m| &**m);
+        let colors = o.mesh().colors().is_some();
+        TexturedObject {
+            material,
+            maps,
+            colors,
+            footprint: maps.is_some_and(|m| m.reads_footprint()),
+            #[cfg(target_arch = "x86_64")]
+            lean: material.map(|m| lean::lean_map(maps, colors, &m)),
+        }
+    }
 }
 
 /// The texture stage's share of the shade context.
@@ -938,6 +962,24 @@ fn textured_rows<P: Pixel, const AFFINE: bool>(
             let (object, back) = c.key;
             let obj = &tex.objects[object as usize];
             let m = &obj.material[back as usize];
+            #[cfg(target_arch = "x86_64")]
+            if wide {
+                if let Some((t, map)) = &obj.lean[back as usize] {
+                    let (x0, end) = (rect.x0, run.end);
+                    // SAFETY: `wide`: the render's ISA is AVX2, detected on this CPU.
+                    unsafe {
+                        let g = c.mode == ShadingMode::Gouraud;
+                        let f = match (map.bilinear(), g) {
+                            (false, false) => lean::lean_groups::<false, false>,
+                            (false, true) => lean::lean_groups::<false, true>,
+                            (true, false) => lean::lean_groups::<true, false>,
+                            (true, true) => lean::lean_groups::<true, true>,
+                        };
+                        f(c, m, t, map, x0, y, whole, end, &mut lin);
+                    }
+                    continue;
+                }
+            }
             // Flat: the face's terms, the same in every group of the run, filled once (per
             // group, the fill's stores were a tenth of a nearest-filtered floor's frame).
             let gouraud = c.mode == ShadingMode::Gouraud;
