@@ -489,7 +489,7 @@ fn diffuse_only_sphere(
 
 #[test]
 fn diffuse_only_rows_give_the_batch_paths_bits() {
-    // A diffuse image map alone, nearest or bilinear under `Repeat` on powers of two, goes
+    // A diffuse image map alone, in any filter under `Repeat` on powers of two, goes
     // through the rows' register path with AVX2 (`textured::lean`): the same bits as the
     // batches (with a depth output) and as the baseline's rows. Coordinates beyond 2³¹
     // texels (scale 10¹⁰) take the sampler's general path mid-run; emission without a map
@@ -501,7 +501,7 @@ fn diffuse_only_rows_give_the_batch_paths_bits() {
         (1e10, Vec3::ZERO, false, true),
         (2.0, Vec3::ZERO, false, false),
     ];
-    for filter in [Filter::Nearest, Filter::Bilinear] {
+    for filter in [Filter::Nearest, Filter::Bilinear, Filter::Trilinear] {
         for (scale, ke, emission_map, lit) in cases {
             let (scene, cam) = diffuse_only_sphere(filter, scale, ke, emission_map, lit);
             for mode in [ShadingMode::Flat, ShadingMode::Gouraud] {

@@ -23,6 +23,8 @@ use std::sync::Arc;
 use glam::{DVec2, Vec3};
 
 pub use self::image::{srgb_to_linear, Image, MAX_TEXEL_VALUE, MAX_TEXTURE_SIZE};
+#[cfg(target_arch = "x86_64")]
+pub(crate) use lanes_avx2::F64x8;
 pub(crate) use lanes_avx2::ImageLanes;
 pub use procedural::Procedural;
 pub use sample::{Filter, Footprint, MAX_ANISOTROPY};

@@ -147,6 +147,15 @@ fn lod_of_squares(sx: f64, sy: f64) -> (f64, bool) {
     (0.5 * log2_normal(s), ok)
 }
 
+/// [`log2_normal`]'s series: 2/(ln 2·(2k + 1)), k = 0 … 4.
+pub(super) const LOG2_SERIES: [f64; 5] = [
+    2.885_390_081_777_926_8,
+    0.961_796_693_925_975_7,
+    0.577_078_016_355_585_3,
+    0.412_198_583_111_132_44,
+    0.320_598_897_975_325_2,
+];
+
 /// log2 x for a positive normal `x`, branch-free so lane loops of it widen (libm's log2
 /// was a sixth of a trilinear frame's instructions, one call per pixel). x = 2^e · m with
 /// m in [√½, √2); log2 m = (2/ln 2)·atanh(t), t = (m − 1)/(m + 1), |t| ≤ 3 − 2√2 (0.1716),
@@ -157,14 +166,7 @@ fn lod_of_squares(sx: f64, sy: f64) -> (f64, bool) {
 /// (`log2_normal_is_within_its_bound`). Exact at powers of two (t = 0).
 #[inline(always)]
 fn log2_normal(x: f64) -> f64 {
-    // 2/(ln 2·(2k + 1)), k = 0 … 4.
-    const C: [f64; 5] = [
-        2.885_390_081_777_926_8,
-        0.961_796_693_925_975_7,
-        0.577_078_016_355_585_3,
-        0.412_198_583_111_132_44,
-        0.320_598_897_975_325_2,
-    ];
+    const C: [f64; 5] = LOG2_SERIES;
     const MANTISSA: u64 = (1 << 52) - 1;
     let bits = x.to_bits();
     let m = f64::from_bits((bits & MANTISSA) | (1023 << 52)); // [1, 2), exact

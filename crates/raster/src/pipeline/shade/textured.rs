@@ -969,11 +969,15 @@ fn textured_rows<P: Pixel, const AFFINE: bool>(
                     // SAFETY: `wide`: the render's ISA is AVX2, detected on this CPU.
                     unsafe {
                         let g = c.mode == ShadingMode::Gouraud;
-                        let f = match (map.bilinear(), g) {
-                            (false, false) => lean::lean_groups::<false, false>,
-                            (false, true) => lean::lean_groups::<false, true>,
-                            (true, false) => lean::lean_groups::<true, false>,
-                            (true, true) => lean::lean_groups::<true, true>,
+                        use crate::texture::Filter;
+                        use lean::{lean_groups as l, BILINEAR, NEAREST, TRILINEAR};
+                        let f = match (map.filter(), g) {
+                            (Filter::Nearest, false) => l::<NEAREST, false>,
+                            (Filter::Nearest, true) => l::<NEAREST, true>,
+                            (Filter::Bilinear, false) => l::<BILINEAR, false>,
+                            (Filter::Bilinear, true) => l::<BILINEAR, true>,
+                            (Filter::Trilinear, false) => l::<TRILINEAR, false>,
+                            (Filter::Trilinear, true) => l::<TRILINEAR, true>,
                         };
                         f(c, m, t, map, x0, y, whole, end, &mut lin);
                     }

@@ -1,7 +1,7 @@
 //! The textured rows' common case in AVX2 registers: a flat or Gouraud triangle whose only
-//! map is a diffuse image filtered nearest or bilinear under `Repeat` on power-of-two sizes
-//! ([`Texture::image_lanes`]), without vertex colours: most textured meshes, and the texture
-//! report's floor.
+//! map is a diffuse image filtered nearest, bilinear or trilinear (isotropic) under `Repeat`
+//! on power-of-two sizes ([`Texture::image_lanes`]), without vertex colours: most textured
+//! meshes, and the texture report's floor.
 //!
 //! The generic row path ([`super::textured_rows`]) interpolates a group into arrays
 //! ([`Group::set`]), samples them through [`Texture::sample_many`], fills four arrays of
@@ -19,7 +19,12 @@ use std::ops::Range;
 
 use super::{Current, Footprint, Material, Terms3, Texture, LANES};
 use crate::pipeline::shade::store::RowColors;
-use crate::texture::ImageLanes;
+use crate::texture::{F64x8, ImageLanes};
+
+/// [`lean_groups`]' `FILTER`s.
+pub(super) const NEAREST: u8 = 0;
+pub(super) const BILINEAR: u8 = 1;
+pub(super) const TRILINEAR: u8 = 2;
 
 /// The map of a run the lean path draws: the object's diffuse map as [`ImageLanes`], when
 /// it is the only map `m` reads and the object has no vertex colours; else `None`.
@@ -41,14 +46,15 @@ pub(super) fn lean_map<'a>(
 /// pixels at `end`) of tile row centre `y` (tile origin column `x0`) of triangle `c`
 /// with material `m` and diffuse map `map` (`t`'s [`ImageLanes`]), into the row buffer
 /// `lin`, as [`super::textured_rows`] writes them. `GOURAUD`: `c` is shaded Gouraud (its
-/// vertices' terms blended), else flat (its face's); `BILINEAR`: [`ImageLanes::bilinear`].
+/// vertices' terms blended), else flat (its face's); `FILTER`: the map's filter
+/// ([`ImageLanes::filter`]) as [`NEAREST`], [`BILINEAR`] or [`TRILINEAR`].
 ///
 /// # Safety
 /// The CPU must support AVX2.
 #[target_feature(enable = "avx2")]
 #[inline(never)]
 #[allow(clippy::too_many_arguments)] // a run, its triangle and where it goes
-pub(super) unsafe fn lean_groups<const BILINEAR: bool, const GOURAUD: bool>(
+pub(super) unsafe fn lean_groups<const FILTER: u8, const GOURAUD: bool>(
     c: &Current,
     m: &Material,
     t: &Texture,
@@ -64,6 +70,14 @@ pub(super) unsafe fn lean_groups<const BILINEAR: bool, const GOURAUD: bool>(
     let by = [0, 1, 2].map(|k| pl[k][1] * y);
     let us = c.uv.map(|t| set(t.x as f64));
     let vs = c.uv.map(|t| set(t.y as f64));
+    // `Group::footprints`' per-triangle sums: ∂(Σ q_k·a_k)/∂x and ∂W/∂x (likewise y).
+    let da = |a: [f32; 3], axis: usize| {
+        let a = a.map(f64::from);
+        set(pl[0][axis] * a[0] + pl[1][axis] * a[1] + pl[2][axis] * a[2])
+    };
+    let (uu, vv) = (c.uv.map(|t| t.x), c.uv.map(|t| t.y));
+    let dq = [da(uu, 0), da(vv, 0), da(uu, 1), da(vv, 1)];
+    let dw = [0, 1].map(|axis| set(pl[0][axis] + pl[1][axis] + pl[2][axis]));
     let half = [
         _mm256_setr_pd(0.5, 1.5, 2.5, 3.5),
         _mm256_setr_pd(4.5, 5.5, 6.5, 7.5),
@@ -88,6 +102,7 @@ pub(super) unsafe fn lean_groups<const BILINEAR: bool, const GOURAUD: bool>(
         let mut b = [[_mm256_setzero_pd(); 2]; 3];
         let mut u = [_mm256_setzero_pd(); 2];
         let mut v = [_mm256_setzero_pd(); 2];
+        let mut fp = [[_mm256_setzero_pd(); 2]; 4];
         for h in 0..2 {
             let x = _mm256_add_pd(base, half[h]);
             let q = [0, 1, 2].map(|k| {
@@ -105,12 +120,29 @@ pub(super) unsafe fn lean_groups<const BILINEAR: bool, const GOURAUD: bool>(
             };
             u[h] = blend(&us);
             v[h] = blend(&vs);
+            if FILTER == TRILINEAR {
+                // `Group::footprints`: (∂(Σ q_k·a_k)/∂x − a·∂W/∂x) / W, likewise y.
+                let d = |k: usize, a: __m256d, axis: usize| {
+                    _mm256_mul_pd(_mm256_sub_pd(dq[k], _mm256_mul_pd(a, dw[axis])), r)
+                };
+                fp[0][h] = d(0, u[h], 0);
+                fp[1][h] = d(1, v[h], 0);
+                fp[2][h] = d(2, u[h], 1);
+                fp[3][h] = d(3, v[h], 1);
+            }
         }
-        // SAFETY: AVX2, the caller's promise.
-        let td = match unsafe { map.sample8::<BILINEAR>(u, v, live) } {
+        // SAFETY: AVX2, the caller's promise (all three).
+        let td = unsafe {
+            match FILTER {
+                NEAREST => map.sample8::<false>(u, v, live),
+                BILINEAR => map.sample8::<true>(u, v, live),
+                _ => map.trilinear8(u, v, fp, live),
+            }
+        };
+        let td = match td {
             Some(td) => td,
             // SAFETY: AVX2, the caller's promise.
-            None => unsafe { sample_stored(t, u, v, live) },
+            None => unsafe { sample_stored(t, u, v, fp, live) },
         };
         // As `vertex_terms`: Gouraud blends the vertices' terms by the weights in f32, any
         // other mode takes the face's.
@@ -153,7 +185,13 @@ pub(super) unsafe fn lean_groups<const BILINEAR: bool, const GOURAUD: bool>(
 #[cold]
 #[inline(never)]
 #[target_feature(enable = "avx2")]
-unsafe fn sample_stored(t: &Texture, u: [__m256d; 2], v: [__m256d; 2], live: usize) -> [__m256; 3] {
+unsafe fn sample_stored(
+    t: &Texture,
+    u: F64x8,
+    v: F64x8,
+    fp: [F64x8; 4],
+    live: usize,
+) -> [__m256; 3] {
     let lanes = |c: [__m256d; 2]| {
         let mut a = [0.0f64; LANES];
         // SAFETY: `a` is eight f64, each half four.
@@ -163,15 +201,15 @@ unsafe fn sample_stored(t: &Texture, u: [__m256d; 2], v: [__m256d; 2], live: usi
         }
         a
     };
+    let d = fp.map(lanes);
+    let fp: [Footprint; LANES] = std::array::from_fn(|k| Footprint {
+        du_dx: d[0][k],
+        dv_dx: d[1][k],
+        du_dy: d[2][k],
+        dv_dy: d[3][k],
+    });
     let mut out = [[0.0f32; LANES]; 3];
-    t.sample_many(
-        &lanes(u),
-        &lanes(v),
-        &[Footprint::default(); LANES],
-        live,
-        &mut out,
-        false,
-    );
+    t.sample_many(&lanes(u), &lanes(v), &fp, live, &mut out, false);
     // SAFETY: loads of eight floats each.
     out.map(|row| unsafe { _mm256_loadu_ps(row.as_ptr()) })
 }
