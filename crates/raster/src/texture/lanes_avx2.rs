@@ -20,6 +20,8 @@ use std::arch::x86_64::*;
 use glam::DVec2;
 
 use super::image::Level;
+#[cfg(target_arch = "x86_64")]
+use super::sample::texels8_avx;
 use super::sample::Filter;
 use super::wrap::Wrap;
 use super::{Source, Texture};
@@ -388,40 +390,6 @@ impl LevelLanes<'_> {
         // masks keep i and j in the level, the `min` whatever they hold), whose four floats
         // (with the padding texel's first) are in `channels`.
         unsafe { texels8_avx(self.channels, &lanes) }
-    }
-}
-
-/// `channels[at[k] + ch]` for the eight lanes and three channels: each texel read as four
-/// floats (r, g, b and the next one), two texels to a 256-bit register (lanes k and
-/// k + 4), then transposed.
-///
-/// # Safety
-/// The CPU must support AVX, and `at[k] + 3` must be within `channels` for every k.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-#[inline]
-pub(super) unsafe fn texels8_avx(channels: &[f32], at: &[u32; 8]) -> [__m256; 3] {
-    debug_assert!(at.iter().all(|&a| a as usize + 3 < channels.len()));
-    // SAFETY: AVX (the caller's promise); every load is four floats from `at[k]`, within
-    // `channels`.
-    unsafe {
-        let p = channels.as_ptr();
-        let pair = |a: usize, b: usize| {
-            let lo = _mm_loadu_ps(p.add(at[a] as usize));
-            let hi = _mm_loadu_ps(p.add(at[b] as usize));
-            _mm256_insertf128_ps::<1>(_mm256_castps128_ps256(lo), hi)
-        };
-        // Rows (r, g, b, ·) of texels k | k + 4.
-        let (t0, t1, t2, t3) = (pair(0, 4), pair(1, 5), pair(2, 6), pair(3, 7));
-        let rg01 = _mm256_unpacklo_ps(t0, t1); // r0 r1 g0 g1 | r4 r5 g4 g5
-        let b01 = _mm256_unpackhi_ps(t0, t1); // b0 b1 · · | b4 b5 · ·
-        let rg23 = _mm256_unpacklo_ps(t2, t3);
-        let b23 = _mm256_unpackhi_ps(t2, t3);
-        [
-            _mm256_shuffle_ps::<0b01_00_01_00>(rg01, rg23),
-            _mm256_shuffle_ps::<0b11_10_11_10>(rg01, rg23),
-            _mm256_shuffle_ps::<0b01_00_01_00>(b01, b23),
-        ]
     }
 }
 

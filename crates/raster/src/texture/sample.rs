@@ -7,8 +7,6 @@
 use glam::Vec3;
 
 use super::image::{Image, Level};
-#[cfg(target_arch = "x86_64")]
-use super::lanes_avx2::texels8_avx;
 use super::wrap::Wrap;
 
 /// How an image texture is filtered.
@@ -482,6 +480,44 @@ unsafe fn fetch8_avx<const N: usize>(channels: &[f32], at: &[u32; 8], out: &mut 
         for (row, c) in out.iter_mut().zip(c) {
             _mm256_storeu_ps(row.as_mut_ptr(), c);
         }
+    }
+}
+
+/// `channels[at[k] + ch]` for the eight lanes and three channels: each texel read as four
+/// floats (r, g, b and the next one), two texels to a 256-bit register (lanes k and
+/// k + 4), then transposed.
+///
+/// # Safety
+/// The CPU must support AVX, and `at[k] + 3` must be within `channels` for every k.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+#[inline]
+pub(super) unsafe fn texels8_avx(
+    channels: &[f32],
+    at: &[u32; 8],
+) -> [std::arch::x86_64::__m256; 3] {
+    use std::arch::x86_64::*;
+    debug_assert!(at.iter().all(|&a| a as usize + 3 < channels.len()));
+    // SAFETY: AVX (the caller's promise); every load is four floats from `at[k]`, within
+    // `channels`.
+    unsafe {
+        let p = channels.as_ptr();
+        let pair = |a: usize, b: usize| {
+            let lo = _mm_loadu_ps(p.add(at[a] as usize));
+            let hi = _mm_loadu_ps(p.add(at[b] as usize));
+            _mm256_insertf128_ps::<1>(_mm256_castps128_ps256(lo), hi)
+        };
+        // Rows (r, g, b, ·) of texels k | k + 4.
+        let (t0, t1, t2, t3) = (pair(0, 4), pair(1, 5), pair(2, 6), pair(3, 7));
+        let rg01 = _mm256_unpacklo_ps(t0, t1); // r0 r1 g0 g1 | r4 r5 g4 g5
+        let b01 = _mm256_unpackhi_ps(t0, t1); // b0 b1 · · | b4 b5 · ·
+        let rg23 = _mm256_unpacklo_ps(t2, t3);
+        let b23 = _mm256_unpackhi_ps(t2, t3);
+        [
+            _mm256_shuffle_ps::<0b01_00_01_00>(rg01, rg23),
+            _mm256_shuffle_ps::<0b11_10_11_10>(rg01, rg23),
+            _mm256_shuffle_ps::<0b01_00_01_00>(b01, b23),
+        ]
     }
 }
 
