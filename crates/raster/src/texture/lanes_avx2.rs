@@ -509,24 +509,18 @@ mod tests {
     #[test]
     fn image_lanes_take_only_what_they_read_exactly() {
         let t = |w, h, f, wrap| Texture::from_image(image(w, h), f, [wrap; 2]);
-        assert!(t(8, 4, Filter::Nearest, Wrap::Repeat)
-            .image_lanes()
-            .is_some());
-        assert!(t(1, 16, Filter::Bilinear, Wrap::Repeat)
-            .image_lanes()
-            .is_some());
-        assert!(t(8, 4, Filter::Trilinear, Wrap::Repeat)
-            .image_lanes()
-            .is_some());
-        assert!(t(8, 4, Filter::Nearest, Wrap::Clamp)
-            .image_lanes()
-            .is_none());
-        assert!(t(8, 4, Filter::Bilinear, Wrap::Mirror)
-            .image_lanes()
-            .is_none());
-        assert!(t(6, 4, Filter::Nearest, Wrap::Repeat)
-            .image_lanes()
-            .is_none());
+        let cases = [
+            (8, 4, Filter::Nearest, Wrap::Repeat, true),
+            (1, 16, Filter::Bilinear, Wrap::Repeat, true),
+            (8, 4, Filter::Trilinear, Wrap::Repeat, true),
+            (8, 4, Filter::Nearest, Wrap::Clamp, false),
+            (8, 4, Filter::Bilinear, Wrap::Mirror, false),
+            (6, 4, Filter::Nearest, Wrap::Repeat, false),
+        ];
+        for (w, h, f, wrap, taken) in cases {
+            let got = t(w, h, f, wrap).image_lanes().is_some();
+            assert_eq!(got, taken, "{w}x{h} {f:?} {wrap:?}");
+        }
         let aniso = t(8, 4, Filter::Bilinear, Wrap::Repeat)
             .with_anisotropy(4)
             .unwrap();
