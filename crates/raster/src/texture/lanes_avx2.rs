@@ -14,15 +14,12 @@
 //! for trilinear also a footprint whose squared length leaves the normal range, or lanes
 //! on different levels), these give up (`None`) and the caller takes `sample_many`.
 
-#[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::*;
 
 use glam::DVec2;
 
 use super::image::Level;
-#[cfg(target_arch = "x86_64")]
-use super::sample::texels8_avx;
-use super::sample::Filter;
+use super::sample::{texels8_avx, Filter};
 use super::wrap::Wrap;
 use super::{Source, Texture};
 
@@ -92,7 +89,6 @@ impl Texture {
 }
 
 /// Eight f64 lanes, lanes 0–3 in the first register and 4–7 in the second.
-#[cfg(target_arch = "x86_64")]
 pub(crate) type F64x8 = [__m256d; 2];
 
 impl ImageLanes<'_> {
@@ -109,7 +105,6 @@ impl ImageLanes<'_> {
     ///
     /// # Safety
     /// The CPU must support AVX2.
-    #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     #[inline]
     pub(crate) unsafe fn sample8<const BILINEAR: bool>(
@@ -135,7 +130,6 @@ impl ImageLanes<'_> {
     ///
     /// # Safety
     /// The CPU must support AVX2.
-    #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     #[inline]
     pub(crate) unsafe fn trilinear8(
@@ -227,7 +221,6 @@ impl ImageLanes<'_> {
     }
 
     /// `lanes`: the coordinates `c` along axis `a` transformed (c·s + o), 0 where not finite.
-    #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     #[inline]
     unsafe fn coord(&self, c: F64x8, a: usize) -> F64x8 {
@@ -247,7 +240,6 @@ impl ImageLanes<'_> {
 }
 
 /// `log2_normal` on four lanes (positive normal numbers), the same operations.
-#[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[inline]
 unsafe fn log2_normal4(x: __m256d) -> __m256d {
@@ -283,7 +275,6 @@ impl LevelLanes<'_> {
     /// The nearest (`BILINEAR` false) or bilinear filter on this level at the transformed
     /// coordinates (`x`, `y`) (`coord`'s), as `nearest_lanes` and `bilinear_lanes` give it;
     /// `None` when one of the first `live` lanes lies beyond 2³¹ texels.
-    #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     #[inline]
     unsafe fn filter8<const BILINEAR: bool>(
@@ -336,7 +327,6 @@ impl LevelLanes<'_> {
     /// the fraction x − ⌊x⌋ in f32) of the eight transformed coordinates `c` scaled to this
     /// level (`BILINEAR`: and centred), and the bits of the lanes whose x lies below 2³¹
     /// (others read index 0, as `lane_indices` reads them).
-    #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     #[inline]
     unsafe fn axis<const BILINEAR: bool>(&self, c: F64x8, a: usize) -> ([__m256i; 2], __m256, u32) {
@@ -376,7 +366,6 @@ impl LevelLanes<'_> {
     }
 
     /// The texels (`i`, `j`) of the eight lanes, channel by channel, as `fetch` reads them.
-    #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     #[inline]
     unsafe fn texels(&self, i: __m256i, j: __m256i) -> [__m256; 3] {
@@ -393,7 +382,7 @@ impl LevelLanes<'_> {
     }
 }
 
-#[cfg(all(test, target_arch = "x86_64"))]
+#[cfg(test)]
 mod tests {
     use std::sync::Arc;
 

@@ -13,6 +13,8 @@
 
 mod decode;
 mod image;
+// The only user, the textured rows' register path, is x86-64 only.
+#[cfg(target_arch = "x86_64")]
 mod lanes_avx2;
 mod procedural;
 mod sample;
@@ -24,8 +26,7 @@ use glam::{DVec2, Vec3};
 
 pub use self::image::{srgb_to_linear, Image, MAX_TEXEL_VALUE, MAX_TEXTURE_SIZE};
 #[cfg(target_arch = "x86_64")]
-pub(crate) use lanes_avx2::F64x8;
-pub(crate) use lanes_avx2::ImageLanes;
+pub(crate) use lanes_avx2::{F64x8, ImageLanes};
 pub use procedural::Procedural;
 pub use sample::{Filter, Footprint, MAX_ANISOTROPY};
 pub use wrap::Wrap;

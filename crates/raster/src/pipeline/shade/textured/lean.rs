@@ -70,14 +70,20 @@ pub(super) unsafe fn lean_groups<const FILTER: u8, const GOURAUD: bool>(
     let by = [0, 1, 2].map(|k| pl[k][1] * y);
     let us = c.uv.map(|t| set(t.x as f64));
     let vs = c.uv.map(|t| set(t.y as f64));
-    // `Group::footprints`' per-triangle sums: ∂(Σ q_k·a_k)/∂x and ∂W/∂x (likewise y).
-    let da = |a: [f32; 3], axis: usize| {
-        let a = a.map(f64::from);
-        set(pl[0][axis] * a[0] + pl[1][axis] * a[1] + pl[2][axis] * a[2])
+    // `Group::footprints`' per-triangle sums: ∂(Σ q_k·a_k)/∂x and ∂W/∂x (likewise y); only
+    // trilinear reads footprints.
+    let zero = _mm256_setzero_pd();
+    let (dq, dw) = if FILTER == TRILINEAR {
+        let da = |a: [f32; 3], axis: usize| {
+            let a = a.map(f64::from);
+            set(pl[0][axis] * a[0] + pl[1][axis] * a[1] + pl[2][axis] * a[2])
+        };
+        let (uu, vv) = (c.uv.map(|t| t.x), c.uv.map(|t| t.y));
+        let dw = [0, 1].map(|axis| set(pl[0][axis] + pl[1][axis] + pl[2][axis]));
+        ([da(uu, 0), da(vv, 0), da(uu, 1), da(vv, 1)], dw)
+    } else {
+        ([zero; 4], [zero; 2])
     };
-    let (uu, vv) = (c.uv.map(|t| t.x), c.uv.map(|t| t.y));
-    let dq = [da(uu, 0), da(vv, 0), da(uu, 1), da(vv, 1)];
-    let dw = [0, 1].map(|axis| set(pl[0][axis] + pl[1][axis] + pl[2][axis]));
     let half = [
         _mm256_setr_pd(0.5, 1.5, 2.5, 3.5),
         _mm256_setr_pd(4.5, 5.5, 6.5, 7.5),
