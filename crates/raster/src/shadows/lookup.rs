@@ -192,9 +192,10 @@ fn lanes<const PERSPECTIVE: bool, const WIDE: bool>(
     kernel::<PERSPECTIVE>(&k, &q, &mut lit);
     let share = 1.0 / ((2 * k.half + 1) * (2 * k.half + 1)) as f32;
     for l in 0..LANES {
-        if active[l] {
-            out[l] = if decide[l] { lit[l] * share } else { 1.0 };
-        }
+        // A select, not a store under a branch: this form vectorises (perf: the scalar
+        // stores were 8 % of the look-up).
+        let v = if decide[l] { lit[l] * share } else { 1.0 };
+        out[l] = if active[l] { v } else { out[l] };
     }
 }
 
@@ -283,12 +284,13 @@ unsafe fn kernel_avx2<const PERSPECTIVE: bool>(k: &Kernel<'_>, q: &Receivers, li
     let base = k.depth.as_ptr();
     // SAFETY: `lit` holds exactly one vector of 8 lanes.
     let mut acc = unsafe { _mm256_loadu_ps(lit.as_ptr()) };
-    // The comparison of each kernel texel: `stored` its depths, (fdx, fdy) its offset.
-    let compare = |stored: __m256, fdx: __m256, fdy: __m256| {
-        let lin = _mm256_add_ps(
-            _mm256_add_ps(c0, _mm256_mul_ps(cx, fdx)),
-            _mm256_mul_ps(cy, fdy),
-        );
+    // The receiver's affine terms `c0 + cx·dx` of a kernel column and `cy·dy` of a row,
+    // each computed once per look-up: the sum of the two is `kernel`'s `lin`, in its order.
+    let column = |dx: f32| _mm256_add_ps(c0, _mm256_mul_ps(cx, _mm256_set1_ps(dx)));
+    let row_term = |dy: f32| _mm256_mul_ps(cy, _mm256_set1_ps(dy));
+    // The comparison of each kernel texel: `stored` its depths, `col` and `row` its terms.
+    let compare = |stored: __m256, col: __m256, row: __m256| {
+        let lin = _mm256_add_ps(col, row);
         let t = if PERSPECTIVE {
             let t = _mm256_div_ps(num, lin);
             let ok = _mm256_and_ps(
@@ -325,13 +327,20 @@ unsafe fn kernel_avx2<const PERSPECTIVE: bool>(k: &Kernel<'_>, q: &Receivers, li
             _mm256_set1_epi32(-1),
         );
         if _mm256_movemask_epi8(inside) == -1 {
+            // Each lane's first texel of its middle row, ty·res + tx − 1 (below res² ≤ 2³⁰:
+            // no overflow), once for the three rows.
+            let mut first = [0i32; LANES];
+            let at = _mm256_add_epi32(_mm256_mullo_epi32(ty, res), _mm256_sub_epi32(tx, lo));
+            // SAFETY: `first` holds exactly one vector of 8 lanes.
+            unsafe { _mm256_storeu_si256(first.as_mut_ptr().cast(), at) };
+            let cols = [column(-1.0), column(0.0), column(1.0)];
             for dy in -1..=1 {
                 // SAFETY: every lane has 1 <= tx <= res - 3 and 1 <= ty <= res - 2 (just
                 // checked), so row ty + dy and texels tx - 1 ..= tx + 2 are in the map.
-                let [l, m, r] = unsafe { rows_3x3(base, k.res, &q.tx, &q.ty, dy) };
-                let fdy = _mm256_set1_ps(dy as f32);
-                for (dx, stored) in [(-1.0, l), (0.0, m), (1.0, r)] {
-                    acc = _mm256_add_ps(acc, compare(stored, _mm256_set1_ps(dx), fdy));
+                let stored = unsafe { rows_3x3(base, k.res, &first, dy) };
+                let row = row_term(dy as f32);
+                for (col, stored) in cols.into_iter().zip(stored) {
+                    acc = _mm256_add_ps(acc, compare(stored, col, row));
                 }
             }
             // SAFETY: `lit` holds exactly one vector of 8 lanes.
@@ -345,7 +354,7 @@ unsafe fn kernel_avx2<const PERSPECTIVE: bool>(k: &Kernel<'_>, q: &Receivers, li
             last,
         );
         let row = _mm256_mullo_epi32(y, res);
-        let fdy = _mm256_set1_ps(dy as f32);
+        let fdy = row_term(dy as f32);
         for dx in -k.half..=k.half {
             let x = _mm256_min_epi32(
                 _mm256_max_epi32(_mm256_add_epi32(tx, _mm256_set1_epi32(dx)), zero_i),
@@ -354,7 +363,7 @@ unsafe fn kernel_avx2<const PERSPECTIVE: bool>(k: &Kernel<'_>, q: &Receivers, li
             // SAFETY: both coordinates are clamped to [0, res), so every index is below
             // res², the length of the face's depth buffer.
             let stored = unsafe { _mm256_i32gather_ps::<4>(base, _mm256_add_epi32(row, x)) };
-            acc = _mm256_add_ps(acc, compare(stored, _mm256_set1_ps(dx as f32), fdy));
+            acc = _mm256_add_ps(acc, compare(stored, column(dx as f32), fdy));
         }
     }
     // SAFETY: `lit` holds exactly one vector of 8 lanes.
@@ -363,7 +372,8 @@ unsafe fn kernel_avx2<const PERSPECTIVE: bool>(k: &Kernel<'_>, q: &Receivers, li
 
 /// Row `ty + dy` of each lane's 3 × 3 kernel: the depths at `tx - 1`, `tx` and `tx + 1` as
 /// three vectors of the 8 lanes, from one unaligned 4-texel load per lane and a 4 × 4
-/// transpose in each 128-bit half (lanes 0-3 low, 4-7 high).
+/// transpose in each 128-bit half (lanes 0-3 low, 4-7 high). `first`: each lane's
+/// `ty·res + tx − 1`.
 ///
 /// # Safety
 /// The CPU must support AVX2; `depth` must point to a `res × res` map, and every lane must
@@ -374,13 +384,13 @@ unsafe fn kernel_avx2<const PERSPECTIVE: bool>(k: &Kernel<'_>, q: &Receivers, li
 unsafe fn rows_3x3(
     depth: *const f32,
     res: usize,
-    tx: &[i32; LANES],
-    ty: &[i32; LANES],
+    first: &[i32; LANES],
     dy: i32,
 ) -> [std::arch::x86_64::__m256; 3] {
     use std::arch::x86_64::*;
+    let step = dy as isize * res as isize;
     let load = |l: usize| {
-        let at = (ty[l] + dy) as usize * res + (tx[l] - 1) as usize;
+        let at = (first[l] as isize + step) as usize;
         // SAFETY: the texels tx - 1 ..= tx + 2 of row ty + dy are in the map by the
         // caller's contract.
         unsafe { _mm_loadu_ps(depth.add(at)) }
