@@ -321,7 +321,10 @@ def markdown(ctx: dict, runs: list[dict]) -> str:
             "with the mirror's weight read from its material instead of filled into lanes "
             "(2026-11-30), 109 M with the route asked once per run of one triangle instead "
             "of once per pixel; glass 313 M, 235 M, 194 M, 185 M, 178 M, 160 M; the "
-            "same scenes opaque 27 M and 36 M. Each step gave the same uint8 pixels in "
+            "same scenes opaque 27 M and 36 M. Counted as the difference of 3 frames and "
+            "1 (2026-12-01): mirror 98.6 M on c434b17, 89.0 M with the look-up's texel "
+            "indices converted over lanes and the plain runs' colours deinterleaved by "
+            "shuffles; glass 145.7 M, 133.4 M. Each step gave the same uint8 pixels in "
             "both scenes (frame dumps compared byte for byte).",
             "",
         ]

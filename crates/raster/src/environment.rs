@@ -35,6 +35,21 @@ const INV_TAU: f32 = 1.0 / TAU;
 /// Largest texel value (the lighting's float32 headroom, as for textures).
 const MAX_TEXEL: f32 = 1e30;
 
+/// Whole number `v` clamped to `[lo, hi]` (NaN to `lo`) as an `i32`. `as i32` saturates and
+/// maps NaN to 0, which LLVM compiles to a scalar conversion per lane (a twentieth of a
+/// glass frame's instructions); this vectorises. Within the range the value is the same.
+/// The bounds' only other effect is on a NaN coordinate, whose blend is NaN whichever
+/// texels it reads (its weights are).
+#[inline(always)]
+fn whole(v: f32, lo: f32, hi: f32) -> i32 {
+    // Not `clamp`, which keeps a NaN (and the unchecked conversion of NaN is undefined).
+    #[allow(clippy::manual_clamp)]
+    let v = v.max(lo).min(hi);
+    // SAFETY: `max` and `min` return the non-NaN operand, so `v` is finite and within the
+    // callers' bounds (at most 2·16384 in magnitude), inside the `i32` range.
+    unsafe { v.to_int_unchecked::<i32>() }
+}
+
 /// How an environment's texels cover the directions.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Layout {
@@ -356,7 +371,10 @@ impl Environment {
         let mut t = [[[0.0f32; LANES]; 3]; 4];
         for (corner, at) in t.iter_mut().zip(&at) {
             for k in 0..n {
-                set_lane(corner, k, self.texels[at[k]]);
+                debug_assert!(at[k] < self.texels.len());
+                // SAFETY: `corners` gives indices of texels (rows clamped to the height,
+                // columns wrapped and clamped to the width).
+                set_lane(corner, k, unsafe { *self.texels.get_unchecked(at[k]) });
             }
         }
         let s = self.intensity;
@@ -416,8 +434,11 @@ impl Environment {
         // x0 is a whole number in [−1, width] (u is in [0, 1] up to rounding): wrapped in
         // integers, the same columns as rem_euclid without its libm call. Sizes are at
         // most MAX_ENVIRONMENT_SIZE, so every index fits 32 bits.
-        let (c0, c1) = (self.wrap(x0 as i32), self.wrap(x0 as i32 + 1));
-        let r0 = y0 as i32;
+        let (c0, c1) = {
+            let x0 = whole(x0, -(w + 1.0), 2.0 * w);
+            (self.wrap(x0), self.wrap(x0 + 1))
+        };
+        let r0 = whole(y0, 0.0, h - 1.0);
         let r1 = (r0 + 1).min(self.height as i32 - 1);
         let wd = self.width as i32;
         let at = |r: i32, c: i32| (r * wd + c) as usize;

@@ -21,7 +21,7 @@ use glam::Vec3;
 use super::id_runs::row_runs;
 use super::phong::face_normal;
 use super::planes::{weight_planes, PlaneCache};
-use super::store::{Out, Pixel, RowColors, ROW_LANES};
+use super::store::{deinterleave, Out, Pixel, RowColors, ROW_LANES};
 use super::{shade_textured_tile, shade_tile, ShadeContext};
 use crate::lighting::{lane, normalize_lanes, set_lane, LANES};
 use crate::options::ShadingMode;
@@ -179,11 +179,7 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
                     // through memory as a `Vec3` and its reload stalled: a tenth of a mirror
                     // frame.
                     Route::Plain => {
-                        #[allow(clippy::needless_range_loop)] // one column of three channel rows
-                        for k in i..end {
-                            let [r, g, b] = rgb_at(rows[j], k);
-                            (out[0][k], out[1][k], out[2][k]) = (r, g, b);
-                        }
+                        deinterleave(rows[j], i..end, out, WIDE);
                         end
                     }
                     // 3 (background). Runs of bare background pixels are looked up over lanes.
