@@ -126,25 +126,36 @@ pub(crate) fn deinterleave(
     wide: bool,
 ) {
     let (row, mut k) = (&row[..cols.end * 3], cols.start);
-    #[cfg(target_arch = "x86_64")]
     if wide {
         while k + LANES <= cols.end {
             let src: &[Out<f32>; 3 * LANES] = row[k * 3..(k + LANES) * 3].try_into().unwrap();
-            // SAFETY: `wide` is set only in the AVX2 tile bodies (the CPU has AVX2).
-            let [r, g, b] = unsafe { deinterleave8_avx2(src) };
+            let [r, g, b] = deinterleave8(src, wide);
             out[0][k..k + LANES].copy_from_slice(&r);
             out[1][k..k + LANES].copy_from_slice(&g);
             out[2][k..k + LANES].copy_from_slice(&b);
             k += LANES;
         }
     }
-    let _ = wide;
     for k in k..cols.end {
         for (c, o) in out.iter_mut().enumerate() {
             // SAFETY: the caller's columns are samples the shading loops wrote.
             o[k] = unsafe { row[k * 3 + c].assume_init() };
         }
     }
+}
+
+/// Eight interleaved pixels (three samples each, initialised) as three channels, the same
+/// values: in AVX2 when `wide` (the caller is the AVX2 tile body), else a lane loop.
+#[inline(always)]
+pub(crate) fn deinterleave8(src: &[Out<f32>; 3 * LANES], wide: bool) -> [[f32; LANES]; 3] {
+    #[cfg(target_arch = "x86_64")]
+    if wide {
+        // SAFETY: `wide` is set only in the AVX2 tile bodies (the CPU has AVX2).
+        return unsafe { deinterleave8_avx2(src) };
+    }
+    let _ = wide;
+    // SAFETY: the caller's samples are ones the shading loops wrote.
+    std::array::from_fn(|c| std::array::from_fn(|k| unsafe { src[k * 3 + c].assume_init() }))
 }
 
 /// Eight interleaved pixels as three channels: each channel's samples picked from the three
@@ -487,6 +498,15 @@ mod tests {
         samples[9] = -0.0;
         let row: Vec<Out<f32>> = samples.iter().map(|&v| Out::new(v)).collect();
         for wide in wides() {
+            for k in 0..=n - LANES {
+                let got = deinterleave8(row[k * 3..(k + LANES) * 3].try_into().unwrap(), wide);
+                for (c, ch) in got.iter().enumerate() {
+                    for (q, v) in ch.iter().enumerate() {
+                        let want = samples[(k + q) * 3 + c];
+                        assert_eq!(v.to_bits(), want.to_bits(), "{wide} {k} {q} {c}");
+                    }
+                }
+            }
             for start in 0..n {
                 for end in start..=n {
                     let mut out: RowColors = [[1e9; ROW_LANES]; 3];
