@@ -21,7 +21,7 @@ use glam::Vec3;
 use super::id_runs::row_runs;
 use super::phong::face_normal;
 use super::planes::{weight_planes, PlaneCache};
-use super::store::{deinterleave, deinterleave8, Out, Pixel, RowColors, ROW_LANES};
+use super::store::{deinterleave, deinterleave8, rgb_at, Out, Pixel, RowColors, ROW_LANES};
 use super::{shade_textured_tile, shade_tile, ShadeContext};
 use crate::lighting::{lane, normalize_lanes, set_lane, LANES};
 use crate::options::ShadingMode;
@@ -241,20 +241,6 @@ pub(crate) fn shade_secondary_tile<P: Pixel, const AFFINE: bool, const WIDE: boo
 #[inline(always)]
 fn local_at(row: &[Out<f32>], i: usize) -> Vec3 {
     Vec3::from_array(rgb_at(row, i))
-}
-
-/// Column `i`'s three channels in a tile row the shading loops wrote, as values (a plain
-/// run stores them straight into lanes: through a `Vec3` in memory, the reload stalled).
-#[inline(always)]
-fn rgb_at(row: &[Out<f32>], i: usize) -> [f32; 3] {
-    // SAFETY: the shading loops wrote every sample of the rows they were given.
-    unsafe {
-        [
-            row[i * 3].assume_init(),
-            row[i * 3 + 1].assume_init(),
-            row[i * 3 + 2].assume_init(),
-        ]
-    }
 }
 
 /// How a pixel of the opaque layer is shaded: its object's [`FirstSurface`], and for the

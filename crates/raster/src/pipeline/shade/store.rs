@@ -110,6 +110,20 @@ pub type RowColors = [[f32; ROW_LANES]; 3];
 #[doc(hidden)]
 pub const ROW_LANES: usize = TILE + LANES;
 
+/// Column `i`'s three channels in a tile row the shading loops wrote, as values (a plain
+/// run stores them straight into lanes: through a `Vec3` in memory, the reload stalled).
+#[inline(always)]
+pub(crate) fn rgb_at(row: &[Out<f32>], i: usize) -> [f32; 3] {
+    // SAFETY: the shading loops wrote every sample of the rows they were given.
+    unsafe {
+        [
+            row[i * 3].assume_init(),
+            row[i * 3 + 1].assume_init(),
+            row[i * 3 + 2].assume_init(),
+        ]
+    }
+}
+
 /// Columns `cols` of a tile row of interleaved colours (`row`: three samples a pixel, as the
 /// shading loops write a secondary stage's local colours) into the channel-major `out`, the
 /// same values. In AVX2 when `wide` (the caller is the AVX2 tile body), eight pixels at a
@@ -136,11 +150,9 @@ pub(crate) fn deinterleave(
             k += LANES;
         }
     }
+    #[allow(clippy::needless_range_loop)] // one column of three channel rows
     for k in k..cols.end {
-        for (c, o) in out.iter_mut().enumerate() {
-            // SAFETY: the caller's columns are samples the shading loops wrote.
-            o[k] = unsafe { row[k * 3 + c].assume_init() };
-        }
+        [out[0][k], out[1][k], out[2][k]] = rgb_at(row, k);
     }
 }
 
@@ -154,8 +166,8 @@ pub(crate) fn deinterleave8(src: &[Out<f32>; 3 * LANES], wide: bool) -> [[f32; L
         return unsafe { deinterleave8_avx2(src) };
     }
     let _ = wide;
-    // SAFETY: the caller's samples are ones the shading loops wrote.
-    std::array::from_fn(|c| std::array::from_fn(|k| unsafe { src[k * 3 + c].assume_init() }))
+    let px: [[f32; 3]; LANES] = std::array::from_fn(|k| rgb_at(src, k));
+    std::array::from_fn(|c| px.map(|p| p[c]))
 }
 
 /// Eight interleaved pixels as three channels: each channel's samples picked from the three
