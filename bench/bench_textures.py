@@ -255,8 +255,9 @@ def markdown(ctx: dict, runs: list[dict]) -> str:
             "exact footprint needs); a map filtered nearest, bilinear or isotropic "
             "trilinear under `Repeat` on powers of two, as here, stays in AVX2 registers "
             "from the interpolation to the row's colours (trilinear blending two levels "
-            "when the 8 pixels share them); anisotropic probes still go one pixel at a "
-            "time. The machine is a shared "
+            "when the 8 pixels share them); with anisotropy each pixel takes its own count "
+            "of probes along its footprint, and the 8 pixels' probes are read round by "
+            "round with the same lane filters. The machine is a shared "
             "2-core virtual machine: compare within a row (both renderers measured "
             "alternately in one process), not across runs; the supersampled rows, whose "
             "frames are longer and have no peer to alternate with, vary most between runs.",

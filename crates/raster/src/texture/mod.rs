@@ -233,8 +233,9 @@ impl Texture {
     /// [`Texture::sample`] at the first `n` of the points (`(u[k], v[k])` seen with `fp[k]`, into
     /// lane `k` of the channel-major `out`; lanes from `n` on may be overwritten; `n` is
     /// at most `N`), the same values: the source and filter are dispatched once for all of
-    /// them, and the isotropic image filters read all the points' texels at once
-    /// (`sample::nearest_lanes`, `bilinear_lanes`, `trilinear_lanes`). The points past `n`
+    /// them, and the image filters read all the points' texels at once
+    /// (`sample::nearest_lanes`, `bilinear_lanes`, `trilinear_lanes`; with anisotropy,
+    /// `sample::anisotropic_lanes` reads each round of probes so). The points past `n`
     /// may hold anything (they are computed on and dropped: whole-width lane loops). `wide`:
     /// the render's ISA is AVX2 (detected on this CPU); the texels are then read with one
     /// 16-byte load each (`sample::fetch`).
@@ -283,7 +284,18 @@ impl Texture {
                 let lambda = sample::lod_lanes(&scaled, n, w, h);
                 sample::trilinear_lanes(image.levels(), *wrap, &u, &v, &lambda, n, out, wide);
             }
-            _ => {
+            Source::Image {
+                image,
+                filter,
+                wrap,
+                aniso,
+            } => {
+                let (u, v) = at();
+                let scaled = std::array::from_fn(|k| scale_footprint(&fp[k], s));
+                let (f, a) = (*filter, *aniso);
+                sample::anisotropic_lanes(image, f, *wrap, a, &u, &v, &scaled, n, out, wide);
+            }
+            Source::Procedural(_) => {
                 for (k, fp) in fp.iter().enumerate().take(n) {
                     put_lane(out, k, self.sample(u[k], v[k], fp));
                 }

@@ -239,10 +239,27 @@ pub(super) fn sample(
         return sample_at(image, filter, wrap, u, v, lambda);
     }
     let (w, h) = (image.width() as f64, image.height() as f64);
+    let (n, lambda, du, dv) = probes(w, h, aniso, fp);
+    if n == 1 {
+        return sample_at(image, filter, wrap, u, v, lambda);
+    }
+    let mut sum = Vec3::ZERO;
+    for i in 0..n {
+        let t = (i as f64 + 0.5) / n as f64 - 0.5;
+        sum += sample_at(image, filter, wrap, u + t * du, v + t * dv, lambda);
+    }
+    sum / n as f32
+}
+
+/// The probes of [`sample`]'s anisotropic look-up (`aniso` > 1) on a `w × h` image with
+/// the footprint `fp`: their count N, their level of detail λ and the major axis (∂u, ∂v)
+/// they are spread along. A NaN footprint gives one probe at the coarsest level (λ = +∞).
+#[inline(always)]
+fn probes(w: f64, h: f64, aniso: u32, fp: &Footprint) -> (u32, f64, f64, f64) {
     let px = norm(fp.du_dx * w, fp.dv_dx * h);
     let py = norm(fp.du_dy * w, fp.dv_dy * h);
     if px.is_nan() || py.is_nan() {
-        return sample_at(image, filter, wrap, u, v, f64::INFINITY);
+        return (1, f64::INFINITY, 0.0, 0.0);
     }
     let (pmax, pmin, du, dv) = if px >= py {
         (px, py, fp.du_dx, fp.dv_dx)
@@ -255,16 +272,78 @@ pub(super) fn sample(
     } else {
         aniso
     };
-    let lambda = (pmax / n as f64).log2();
-    if n == 1 {
-        return sample_at(image, filter, wrap, u, v, lambda);
+    (n, (pmax / n as f64).log2(), du, dv)
+}
+
+/// [`sample`] with `aniso` > 1 at the first `n` of the points (`u`, `v`) (finite) with
+/// footprints `fp`, into lane k of `out`, the same values: each lane's probes as `sample`
+/// places them, probe i of every lane read at once by the isotropic lane filters
+/// ([`nearest_lanes`], [`bilinear_lanes`], [`trilinear_lanes`]) and summed per lane in
+/// `sample`'s order, as many rounds as the most probes any lane takes (a lane with fewer
+/// reads its point again and drops it). Lanes from `n` on may be overwritten.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)] // `sample`'s inputs, per lane
+pub(super) fn anisotropic_lanes<const N: usize>(
+    image: &Image,
+    filter: Filter,
+    wrap: [Wrap; 2],
+    aniso: u32,
+    u: &[f64; N],
+    v: &[f64; N],
+    fp: &[Footprint; N],
+    n: usize,
+    out: &mut [[f32; N]; 3],
+    wide: bool,
+) {
+    let n = n.min(N);
+    let (w, h) = (image.width() as f64, image.height() as f64);
+    // Lanes from `n` on: one probe at their point (they are dropped).
+    let mut count = [1u32; N];
+    let mut lambda = [0.0f64; N];
+    let (mut du, mut dv) = ([0.0f64; N], [0.0f64; N]);
+    for k in 0..n {
+        (count[k], lambda[k], du[k], dv[k]) = probes(w, h, aniso, &fp[k]);
     }
-    let mut sum = Vec3::ZERO;
-    for i in 0..n {
-        let t = (i as f64 + 0.5) / n as f64 - 0.5;
-        sum += sample_at(image, filter, wrap, u + t * du, v + t * dv, lambda);
+    let rounds = count[..n].iter().copied().max().unwrap_or(0);
+    let levels = image.levels();
+    let mut sum = [[0.0f32; N]; 3];
+    let mut probe = [[0.0f32; N]; 3];
+    for i in 0..rounds {
+        // A lane of one probe reads its own point, as `sample` does (not u + 0·∂u).
+        let (mut pu, mut pv) = (*u, *v);
+        for k in 0..N {
+            let t = (i as f64 + 0.5) / count[k] as f64 - 0.5;
+            let spread = count[k] > 1;
+            pu[k] = if spread { u[k] + t * du[k] } else { u[k] };
+            pv[k] = if spread { v[k] + t * dv[k] } else { v[k] };
+        }
+        let at = if i == 0 { &mut *out } else { &mut probe };
+        match filter {
+            Filter::Nearest => nearest_lanes(&levels[0], wrap, &pu, &pv, n, at, wide),
+            Filter::Bilinear => bilinear_lanes(&levels[0], wrap, &pu, &pv, n, at, wide),
+            Filter::Trilinear => trilinear_lanes(levels, wrap, &pu, &pv, &lambda, n, at, wide),
+        }
+        let at = if i == 0 { &*out } else { &probe };
+        for (s, p) in sum.iter_mut().zip(at) {
+            for k in 0..N {
+                // `sample`'s sum starts at zero and takes probes 0 … N − 1 in order.
+                let add = if i == 0 { 0.0 + p[k] } else { s[k] + p[k] };
+                s[k] = if i < count[k] { add } else { s[k] };
+            }
+        }
     }
-    sum / n as f32
+    if rounds > 1 {
+        for (o, s) in out.iter_mut().zip(&sum) {
+            for k in 0..N {
+                // One probe: the probe itself (already in `out`), as `sample` returns it.
+                o[k] = if count[k] > 1 {
+                    s[k] / count[k] as f32
+                } else {
+                    o[k]
+                };
+            }
+        }
+    }
 }
 
 /// One probe at (u, v) with level of detail `lambda` (read by `Trilinear` only).
@@ -926,6 +1005,86 @@ mod tests {
         }
     }
 
+    /// `anisotropic_lanes` against `sample` per point, bit for bit, on `n` of 8 lanes, for
+    /// every filter and the anisotropies 2, 3, 8 and 16.
+    fn anisotropic_lanes_match_scalar(img: &Image, wrap: [Wrap; 2], pts: &[(f64, f64, Footprint)]) {
+        for chunk in pts.chunks(8) {
+            let n = chunk.len();
+            let (mut u, mut v) = ([0.0; 8], [0.0; 8]);
+            let mut fp = [Footprint::default(); 8];
+            for (k, &(a, b, f)) in chunk.iter().enumerate() {
+                (u[k], v[k], fp[k]) = (a, b, f);
+            }
+            for wide in [false, avx2()] {
+                for filter in [Filter::Nearest, Filter::Bilinear, Filter::Trilinear] {
+                    for aniso in [2, 3, 8, 16] {
+                        let mut out = [[-7.0f32; 8]; 3];
+                        anisotropic_lanes(img, filter, wrap, aniso, &u, &v, &fp, n, &mut out, wide);
+                        for k in 0..n {
+                            let want = sample(img, filter, wrap, aniso, u[k], v[k], &fp[k]);
+                            let got = [out[0][k], out[1][k], out[2][k]];
+                            assert_eq!(
+                                got.map(f32::to_bits),
+                                want.to_array().map(f32::to_bits),
+                                "{filter:?} x{aniso} at ({}, {}) {:?}",
+                                u[k],
+                                v[k],
+                                fp[k]
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn anisotropic_lanes_read_what_one_point_reads() {
+        // Footprints isotropic, stretched along x or y up to 1:1000, sheared, zero (ratio
+        // NaN), with one axis zero (ratio ∞), huge, and NaN.
+        let f = |a: f64, b: f64, c: f64, d: f64| Footprint {
+            du_dx: a,
+            dv_dx: b,
+            du_dy: c,
+            dv_dy: d,
+        };
+        let fps = [
+            f(0.01, 0.0, 0.0, 0.01),
+            f(0.05, 0.0, 0.0, 0.01),
+            f(0.0, 0.01, 0.3, 0.0),
+            f(0.02, 0.011, -0.004, 0.09),
+            f(1e-5, 0.0, 0.0, 1e-2),
+            f(0.0, 0.0, 0.0, 0.0),
+            f(0.0, 0.0, 0.0, 0.2),
+            f(1e200, 3.0, 0.5, 1e-200),
+            f(f64::NAN, 0.0, 0.0, 0.1),
+            f(0.3, 0.2, 0.1, 0.25),
+            f(2.0, 0.0, 0.0, 0.001),
+        ];
+        let mut pts = Vec::new();
+        for (i, fp) in fps.iter().enumerate() {
+            for &(u, v) in &[(0.1, 0.2), (-3.7, 0.55), (0.999, 12.25), (1e6, -1e5)] {
+                pts.push((u + 0.01 * i as f64, v, *fp));
+            }
+        }
+        // Chunks of neighbours with mixed probe counts and levels.
+        for k in 0..24 {
+            let s = 0.004 * (1.0 + k as f64);
+            pts.push((
+                0.3 + 0.01 * k as f64,
+                0.7,
+                f(s, 0.0, 0.0, s * (k % 5 + 1) as f64 * 3.0),
+            ));
+        }
+        for (w, h) in [(8, 4), (5, 3), (1, 1), (16, 16)] {
+            let img = ramp(w, h);
+            for a in [Wrap::Repeat, Wrap::Clamp, Wrap::Mirror] {
+                anisotropic_lanes_match_scalar(&img, [a, Wrap::Repeat], &pts);
+                anisotropic_lanes_match_scalar(&img, [Wrap::Clamp, a], &pts);
+            }
+        }
+    }
+
     /// Whether this CPU has AVX2 (the gathers' precondition).
     fn avx2() -> bool {
         #[cfg(target_arch = "x86_64")]
@@ -974,6 +1133,29 @@ mod tests {
             lanes_match_scalar(&ramp(size(w) * 2, size(h)), [modes[a], modes[b]], &pts);
         }
 
+
+        /// The anisotropic lanes read what one point reads, bit for bit, at any finite
+        /// coordinates and footprints.
+        #[test]
+        fn anisotropic_lanes_match_one_point(
+            pts in prop::collection::vec(
+                (-1e4f64..1e4, -1e4f64..1e4, prop::array::uniform4(-1e2f64..1e2)),
+                1..12,
+            ),
+            w in 1usize..9, h in 1usize..9, a in 0usize..3,
+        ) {
+            let modes = [Wrap::Repeat, Wrap::Clamp, Wrap::Mirror];
+            let size = |s: usize| if s > 4 { 1 << (s - 4) } else { s };
+            let pts: Vec<_> = pts
+                .into_iter()
+                .map(|(u, v, d)| {
+                    // Footprints over many scales: each entry d·10^(−|d|/20).
+                    let d = d.map(|x| x * 10f64.powf(-x.abs() / 20.0));
+                    (u, v, Footprint { du_dx: d[0], dv_dx: d[1], du_dy: d[2], dv_dy: d[3] })
+                })
+                .collect();
+            anisotropic_lanes_match_scalar(&ramp(size(w) * 2, size(h)), [modes[a], modes[2 - a]], &pts);
+        }
 
         /// Every filter is a convex combination of texels: each channel stays within the
         /// image's range, for any finite coordinates and footprint, in every wrap mode.
