@@ -28,15 +28,13 @@ import argparse
 import json
 import os
 import statistics
-import subprocess
 import sys
-import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 import shadelab_rs as sl
-from harness import report, run_context, test_module
+from harness import add_child_arguments, report, run_context, run_per_thread_count, test_module
 
 from shadelab_ref import reference as ref
 from shadelab_ref import reflect as rr
@@ -339,23 +337,15 @@ def main(argv: list[str] | None = None) -> int:
         "--threads", type=int, nargs="+", default=[1, 2], help="thread counts (default 1 2)"
     )
     ap.add_argument("--no-peers", action="store_true", help="leave llvmpipe out")
-    ap.add_argument("--child", type=int, help=argparse.SUPPRESS)
-    ap.add_argument("--out", help=argparse.SUPPRESS)
+    add_child_arguments(ap)
     args = ap.parse_args(argv)
     if args.child is not None:
         data = measure(args.child, args.quick, not args.no_peers)
         Path(args.out).write_text(json.dumps(data))
         return 0
     t0, load0 = time.perf_counter(), os.getloadavg()[0]
-    runs = []
-    with tempfile.TemporaryDirectory() as tmp:
-        for t in args.threads:  # a process each: llvmpipe reads LP_NUM_THREADS once
-            out = Path(tmp) / f"{t}.json"
-            cmd = [sys.executable, __file__, "--child", str(t), "--out", str(out)]
-            cmd += ["--quick"] if args.quick else []
-            cmd += ["--no-peers"] if args.no_peers else []
-            subprocess.run(cmd, check=True)
-            runs.append(json.loads(out.read_text()))
+    flags = ["--quick"] * args.quick + ["--no-peers"] * args.no_peers
+    runs = run_per_thread_count(__file__, args.threads, flags)
     report(args.write, markdown(run_context(sl.__version__, t0, load0), runs), MARKER)
     return 0
 

@@ -36,16 +36,20 @@ import json
 import math
 import os
 import statistics
-import subprocess
 import sys
-import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 import shadelab_rs as sl
 import speed_error as se
-from harness import report, run_context, test_module
+from harness import (
+    add_child_arguments,
+    report,
+    run_context,
+    run_per_thread_count,
+    test_module,
+)
 
 from shadelab_ref import reference as ref
 
@@ -285,8 +289,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         "--threads", type=int, nargs="+", default=[1, 2], help="thread counts (default 1 2)"
     )
-    ap.add_argument("--child", type=int, help=argparse.SUPPRESS)
-    ap.add_argument("--out", help=argparse.SUPPRESS)
+    add_child_arguments(ap)
     args = ap.parse_args(argv)
     t0, load0 = time.perf_counter(), os.getloadavg()[0]
 
@@ -298,13 +301,7 @@ def main(argv: list[str] | None = None) -> int:
         rows, gl = run(plan, args.child, log)
         Path(args.out).write_text(json.dumps({"threads": args.child, "rows": rows, "gl": gl}))
         return 0
-    runs = []
-    with tempfile.TemporaryDirectory() as tmp:
-        for t in args.threads:  # a process each: llvmpipe reads LP_NUM_THREADS once
-            out = Path(tmp) / f"{t}.json"
-            cmd = [sys.executable, __file__, "--child", str(t), "--out", str(out)]
-            subprocess.run(cmd + (["--quick"] if args.quick else []), check=True)
-            runs.append(json.loads(out.read_text()))
+    runs = run_per_thread_count(__file__, args.threads, ["--quick"] * args.quick)
     differ = disagreements(runs)
     if differ:
         print("error figures differ between thread counts:", *differ, sep="\n  ", file=sys.stderr)

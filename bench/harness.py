@@ -4,13 +4,16 @@ bench_features.py imports it under its own venv)."""
 
 from __future__ import annotations
 
+import argparse
 import csv
 import datetime as _dt
 import importlib.util
+import json
 import os
 import platform
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 from typing import Any
@@ -155,6 +158,28 @@ def run_context(version: str, t0: float, load0: float) -> dict[str, Any]:
         "load": (load0, os.getloadavg()[0]),
         "wall": time.perf_counter() - t0,
     }
+
+
+def add_child_arguments(ap: argparse.ArgumentParser) -> None:
+    """The hidden ``--child T --out FILE`` options of a script that
+    :func:`run_per_thread_count` runs once per thread count."""
+    ap.add_argument("--child", type=int, help=argparse.SUPPRESS)
+    ap.add_argument("--out", help=argparse.SUPPRESS)
+
+
+def run_per_thread_count(script: str, threads: list[int], flags: list[str]) -> list[dict]:
+    """Runs ``script --child T --out FILE`` with ``flags`` in a process of its own for each
+    thread count ``T`` of ``threads`` (llvmpipe reads LP_NUM_THREADS once per process, and
+    each count then starts from a cold process alike) and returns what each child wrote to
+    its ``FILE`` as JSON, in the order of ``threads``."""
+    runs = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for t in threads:
+            out = Path(tmp) / f"{t}.json"
+            cmd = [sys.executable, script, "--child", str(t), "--out", str(out), *flags]
+            subprocess.run(cmd, check=True)
+            runs.append(json.loads(out.read_text()))
+    return runs
 
 
 def report(path: str | None, text: str, marker: str) -> None:
