@@ -307,8 +307,8 @@ def markdown(ctx: dict, runs: list[dict]) -> str:
             "both, at the price in the time columns. Time ratio below 1: ours is faster. Ours "
             "runs the environment technique in the secondary stage: the background, and "
             "the mirror's and the glass's pixels eight at a time per triangle (the surface "
-            "point, the mirror's split, the look-ups and the mirror's mix over lanes; the "
-            "glass's Fresnel split a pixel at a time), the pixels that keep their local "
+            "point, the mirror's and the glass's split (Snell and Fresnel as selects), the "
+            "look-ups and the mirror's mix over lanes), the pixels that keep their local "
             "colour copied a run at a time, a row's colours stored at once, each run's route "
             "asked once; llvmpipe runs "
             "its whole shader over SIMD lanes. `frame_cost phong 0 600 mirror` (and "
@@ -322,8 +322,10 @@ def markdown(ctx: dict, runs: list[dict]) -> str:
             "same scenes opaque 27 M and 36 M. Counted as the difference of 3 frames and "
             "1 (2026-12-01): mirror 98.6 M on c434b17, 89.0 M with the look-up's texel "
             "indices converted over lanes and the plain runs' colours deinterleaved by "
-            "shuffles; glass 145.7 M, 133.4 M. Each step gave the same uint8 pixels in "
-            "both scenes (frame dumps compared byte for byte).",
+            "shuffles; glass 145.7 M, 133.4 M. On another machine (2026-12-07): glass "
+            "128.0 M on 9ee7207, 119.8 M with the glass's split over lanes (user time over "
+            "100 frames, four alternating runs: 1.25–1.38 → 1.06–1.17 s). Each step gave "
+            "the same uint8 pixels in both scenes (frame dumps compared byte for byte).",
             "",
         ]
     )

@@ -92,10 +92,14 @@ pub(crate) struct Lookup {
     pub base: Vec3,
     /// Weight of the light along `reflected` (zero: nothing is reflected).
     pub reflect: Vec3,
+    /// The mirror direction (the lanes' callers keep theirs in lanes).
+    #[cfg_attr(not(test), allow(dead_code))]
     pub reflected: Vec3,
     /// Weight of the light along `refracted` (zero: nothing is transmitted, or total
     /// internal reflection; `refracted` is then zero).
     pub transmit: f32,
+    /// The refracted direction (zero where nothing is transmitted).
+    #[cfg_attr(not(test), allow(dead_code))]
     pub refracted: Vec3,
 }
 
@@ -107,6 +111,7 @@ impl Lookup {
     /// 0, false).color` bit for bit (the same operations in the same order), so that the
     /// caller can look the directions up with other pixels' over lanes.
     #[inline(always)]
+    #[cfg_attr(not(test), allow(dead_code))] // the one-point statement the lanes are tested on
     pub fn of(s: optics::Split, local: Vec3) -> Self {
         // As `mix`: the refracted light is added where something is transmitted along a
         // refracted direction (a lookup-only transparent object has a refraction technique).
@@ -120,6 +125,65 @@ impl Lookup {
             reflected: s.reflected,
             transmit,
             refracted,
+        }
+    }
+
+    /// [`Lookup::of`] of [`optics::split`] over [`LANES`] points of one material `m` with
+    /// `m.transparency > 0` (a glass batch), lane k from the normal `n`, the direction
+    /// toward the viewer `v` and the local colour `local` at lane k, the light going from
+    /// index `n1` into `n2`: the same bits per lane (the same operations in the same order,
+    /// the branches of `split` as selects, so the lanes vectorise). A lane whose point
+    /// transmits nothing has `transmit` 0 and a zero `refracted`, as `of` gives it.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)] // `split`'s inputs per lane, and the outputs
+    pub(crate) fn of_transparent_lanes(
+        m: &Material,
+        n: &[Lanes; 3],
+        v: &[Lanes; 3],
+        local: &[Lanes; 3],
+        (n1, n2): (f32, f32),
+        base: &mut [Lanes; 3],
+        reflect: &mut [Lanes; 3],
+        reflected: &mut [Lanes; 3],
+        transmit: &mut Lanes,
+        refracted: &mut [Lanes; 3],
+    ) {
+        debug_assert!(m.transparency > 0.0);
+        let (r, t) = (m.reflectivity.to_array(), m.transparency);
+        let share = (Vec3::ONE - m.reflectivity - Vec3::splat(t)).to_array();
+        let eta = n1 / n2;
+        for k in 0..LANES {
+            let (nk, vk) = ([n[0][k], n[1][k], n[2][k]], [v[0][k], v[1][k], v[2][k]]);
+            let dot = nk[0] * vk[0] + nk[1] * vk[1] + nk[2] * vk[2];
+            // `optics::reflect`: 2(n·v)n − v.
+            let d2 = 2.0 * dot;
+            // `optics::refract`: None (total internal reflection) where sin²θ2 > 1.
+            let cos1 = dot.clamp(0.0, 1.0);
+            let sin2_sq = eta * eta * (1.0 - cos1 * cos1);
+            let tir = sin2_sq > 1.0;
+            let cos2 = (1.0 - sin2_sq).sqrt();
+            let a = eta * cos1 - cos2;
+            let d = [0, 1, 2].map(|c| -eta * vk[c] + a * nk[c]);
+            // `split`'s Fresnel weight, from the refracted direction's cosine.
+            let f = if m.fresnel {
+                let cos2 = (-(d[0] * nk[0] + d[1] * nk[1] + d[2] * nk[2])).clamp(0.0, 1.0);
+                optics::schlick(cos1, Some(cos2), n1, n2)
+            } else {
+                0.0
+            };
+            let tf = if m.fresnel { t * f } else { 0.0 };
+            let through = if m.fresnel { t * (1.0 - f) } else { t };
+            let through = if tir { 0.0 } else { through };
+            // `of`: the refracted light counts where something is transmitted.
+            let counts = !tir && through > 0.0;
+            transmit[k] = if counts { through } else { 0.0 };
+            for c in 0..3 {
+                reflected[c][k] = d2 * nk[c] - vk[c];
+                base[c][k] = local[c][k] * share[c];
+                let w = if m.fresnel { r[c] + tf } else { r[c] };
+                reflect[c][k] = if tir { r[c] + t } else { w };
+                refracted[c][k] = if counts { d[c] } else { 0.0 };
+            }
         }
     }
 
@@ -647,6 +711,99 @@ mod tests {
                 assert!(seen[0] > 20 && seen[1] > 20, "{seen:?}");
             }
         }
+    }
+
+    /// `Lookup::of_transparent_lanes` gives each lane `Lookup::of` of `optics::split`'s
+    /// bits: with and without Fresnel, entering and leaving (total internal reflection),
+    /// no interface (n1 = n2), and points with a zero or NaN normal.
+    #[test]
+    fn transparent_lanes_are_one_point_lookups() {
+        let glass = |r: Vec3, t: f32, ior: f32, fresnel: bool| {
+            Material::default()
+                .with_optics(r, t, ior, fresnel, Vec3::ZERO)
+                .unwrap()
+        };
+        let materials = [
+            glass(Vec3::ZERO, 0.5, 1.5, true),
+            glass(Vec3::new(0.1, 0.2, 0.0), 0.6, 1.33, false),
+            glass(Vec3::new(0.3, 0.0, 0.1), 0.7, 2.4, true),
+            glass(Vec3::ZERO, 1.0, 1.5, true),
+        ];
+        let mut points: Vec<(Vec3, Vec3)> = (0..400)
+            .map(|k| {
+                let a = k as f32 * 0.37;
+                let n = Vec3::new(a.sin() * 0.3, 1.0, a.cos() * 0.2).normalize();
+                // From grazing to head-on, and a few from behind (n·v < 0).
+                let vy = -0.1 + (k % 11) as f32 * 0.11;
+                (n, Vec3::new(a.cos(), vy, a.sin()).normalize())
+            })
+            .collect();
+        points.push((Vec3::ZERO, Vec3::Y));
+        points.push((Vec3::splat(f32::NAN), Vec3::Y));
+        points.push((Vec3::Y, Vec3::splat(f32::NAN)));
+        let mut seen = [0; 3]; // nothing transmitted, transmitted, total internal reflection
+        for m in &materials {
+            for (n1, n2) in [(1.0, m.ior), (m.ior, 1.0), (1.0, 1.0)] {
+                for (g, group) in points.chunks(LANES).enumerate() {
+                    let lanes = |f: &dyn Fn(&(Vec3, Vec3)) -> Vec3| {
+                        let mut out = [[0.0; LANES]; 3];
+                        for (k, p) in group.iter().enumerate() {
+                            set_lane(&mut out, k, f(p));
+                        }
+                        out
+                    };
+                    let local_of = |k: usize| Vec3::new(0.3, 0.2 * (k % 4) as f32, 0.9);
+                    let (nl, vl) = (lanes(&|p| p.0), lanes(&|p| p.1));
+                    let mut local = [[0.0; LANES]; 3];
+                    for k in 0..LANES {
+                        set_lane(&mut local, k, local_of(k));
+                    }
+                    let mut got = Lookup::default();
+                    let (mut base, mut reflect, mut reflected, mut refracted) = (
+                        [[0.0; LANES]; 3],
+                        [[0.0; LANES]; 3],
+                        [[0.0; LANES]; 3],
+                        [[0.0; LANES]; 3],
+                    );
+                    let mut transmit = [0.0; LANES];
+                    Lookup::of_transparent_lanes(
+                        m,
+                        &nl,
+                        &vl,
+                        &local,
+                        (n1, n2),
+                        &mut base,
+                        &mut reflect,
+                        &mut reflected,
+                        &mut transmit,
+                        &mut refracted,
+                    );
+                    let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+                    let at = |a: &[[f32; LANES]; 3], k: usize| Vec3::new(a[0][k], a[1][k], a[2][k]);
+                    for (k, &(n, v)) in group.iter().enumerate() {
+                        let want = Lookup::of(optics::split(m, n, v, n1, n2), local_of(k));
+                        got.base = at(&base, k);
+                        got.reflect = at(&reflect, k);
+                        got.reflected = at(&reflected, k);
+                        got.transmit = transmit[k];
+                        got.refracted = at(&refracted, k);
+                        let what = format!("ior {} {n1}->{n2} group {g} lane {k}", m.ior);
+                        assert_eq!(bits(got.base), bits(want.base), "{what}");
+                        assert_eq!(bits(got.reflect), bits(want.reflect), "{what}");
+                        assert_eq!(bits(got.reflected), bits(want.reflected), "{what}");
+                        assert_eq!(got.transmit.to_bits(), want.transmit.to_bits(), "{what}");
+                        assert_eq!(bits(got.refracted), bits(want.refracted), "{what}");
+                        let tir = optics::refract(n, v, n1, n2).is_none();
+                        seen[if tir {
+                            2
+                        } else {
+                            usize::from(want.transmit > 0.0)
+                        }] += 1;
+                    }
+                }
+            }
+        }
+        assert!(seen.iter().all(|&c| c > 20), "{seen:?}");
     }
 
     #[test]

@@ -28,7 +28,7 @@ use crate::options::ShadingMode;
 use crate::pipeline::raster::{self, Span, SpanSink, TileBuffers, NO_TRIANGLE};
 use crate::pipeline::setup::SetupTri;
 use crate::pipeline::tiles::{TileRect, TILE};
-use crate::reflect::{optics, FirstSurface, Kind, Lookup, Point, SecondaryEffect, World};
+use crate::reflect::{FirstSurface, Kind, Lookup, Point, SecondaryEffect, World};
 
 /// A transparent fragment in front of the opaque layer.
 #[derive(Debug, Clone, Copy)]
@@ -466,16 +466,19 @@ impl<const GLASS: bool> Lookups<GLASS> {
                 }
             }
         } else {
-            let (n1, n2) = sec.indices(m, t.front);
-            for k in 0..n {
-                let split = optics::split(m, lane(&nk, k), lane(&v, k), n1, n2);
-                let mix = Lookup::of(split, lane(&self.local, k));
-                set_lane(&mut base, k, mix.base);
-                set_lane(&mut reflect, k, mix.reflect);
-                set_lane(&mut reflected, k, mix.reflected);
-                transmit[k] = mix.transmit;
-                set_lane(&mut refracted, k, mix.refracted);
-            }
+            // `Lookup::of` of `optics::split` at every lane (those past `n` are dropped).
+            Lookup::of_transparent_lanes(
+                m,
+                &nk,
+                &v,
+                &self.local,
+                sec.indices(m, t.front),
+                &mut base,
+                &mut reflect,
+                &mut reflected,
+                &mut transmit,
+                &mut refracted,
+            );
         }
         let mut r = [[0.0; LANES]; 3];
         sec.sky_dirs(&reflected, n, &mut r);
