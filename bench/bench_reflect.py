@@ -60,6 +60,8 @@ def glass_material() -> sl.Material:
 
 
 def sl_scene(name: str, optics: bool) -> sl.Scene:
+    if name not in ("mirror", "glass ball"):
+        raise ValueError(f"unknown scene {name!r}: 'mirror' or 'glass ball'")
     scene = T.sl_mirror()
     if not optics:  # the same geometry, opaque and not reflective: what the effect costs
         plain = sl.Scene(ambient=(0.15, 0.15, 0.15), environment=scene.environment)

@@ -128,37 +128,55 @@ impl Lookup {
         }
     }
 
-    /// [`Lookup::of`] of [`optics::split`] over [`LANES`] points of one material `m` with
-    /// `m.transparency > 0` (a glass batch), lane k from the normal `n`, the direction
-    /// toward the viewer `v` and the local colour `local` at lane k, the light going from
-    /// index `n1` into `n2`: the same bits per lane (the same operations in the same order,
-    /// the branches of `split` as selects, so the lanes vectorise). A lane whose point
-    /// transmits nothing has `transmit` 0 and a zero `refracted`, as `of` gives it.
+    /// `base` and `reflected` of [`Lookup::of`] of [`optics::split`] over [`LANES`] points
+    /// of one material `m`, lane k from the normal `n`, the direction toward the viewer `v`
+    /// and the local colour `local` at lane k: the local share is the material's and the
+    /// direction the mirror's, whatever the material, the same bits per lane.
     #[inline(always)]
-    #[allow(clippy::too_many_arguments)] // `split`'s inputs per lane, and the outputs
-    pub(crate) fn of_transparent_lanes(
+    pub(crate) fn base_and_mirror_lanes(
         m: &Material,
         n: &[Lanes; 3],
         v: &[Lanes; 3],
         local: &[Lanes; 3],
-        (n1, n2): (f32, f32),
         base: &mut [Lanes; 3],
-        reflect: &mut [Lanes; 3],
         reflected: &mut [Lanes; 3],
+    ) {
+        let share = (Vec3::ONE - m.reflectivity - Vec3::splat(m.transparency)).to_array();
+        for k in 0..LANES {
+            // `optics::reflect`: 2(n·v)n − v.
+            let d2 = 2.0 * (n[0][k] * v[0][k] + n[1][k] * v[1][k] + n[2][k] * v[2][k]);
+            for c in 0..3 {
+                reflected[c][k] = d2 * n[c][k] - v[c][k];
+                base[c][k] = local[c][k] * share[c];
+            }
+        }
+    }
+
+    /// The weights and refracted directions of [`Lookup::of`] of [`optics::split`] over
+    /// [`LANES`] points of one material `m` with `m.transparency > 0` (a glass batch; its
+    /// `base` and `reflected` are [`Lookup::base_and_mirror_lanes`]'), lane k from the
+    /// normal `n` and the direction toward the viewer `v` at lane k, the light going from
+    /// index `n1` into `n2`: the same bits per lane (the same operations in the same order,
+    /// `split`'s branches as selects, so the lanes vectorise; keeping its `Option` per lane
+    /// cost more). A lane whose point transmits nothing has `transmit` 0 and a zero
+    /// `refracted`, as `of` gives it.
+    #[inline(always)]
+    pub(crate) fn transparent_weights_lanes(
+        m: &Material,
+        n: &[Lanes; 3],
+        v: &[Lanes; 3],
+        (n1, n2): (f32, f32),
+        reflect: &mut [Lanes; 3],
         transmit: &mut Lanes,
         refracted: &mut [Lanes; 3],
     ) {
         debug_assert!(m.transparency > 0.0);
         let (r, t) = (m.reflectivity.to_array(), m.transparency);
-        let share = (Vec3::ONE - m.reflectivity - Vec3::splat(t)).to_array();
         let eta = n1 / n2;
         for k in 0..LANES {
             let (nk, vk) = ([n[0][k], n[1][k], n[2][k]], [v[0][k], v[1][k], v[2][k]]);
-            let dot = nk[0] * vk[0] + nk[1] * vk[1] + nk[2] * vk[2];
-            // `optics::reflect`: 2(n·v)n − v.
-            let d2 = 2.0 * dot;
             // `optics::refract`: None (total internal reflection) where sin²θ2 > 1.
-            let cos1 = dot.clamp(0.0, 1.0);
+            let cos1 = (nk[0] * vk[0] + nk[1] * vk[1] + nk[2] * vk[2]).clamp(0.0, 1.0);
             let sin2_sq = eta * eta * (1.0 - cos1 * cos1);
             let tir = sin2_sq > 1.0;
             let cos2 = (1.0 - sin2_sq).sqrt();
@@ -178,8 +196,6 @@ impl Lookup {
             let counts = !tir && through > 0.0;
             transmit[k] = if counts { through } else { 0.0 };
             for c in 0..3 {
-                reflected[c][k] = d2 * nk[c] - vk[c];
-                base[c][k] = local[c][k] * share[c];
                 let w = if m.fresnel { r[c] + tf } else { r[c] };
                 reflect[c][k] = if tir { r[c] + t } else { w };
                 refracted[c][k] = if counts { d[c] } else { 0.0 };
@@ -713,7 +729,8 @@ mod tests {
         }
     }
 
-    /// `Lookup::of_transparent_lanes` gives each lane `Lookup::of` of `optics::split`'s
+    /// `Lookup::base_and_mirror_lanes` and `transparent_weights_lanes` give each lane
+    /// `Lookup::of` of `optics::split`'s
     /// bits: with and without Fresnel, entering and leaving (total internal reflection),
     /// no interface (n1 = n2), and points with a zero or NaN normal.
     #[test]
@@ -766,15 +783,13 @@ mod tests {
                         [[0.0; LANES]; 3],
                     );
                     let mut transmit = [0.0; LANES];
-                    Lookup::of_transparent_lanes(
+                    Lookup::base_and_mirror_lanes(m, &nl, &vl, &local, &mut base, &mut reflected);
+                    Lookup::transparent_weights_lanes(
                         m,
                         &nl,
                         &vl,
-                        &local,
                         (n1, n2),
-                        &mut base,
                         &mut reflect,
-                        &mut reflected,
                         &mut transmit,
                         &mut refracted,
                     );

@@ -454,28 +454,16 @@ impl<const GLASS: bool> Lookups<GLASS> {
         // An opaque material's reflected weight is its reflectivity in every lane: read
         // from the material where it is mixed, not filled into `reflect`'s lanes.
         let opaque = m.transparency == 0.0;
-        if opaque {
-            // `optics::split` of an opaque material, over the lanes: its local share and
-            // reflected weight are the material's, the direction the mirror's.
-            let share = (Vec3::ONE - m.reflectivity - Vec3::splat(m.transparency)).to_array();
-            for k in 0..LANES {
-                let d2 = 2.0 * (nk[0][k] * v[0][k] + nk[1][k] * v[1][k] + nk[2][k] * v[2][k]);
-                for c in 0..3 {
-                    reflected[c][k] = d2 * nk[c][k] - v[c][k];
-                    base[c][k] = self.local[c][k] * share[c];
-                }
-            }
-        } else {
-            // `Lookup::of` of `optics::split` at every lane (those past `n` are dropped).
-            Lookup::of_transparent_lanes(
+        Lookup::base_and_mirror_lanes(m, &nk, &v, &self.local, &mut base, &mut reflected);
+        if !opaque {
+            // The weights `Lookup::of` takes from the split at every lane (those past `n`
+            // are dropped); an opaque material's are its reflectivity and nothing.
+            Lookup::transparent_weights_lanes(
                 m,
                 &nk,
                 &v,
-                &self.local,
                 sec.indices(m, t.front),
-                &mut base,
                 &mut reflect,
-                &mut reflected,
                 &mut transmit,
                 &mut refracted,
             );
