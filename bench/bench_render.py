@@ -843,6 +843,33 @@ def markdown(
         "trilinear 1,500 frames 2.71 → 1.70 s (−37 %), the Gouraud sphere trilinear 300 "
         "frames, five runs, 2.51 → 1.90 s, floor trilinear with 4× anisotropy (not on this "
         "path) 1.66 → 1.69 s.",
+        "",
+        "Multi-sampled textured tiles on AVX2 (issue 15, 2026-12-07): the multi-sample tile "
+        "body compiled for AVX2 + FMA passed the baseline's `WIDE = false` to the textured "
+        "shade path, so anti-aliased textured frames lit per pixel ran the baseline copy of "
+        "the textured body and of its lighting lane loops; it now passes its own instruction "
+        "set, as the single-sample and secondary bodies do. Same bytes (`frame_cost dump=` of "
+        "four `samples=4` configurations: Phong trilinear and bilinear, Gouraud, f32; the new "
+        "integration test "
+        "`multi_sampled_textured_frames_are_identical_on_every_instruction_set`, every mode, "
+        "filter and wrap, with and without depth output). callgrind per frame (`frame_cost`, "
+        "one thread): `phong 50 512 lights=sun texture=trilinear samples=4` 326.3M → 271.3M "
+        "(−17 %), `phong 50 512 lights=sun,point texture=bilinear samples=4` 290.5M → 243.9M "
+        "(−16 %); raster + shade (`frame_cost ... stats`), median of 40 frames, five "
+        "alternating runs: 20.35–22.52 → 17.22–17.83 ms (medians 20.48 → 17.56). Tried and "
+        "not kept, the same session: trilinear's λ in f32 (`log2_normal` on eight f32 lanes "
+        "instead of four f64 ones, within 2·10⁻⁷ + 5·10⁻⁸·|λ| of exact): floor trilinear "
+        "15.23M → 13.70M instructions (−10 %), `gouraud 50 512 lights=sun texture=trilinear` "
+        "76.52M → 74.74M, but user time of 1,500 floor frames, five alternating runs, medians "
+        "2.04 → 2.02 s (the f64 chain had run beside the texel loads), while 2,211 of the "
+        "floor's 518,400 bytes moved by a level: reverted. And Gouraud on the "
+        "998,000-triangle sphere at 1080p (`frame_cost gouraud 500 1080 stats`: raster + "
+        "shade 19.5 ms against flat's 11.7; callgrind: `RunPlanes::new` 267,050 calls a frame "
+        "at 212 instructions each, 56.6M, and about 32M more in the runs' colours than in "
+        "flat's fill): prefetching each binned triangle's clip coordinates and vertex colours "
+        "before its tile is rasterised gave raster + shade medians of 19.4–19.6 ms against "
+        "19.5–20.0 ms in three alternating runs each: the plane set-up is arithmetic, not a "
+        "wait on memory; not kept.",
     ]
     out += [
         "",

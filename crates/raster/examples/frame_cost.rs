@@ -9,7 +9,8 @@
 //!
 //! Arguments: shading mode, sphere rings (segments = 2·rings), image height (16:9), then any
 //! of `lights=none|sun|point|spot|area` (comma-separated), `fog`, `two-sided`, `depth`,
-//! `f32`, `frames=N`, `plane` (a ground plane under the sphere, for shadows to fall on),
+//! `f32`, `frames=N`, `stats` (print each stage's median time over the frames), `samples=N`
+//! (multi-sample anti-aliasing), `plane` (a ground plane under the sphere, for shadows to fall on),
 //! `shadows=map|plain|exact` (every light casts shadows: a default map, a map with
 //! `filter="none"`, or rays), `texture=nearest|bilinear|trilinear` (every object gets planar
 //! UVs, u = 4x, v = 4z, and a 64 × 64 checkerboard diffuse map with that filter) and
@@ -95,6 +96,9 @@ fn main() -> std::result::Result<(), Box<dyn std::error::Error>> {
     let mut options = RenderOptions::new(width, height);
     options.shading = mode;
     options.threads = Some(1);
+    if let Some(n) = value("samples=") {
+        options.samples = n.parse()?;
+    }
     if flag("mirror") || flag("glass") {
         options.reflections = Technique::Environment;
         options.refractions = flag("glass").then_some(Technique::Environment);
@@ -117,8 +121,11 @@ fn main() -> std::result::Result<(), Box<dyn std::error::Error>> {
         println!("checksum {sum}");
         return Ok(());
     }
+    let mut stages: Vec<[f64; 3]> = Vec::with_capacity(frames);
     for f in 0..frames {
         let frame = render(&scene, &camera, &options, format, flag("depth"))?;
+        let t = &frame.stats.timings;
+        stages.push([t.vertex, t.setup, t.raster_shade].map(|d| d.as_secs_f64() * 1e3));
         // The last frame's only: summing every frame was a quarter of a profile's samples.
         if f + 1 < frames {
             continue;
@@ -134,6 +141,21 @@ fn main() -> std::result::Result<(), Box<dyn std::error::Error>> {
             ColorBuffer::U8(c) => c.iter().map(|&v| v as f64).sum(),
             ColorBuffer::F32(c) => c.iter().map(|&v| v as f64).sum(),
         };
+    }
+    if flag("stats") {
+        // Median per stage over the frames (timings on a noisy machine: compare runs
+        // alternated in one sitting).
+        let median = |k: usize| {
+            let mut v: Vec<f64> = stages.iter().map(|s| s[k]).collect();
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        };
+        println!(
+            "median ms: vertex {:.3} setup {:.3} raster_shade {:.3}",
+            median(0),
+            median(1),
+            median(2)
+        );
     }
     println!("checksum {sum}");
     Ok(())

@@ -338,10 +338,24 @@ fn color_bits(
     threads: usize,
     depth: bool,
 ) -> Vec<u32> {
+    sampled_color_bits(scene, cam, mode, baseline, threads, depth, 1)
+}
+
+/// [`color_bits`] with `samples` per pixel (multi-sample anti-aliasing).
+fn sampled_color_bits(
+    scene: &Scene,
+    cam: &Camera,
+    mode: ShadingMode,
+    baseline: bool,
+    threads: usize,
+    depth: bool,
+    samples: u32,
+) -> Vec<u32> {
     let mut o = RenderOptions::new(97, 71);
     o.shading = mode;
     o.baseline_isa = baseline;
     o.threads = Some(threads);
+    o.samples = samples;
     let f = render(scene, cam, &o, ColorFormat::F32, depth).unwrap();
     let ColorBuffer::F32(c) = f.color else {
         unreachable!()
@@ -362,6 +376,23 @@ fn textured_frames_are_identical_on_every_instruction_set_and_thread_count() {
             .collect();
         for f in &frames[1..] {
             assert!(*f == frames[0], "{case:?} {mode:?} differs");
+        }
+    }
+}
+
+#[test]
+fn multi_sampled_textured_frames_are_identical_on_every_instruction_set() {
+    // Multi-sample tiles shade their textured layers with the AVX2 copy too (before, the
+    // AVX2 body passed the baseline's to them): the same bits, every mode, filter and wrap,
+    // with and without a depth output.
+    for (mode, case) in MODES.into_iter().flat_map(|m| CASES.map(|c| (m, c))) {
+        let (scene, cam) = mapped_sphere(case, mode, true);
+        for depth in [false, true] {
+            let wide = sampled_color_bits(&scene, &cam, mode, false, 2, depth, 4);
+            let base = sampled_color_bits(&scene, &cam, mode, true, 1, depth, 4);
+            assert!(wide == base, "{case:?} {mode:?} depth {depth} differs");
+            let one = color_bits(&scene, &cam, mode, false, 2, depth);
+            assert!(wide != one, "{case:?} {mode:?}: 4 samples changed nothing");
         }
     }
 }

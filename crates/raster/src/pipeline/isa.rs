@@ -225,11 +225,11 @@ fn multi_sample_tile<P: Pixel>(
         return;
     }
     if screen && mode != ShadingMode::Flat {
-        samples_body::<P, true>(ctx, mode, target, job);
+        samples_body::<P, true, false>(ctx, mode, target, job);
         return;
     }
     match isa {
-        Isa::Baseline => samples_body::<P, false>(ctx, mode, target, job),
+        Isa::Baseline => samples_body::<P, false, false>(ctx, mode, target, job),
         #[cfg(target_arch = "x86_64")]
         // SAFETY: as in `run_tile`: `Isa::Avx2` exists only on CPUs with AVX2 and FMA.
         Isa::Avx2 => unsafe { samples_avx2(ctx, mode, target, job) },
@@ -246,17 +246,19 @@ unsafe fn samples_avx2<P: Pixel>(
     target: &mut SampleTarget,
     job: TileJob<'_, '_, P>,
 ) {
-    samples_body::<P, false>(ctx, mode, target, job);
+    samples_body::<P, false, true>(ctx, mode, target, job);
 }
 
+/// `WIDE`: on AVX2 + FMA (the caller checked), which textured layers are then shaded with.
 #[inline(always)]
-fn samples_body<P: Pixel, const AFFINE: bool>(
+fn samples_body<P: Pixel, const AFFINE: bool, const WIDE: bool>(
     ctx: &ShadeContext<'_>,
     mode: ShadingMode,
     target: &mut SampleTarget,
     job: TileJob<'_, '_, P>,
 ) {
-    samples::sample_tile::<P, AFFINE>(ctx, mode, job.index, job.rect, target, job.color, job.depth);
+    let (index, rect) = (job.index, job.rect);
+    samples::sample_tile::<P, AFFINE, WIDE>(ctx, mode, index, rect, target, job.color, job.depth);
 }
 
 /// The tile body of scenes with the secondary stage, for the baseline instruction set.

@@ -209,9 +209,10 @@ impl SampleTarget {
 }
 
 /// Rasterizes tile `index` at every sample position, shades each layer and resolves into
-/// the user's rows. `AFFINE` as for [`shade::shade_tile`].
+/// the user's rows. `AFFINE` as for [`shade::shade_tile`]; `WIDE`: textured layers shaded
+/// with AVX2 + FMA, which the caller must have checked the CPU has (the same bits).
 #[inline(always)]
-pub(crate) fn sample_tile<P: Pixel, const AFFINE: bool>(
+pub(crate) fn sample_tile<P: Pixel, const AFFINE: bool, const WIDE: bool>(
     ctx: &ShadeContext<'_>,
     mode: ShadingMode,
     index: usize,
@@ -243,7 +244,7 @@ pub(crate) fn sample_tile<P: Pixel, const AFFINE: bool>(
         // depth output: each depth sample once.
         let layer_depth = if k == 0 { depth.take() } else { None };
         if ctx.textured.is_some() {
-            shade::shade_textured_tile::<f32, AFFINE, false>(
+            shade::shade_textured_tile::<f32, AFFINE, WIDE>(
                 ctx,
                 mode,
                 rect,
