@@ -329,20 +329,9 @@ fn mapped_sphere(case: (Filter, Wrap, u32), mode: ShadingMode, fog: bool) -> (Sc
     (scene, cam)
 }
 
-/// The colour bits of a 97 × 71 f32 render (with a depth output if asked).
+/// The colour bits of a 97 × 71 f32 render with `samples` per pixel (with a depth output if
+/// asked).
 fn color_bits(
-    scene: &Scene,
-    cam: &Camera,
-    mode: ShadingMode,
-    baseline: bool,
-    threads: usize,
-    depth: bool,
-) -> Vec<u32> {
-    sampled_color_bits(scene, cam, mode, baseline, threads, depth, 1)
-}
-
-/// [`color_bits`] with `samples` per pixel (multi-sample anti-aliasing).
-fn sampled_color_bits(
     scene: &Scene,
     cam: &Camera,
     mode: ShadingMode,
@@ -372,7 +361,7 @@ fn textured_frames_are_identical_on_every_instruction_set_and_thread_count() {
         let (scene, cam) = mapped_sphere(case, mode, true);
         let frames: Vec<Vec<u32>> = [(false, 1), (true, 1), (false, 2), (true, 3)]
             .iter()
-            .map(|&(baseline, threads)| color_bits(&scene, &cam, mode, baseline, threads, false))
+            .map(|&(baseline, threads)| color_bits(&scene, &cam, mode, baseline, threads, false, 1))
             .collect();
         for f in &frames[1..] {
             assert!(*f == frames[0], "{case:?} {mode:?} differs");
@@ -388,10 +377,10 @@ fn multi_sampled_textured_frames_are_identical_on_every_instruction_set() {
     for (mode, case) in MODES.into_iter().flat_map(|m| CASES.map(|c| (m, c))) {
         let (scene, cam) = mapped_sphere(case, mode, true);
         for depth in [false, true] {
-            let wide = sampled_color_bits(&scene, &cam, mode, false, 2, depth, 4);
-            let base = sampled_color_bits(&scene, &cam, mode, true, 1, depth, 4);
+            let wide = color_bits(&scene, &cam, mode, false, 2, depth, 4);
+            let base = color_bits(&scene, &cam, mode, true, 1, depth, 4);
             assert!(wide == base, "{case:?} {mode:?} depth {depth} differs");
-            let one = color_bits(&scene, &cam, mode, false, 2, depth);
+            let one = color_bits(&scene, &cam, mode, false, 2, depth, 1);
             assert!(wide != one, "{case:?} {mode:?}: 4 samples changed nothing");
         }
     }
@@ -409,8 +398,8 @@ fn flat_and_gouraud_rows_give_the_batch_paths_bits() {
     {
         let (scene, cam) = mapped_sphere(case, mode, false);
         for baseline in [false, true] {
-            let rows = color_bits(&scene, &cam, mode, baseline, 2, false);
-            let batches = color_bits(&scene, &cam, mode, baseline, 2, true);
+            let rows = color_bits(&scene, &cam, mode, baseline, 2, false, 1);
+            let batches = color_bits(&scene, &cam, mode, baseline, 2, true, 1);
             assert!(
                 rows == batches,
                 "{case:?} {mode:?} baseline {baseline} differs"
@@ -539,10 +528,10 @@ fn diffuse_only_rows_give_the_batch_paths_bits() {
                 let what = format!(
                     "{filter:?} scale {scale} ke {ke} map {emission_map} lit {lit} {mode:?}"
                 );
-                let rows = color_bits(&scene, &cam, mode, false, 2, false);
+                let rows = color_bits(&scene, &cam, mode, false, 2, false, 1);
                 assert!(rows.iter().any(|&b| b != 0), "{what}: drawn");
                 for (baseline, depth) in [(false, true), (true, false), (true, true)] {
-                    let other = color_bits(&scene, &cam, mode, baseline, 2, depth);
+                    let other = color_bits(&scene, &cam, mode, baseline, 2, depth, 1);
                     assert!(
                         rows == other,
                         "{what}: baseline {baseline} depth {depth} differs"

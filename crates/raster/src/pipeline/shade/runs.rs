@@ -11,6 +11,14 @@ use crate::lighting::LANES;
 use crate::pipeline::raster::{TileBuffers, NO_TRIANGLE};
 use crate::pipeline::tiles::{TileRect, TILE};
 
+/// Entries of the per-tile caches of [`RunPlanes`]: more than [`super::planes::PLANE_CACHE`],
+/// as an entry is small (96 bytes) and a miss costs a plane set-up (about 200
+/// instructions). With 64, a Gouraud frame of Spot (23,424 triangles at 512 × 512, 10,385
+/// set up) made 16,677 set-ups, as neighbouring triangles' ids collided (a face's Loop
+/// subdivision children lie a multiple of the old face count apart in the mesh's order);
+/// with 256, 11,945 (a triangle that straddles tiles is set up once per tile).
+const RUN_PLANES: usize = 256;
+
 /// Entries of the per-tile flat colour cache.
 const FLAT_CACHE: usize = 64;
 
@@ -33,7 +41,7 @@ pub(super) fn shade_runs<P: Pixel, const MODE: u8, const FOG: bool, const AFFINE
     if MODE == FLAT && !want_depth {
         return flat_rows::<P>(ctx, rect, buf, color);
     }
-    let mut planes = PlaneCache::<RunPlanes>::new();
+    let mut planes = PlaneCache::<RunPlanes, RUN_PLANES>::new();
     let background = background_row::<P>(ctx);
     for j in 0..rect.h {
         let row = &mut color[j][..rect.w * 3];
@@ -123,7 +131,7 @@ fn gouraud_rows<P: Pixel, const AFFINE: bool>(
     buf: &TileBuffers,
     color: &mut [&mut [Out<P>]],
 ) {
-    let mut planes = PlaneCache::<RunPlanes>::new();
+    let mut planes = PlaneCache::<RunPlanes, RUN_PLANES>::new();
     let bg = ctx.background.to_array();
     let mut lin: RowColors = [[0.0; ROW_LANES]; 3];
     for (j, row) in color[..rect.h].iter_mut().enumerate() {
