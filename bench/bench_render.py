@@ -892,6 +892,32 @@ def markdown(
         "instead of `id % N`, with 64 entries: the calls did not fall (16,677 → 16,734) and "
         "Spot's Gouraud frame took 4 % longer (the hash's latency on every run); `id % N` "
         "stays.",
+        "",
+        "Phong's triangle cache as large as the run caches (issue 15, 2026-12-07, third "
+        "session): Phong keeps each triangle's `Current` (its seven planes, material and face, "
+        "224 bytes) in a per-tile `PlaneCache` of 64 entries, which missed as the run caches "
+        "had: callgrind of Phong frames of Spot (23,424 triangles at 512 × 512, one thread, "
+        "two lights; `frame_cost phong 0 512 lights=sun,point spot=spot1.obj`, the new `spot=` "
+        "option loading Spot's first Loop level as the new `bench/spot_obj.py` writes it) "
+        "counted 16,677 `Current::make` calls a frame, 389 instructions each, 21 % of the tile "
+        "stage. With 128 entries 13,610 calls and 117.56M tile-stage instructions for four "
+        "frames; with 256, 11,945 and 114.71M, against 122.56M (−6.4 %); 256 is kept. 256 "
+        "entries are 57 KB, more than L1d: callgrind's cache model counts 586k L1 misses for "
+        "the four frames against 507k. Timed with one thread, alternating builds, raster + "
+        "shade medians over rounds on a noisy machine: Spot Phong 12 rounds of 100 frames 5.92 "
+        "→ 5.62 ms (quartile 5.10 → 4.91, minimum 4.66 → 4.60); sphere 99,224 Phong 512 × 512 "
+        "(smaller triangles, where the extra misses could have cost) 14 rounds of 30 frames "
+        "10.60 → 10.48 ms; tile-stage instructions there 139.09M → 136.03M for two frames, and "
+        "266.54M → 263.64M for two frames of the 9,800-triangle sphere at 1080p. Same bytes: "
+        "the frames `frame_cost dump=` writes are equal for the two builds (flat, Gouraud, "
+        "Phong on Spot; Phong with depth output in float32, with 4 samples, with fog, with "
+        "shadow maps; flat with depth; textured Spot, Phong bilinear and flat nearest; the "
+        "9,800- and 99,224-triangle spheres). Also: flat's own direct-mapped colour cache is "
+        "now a `PlaneCache` too (the same lazy start and empty-slot rule; flat Spot tile-stage "
+        "instructions 44.82M → 44.83M, same checksum). Tried and not kept: the textured path's "
+        "16 loaded triangles as a `PlaneCache<Current, 16>` instead of an array of "
+        "`Option<Current>` made its tile stage 24 % more instructions (Phong on textured Spot: "
+        "110.6M → 136.9M in the textured shade functions for four frames).",
     ]
     out += [
         "",

@@ -14,7 +14,9 @@
 //! `shadows=map|plain|exact` (every light casts shadows: a default map, a map with
 //! `filter="none"`, or rays), `texture=nearest|bilinear|trilinear` (every object gets planar
 //! UVs, u = 4x, v = 4z, and a 64 × 64 checkerboard diffuse map with that filter) and
-//! `aniso=N` (its anisotropy); `floor` replaces the sphere scene by `bench/bench_textures.py`'s
+//! `aniso=N` (its anisotropy); `spot=PATH` replaces the sphere by that OBJ's mesh (its normals
+//! if it has them), seen from `bench/speed_error.py`'s Spot camera at 1:1 (`bench/spot_obj.py`
+//! writes Spot's subdivided levels); `floor` replaces the sphere scene by `bench/bench_textures.py`'s
 //! (an unlit textured floor to the horizon at 4:3, with `texture=`'s filter, nearest by
 //! default; the sphere's rings are then unused); `mirror` replaces it by
 //! `bench/bench_reflect.py`'s mirror floor under a red sphere (4:3, its environment looked
@@ -293,12 +295,13 @@ fn sphere_scene(
         Some("exact") => Shadows::Exact,
         Some(other) => return Err(format!("unknown shadows {other}").into()),
     };
+    let spot = value("spot=");
+    let mesh = match &spot {
+        Some(path) => load_obj(path)?,
+        None => primitives::uv_sphere(rings, 2 * rings),
+    };
     let mut scene = Scene::new(Vec3::splat(0.2))?;
-    scene.add_object(place(
-        primitives::uv_sphere(rings, 2 * rings),
-        "gold",
-        Mat4::IDENTITY,
-    )?);
+    scene.add_object(place(mesh, "gold", Mat4::IDENTITY)?);
     if flag("plane") {
         scene.add_object(place(
             primitives::plane(),
@@ -344,6 +347,18 @@ fn sphere_scene(
         scene.set_fog(Some(bench_fog()?));
     }
     scene.set_two_sided(flag("two-sided"));
+    if spot.is_some() {
+        // `bench/speed_error.py`'s SPOT_CAMERA, square.
+        let camera = Camera::look_at(
+            DVec3::new(1.6, 0.9, 2.6),
+            DVec3::new(0.0, 0.05, 0.0),
+            DVec3::Y,
+            40.0,
+            0.5,
+            10.0,
+        )?;
+        return Ok((scene, camera, height));
+    }
     let camera = Camera::look_at(
         DVec3::new(0.0, 0.0, 2.6),
         DVec3::ZERO,

@@ -83,10 +83,11 @@ pub(super) type Plane = [f64; 3];
 /// Entries of the per-tile plane caches (by default).
 pub(super) const PLANE_CACHE: usize = 64;
 
-/// What is made per triangle for shading (its planes; Phong's whole inputs) for recently
-/// seen triangles, `N` entries direct-mapped by id: a triangle's rows alternate with its
-/// neighbours' within a tile and each row segment needs them again, so without this they (a
-/// dozen f64 products and four divisions at least) were recomputed per segment.
+/// What is made per triangle for shading (its planes; Phong's whole inputs; flat's stored
+/// colour) for recently seen triangles, `N` entries direct-mapped by id: a triangle's rows
+/// alternate with its neighbours' within a tile and each row segment needs them again, so
+/// without this they (a dozen f64 products and four divisions at least) were recomputed per
+/// segment.
 ///
 /// Only the ids are initialised when a tile starts; an entry's value is written with its
 /// id (initialising every value, 14 KB per tile for Phong's, cost about 1 % of a 1080p

@@ -93,9 +93,9 @@ fn flat_rows<P: Pixel>(
     color: &mut [&mut [Out<P>]],
 ) {
     let background = P::stored(ctx.background);
-    // Stored pixels of recently seen flat colours, direct-mapped by id: the rows of a
-    // triangle alternate with its neighbours', so a last-id cache would miss on every row.
-    let mut flat_cache = [(NO_TRIANGLE, P::Stored::default()); FLAT_CACHE];
+    // Stored pixels of recently seen flat colours: the rows of a triangle alternate with
+    // its neighbours', so a last-id cache would miss on every row.
+    let mut flat = PlaneCache::<P::Stored, FLAT_CACHE>::new();
     let mut line = [P::Stored::default(); ROW_LANES];
     for (j, row) in color[..rect.h].iter_mut().enumerate() {
         for run in row_runs(buf, j, rect.w) {
@@ -103,11 +103,7 @@ fn flat_rows<P: Pixel>(
             let v = if id == NO_TRIANGLE {
                 background
             } else {
-                let entry = &mut flat_cache[id as usize % FLAT_CACHE];
-                if entry.0 != id {
-                    *entry = (id, P::stored(ctx.tris.get(id).flat));
-                }
-                entry.1
+                flat.get(id, || P::stored(ctx.tris.get(id).flat))
             };
             // Whole groups of LANES (one vector store each for u8), within ROW_LANES.
             for group in line[run.whole_lanes()].chunks_exact_mut(LANES) {

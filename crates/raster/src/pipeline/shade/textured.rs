@@ -729,7 +729,8 @@ const LOADED: usize = 16;
 /// The last triangles loaded ([`Current`]), direct-mapped by id, with their weight planes:
 /// rows of a tile cross the same few triangles again and again, and loading one lights it
 /// (flat and Gouraud), which cost more than the texturing of a small triangle's pixels when
-/// only the last one was kept.
+/// only the last one was kept. (Not a `PlaneCache<Current, LOADED>`: tried, the textured
+/// tile stage took 24 % more instructions, Phong on Spot at 512 × 512, callgrind.)
 struct Loaded {
     slots: [Option<Current>; LOADED],
     planes: PlaneCache<[Plane; 3]>,
