@@ -541,3 +541,125 @@ fn diffuse_only_rows_give_the_batch_paths_bits() {
         }
     }
 }
+
+#[test]
+fn a_white_map_renders_as_no_map_on_back_faces() {
+    // Seen from inside a two-sided sphere, every visible face is a back face, lit with the
+    // flipped normal and the back material (textured Gouraud lights them before the tile
+    // stage, `VertexTerms::back`).
+    let back = Material::preset("ruby").unwrap();
+    let cam = Camera::look_at(
+        DVec3::new(0.1, 0.05, 0.0),
+        DVec3::new(1.0, 0.3, 0.2),
+        DVec3::Y,
+        70.0,
+        0.01,
+        10.0,
+    )
+    .unwrap();
+    let s = primitives::uv_sphere(16, 32);
+    let uvs = s.positions().iter().map(|p| p.truncate()).collect();
+    let mesh = Arc::new(
+        Mesh::new(
+            s.positions().to_vec(),
+            s.indices().to_vec(),
+            s.given_normals().map(<[Vec3]>::to_vec),
+            Some(uvs),
+        )
+        .unwrap(),
+    );
+    let scene = |maps: Option<Maps>| {
+        let mut scene = Scene::new(Vec3::splat(0.2)).unwrap();
+        let obj = Object::new(
+            mesh.clone(),
+            Material::preset("gold").unwrap(),
+            Mat4::IDENTITY,
+        )
+        .unwrap()
+        .with_back_material(Some(back))
+        .with_maps(maps.map(Arc::new))
+        .unwrap();
+        scene.add_object(obj);
+        scene.add_light(PointLight::new(Vec3::new(0.2, 0.3, 0.1), Vec3::ONE, 1.0).unwrap());
+        scene.set_two_sided(true);
+        scene
+    };
+    let maps = Maps {
+        diffuse: Some(solid(Vec3::ONE)),
+        ..Maps::default()
+    };
+    let (plain, textured) = (scene(None), scene(Some(maps)));
+    let frame = |s: &Scene, mode| {
+        let mut o = RenderOptions::new(W, H);
+        o.shading = mode;
+        match render(s, &cam, &o, ColorFormat::F32, false).unwrap().color {
+            ColorBuffer::F32(v) => v,
+            ColorBuffer::U8(_) => unreachable!(),
+        }
+    };
+    for mode in MODES {
+        let (a, b) = (frame(&plain, mode), frame(&textured, mode));
+        assert!(a.iter().all(|&c| c > 0.0), "{mode:?}: every pixel lit");
+        // The split terms are summed in another order than the folded colour: a few ulps.
+        let d = max_diff(&a, &b);
+        assert!(d < 4e-5, "{mode:?}: {d}");
+    }
+}
+
+#[test]
+fn clip_made_vertices_are_lit_in_textured_gouraud() {
+    // A floor reaching behind the camera: the near plane clips its two triangles, whose
+    // pieces use clip-made vertices. Under a sun and without specular the lighting is the
+    // same everywhere, so every vertex, clip-made or not, must carry it: the white-mapped
+    // floor renders as the plain one (a vertex left unlit would darken its pieces).
+    let m = Material::new(Vec3::splat(0.3), Vec3::splat(0.6), Vec3::ZERO, 1.0).unwrap();
+    let cam = Camera::look_at(
+        DVec3::new(0.0, 0.3, 0.0),
+        DVec3::new(0.0, 0.0, -3.0),
+        DVec3::Y,
+        60.0,
+        0.1,
+        100.0,
+    )
+    .unwrap();
+    let scene = |maps: Option<Maps>| {
+        let mut scene = Scene::new(Vec3::splat(0.2)).unwrap();
+        let obj = Object::new(
+            Arc::new(primitives::plane()),
+            m,
+            Mat4::from_scale(Vec3::splat(20.0)),
+        )
+        .unwrap()
+        .with_maps(maps.map(Arc::new))
+        .unwrap();
+        scene.add_object(obj);
+        scene.add_light(DirectionalLight::new(Vec3::new(0.3, -1.0, -0.2), Vec3::ONE, 1.0).unwrap());
+        scene
+    };
+    let maps = Maps {
+        diffuse: Some(solid(Vec3::ONE)),
+        ..Maps::default()
+    };
+    let mut o = RenderOptions::new(W, H);
+    let frame = |s: &Scene, o: &RenderOptions| {
+        let f = render(s, &cam, o, ColorFormat::F32, false).unwrap();
+        let c = match f.color {
+            ColorBuffer::F32(v) => v,
+            ColorBuffer::U8(_) => unreachable!(),
+        };
+        (c, f.stats.triangles_clipped)
+    };
+    for mode in MODES {
+        o.shading = mode;
+        let (a, clipped) = frame(&scene(None), &o);
+        let (b, _) = frame(&scene(Some(maps.clone())), &o);
+        assert!(clipped > 0, "{mode:?}: the near plane clips the floor");
+        let lit = a.chunks(3).filter(|c| c[0] > 0.25).count();
+        assert!(
+            lit > (W * H / 3) as usize,
+            "{mode:?}: the floor covers the lower half"
+        );
+        let d = max_diff(&a, &b);
+        assert!(d < 1e-5, "{mode:?}: {d}");
+    }
+}

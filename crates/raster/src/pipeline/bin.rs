@@ -5,6 +5,7 @@
 //! any global merge or copy.
 
 use super::setup::SetupTri;
+use super::shade::prelight::Terms3;
 use super::tiles::TILE;
 
 /// Bits of a triangle id that index within its chunk; the rest is the chunk index.
@@ -20,6 +21,9 @@ pub(crate) struct Chunk {
     /// Pieces of clipped triangles: (index in `tris`, the original triangle's vertices), in
     /// order; flat shading lights the original triangle, not the piece.
     pub clipped_from: Vec<(u32, [u32; 3])>,
+    /// Textured flat only (else empty): each triangle's split terms
+    /// ([`light_face_terms`](super::shade::prelight::light_face_terms)), indexed like `tris`.
+    pub face_terms: Vec<Terms3>,
 }
 
 impl Chunk {
@@ -53,6 +57,15 @@ impl Binned {
             .iter()
             .enumerate()
             .flat_map(move |(c, chunk)| chunk.tile(c, t))
+    }
+
+    /// Triangle `id`'s split terms, where they were lit before the tile stage (textured
+    /// flat, [`Chunk::face_terms`]).
+    #[inline]
+    pub fn face_terms(&self, id: u32) -> Option<&Terms3> {
+        self.chunks[(id >> LOCAL_BITS) as usize]
+            .face_terms
+            .get((id & ((1 << LOCAL_BITS) - 1)) as usize)
     }
 
     /// Whether no triangle touches tile `t`.

@@ -96,6 +96,7 @@ impl PrimitiveContext<'_> {
                 bins: Bins::default(),
                 object,
                 clipped_from: Vec::new(),
+                face_terms: Vec::new(),
             },
             extra: Vertices::default(),
             clipped: 0,
@@ -216,6 +217,8 @@ pub(crate) struct Prepared {
     /// Textured scenes only (else empty): every object's unit surfaces
     /// ([`Surface::unit`]), whose split terms the texture stage weighs per point.
     pub units: Vec<Sides>,
+    /// Textured Gouraud only (else empty): every vertex's split terms.
+    pub vertex_terms: prelight::VertexTerms,
     pub eye: Vec3,
     /// The scene's shadows (colour passes whose lights cast them).
     pub shadows: Option<ShadowEffect>,
@@ -476,8 +479,6 @@ pub(crate) fn prepare(
         stats.triangles_dropped += out.dropped;
     }
     verts.append(&mut extras);
-    // Textured Gouraud lights its vertices' split terms in the tile stage (it keeps the
-    // world positions and normals for that).
     let gouraud = match modes {
         Some(m) => m.contains(&ShadingMode::Gouraud),
         None => options.shading == ShadingMode::Gouraud,
@@ -513,6 +514,29 @@ pub(crate) fn prepare(
             ),
         }
     }
+    // Textured Gouraud lights its vertices' split terms (the texture stage weighs them by
+    // the maps) and keeps the world positions and normals (it reads them too).
+    let vertex_terms = if lit && gouraud && textured {
+        let used = used_vertices(&outs, &verts.blends, total_vertices);
+        prelight::light_vertex_terms(scene, &verts, &units, eye, shadows.as_ref(), wide, &used)
+    } else {
+        prelight::VertexTerms::default()
+    };
+    // Textured flat lights its faces' split terms, now that the clip-made vertices have
+    // joined (a clipped piece is lit as its own face).
+    if lit && textured && options.shading == ShadingMode::Flat {
+        outs.par_iter_mut().for_each(|o| {
+            prelight::light_face_terms(
+                &mut o.chunk,
+                &verts.world,
+                &units,
+                eye,
+                two_sided,
+                shadows.as_ref(),
+                wide,
+            )
+        });
+    }
     let tris = Binned {
         chunks: outs.into_iter().map(|o| o.chunk).collect(),
     };
@@ -525,6 +549,7 @@ pub(crate) fn prepare(
         tris,
         materials,
         units,
+        vertex_terms,
         eye,
         shadows,
         stats,

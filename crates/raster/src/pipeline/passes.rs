@@ -111,6 +111,7 @@ pub(crate) fn color_pass<P: Pixel>(
                     .iter()
                     .any(|o| o.maps().is_some_and(|m| m.perturbs())),
             lit: prep.units.iter().flatten().any(|u| !u.lights.is_empty()),
+            vertex_terms: &prep.vertex_terms,
         }),
         secondary,
         isa,

@@ -6,7 +6,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::lighting::{normalize_lanes, Folded, Lanes, Surface, LANES};
+use crate::lighting::{lane, normalize_lanes, Folded, Lanes, Split, Surface, LANES};
 use crate::pipeline::bin::Chunk;
 use crate::pipeline::setup::SetupTri;
 use crate::pipeline::vertex::Vertices;
@@ -344,4 +344,253 @@ pub(crate) fn light_faces(
         t.flat = color;
         last = Some((v, color));
     }
+}
+
+/// Split lighting terms of one point (ambient, diffuse, specular), which the texture stage
+/// weighs by the maps' colours.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Terms3 {
+    pub a: Vec3,
+    pub d: Vec3,
+    pub s: Vec3,
+}
+
+/// The split terms `out[k]` of up to [`LANES`] points (unit normals `n`, positions `p`) lit
+/// by `unit`, each shadow-casting light's diffuse and specular scaled by its visibility from
+/// the point (as [`lit`]: the normal stands in for the geometric one).
+#[inline(always)]
+fn split_lanes(
+    unit: &Surface,
+    shadows: Option<&ShadowEffect>,
+    n: &[Vec3],
+    p: &[Vec3],
+    eye: Vec3,
+    out: &mut [Terms3],
+) {
+    let mut nl = [[0.0; LANES]; 3];
+    let mut pl = [[0.0; LANES]; 3];
+    for (k, (n, p)) in n.iter().zip(p).enumerate() {
+        for ax in 0..3 {
+            nl[ax][k] = n[ax];
+            pl[ax][k] = p[ax];
+        }
+    }
+    let t: Split = match shadows {
+        None => unit.terms_lanes(&nl, &pl, eye),
+        Some(s) => {
+            let mut vis = vec![None; s.sources()];
+            s.visibility(&nl, &pl, &nl, n.len(), &mut vis);
+            unit.terms_lanes_visible(&nl, &pl, eye, &vis)
+        }
+    };
+    for (k, o) in out.iter_mut().enumerate().take(n.len()) {
+        *o = Terms3 {
+            a: lane(&t.ambient, k),
+            d: lane(&t.diffuse, k),
+            s: lane(&t.specular, k),
+        };
+    }
+}
+
+/// [`split_lanes`] out of line: the texture stage's flat faces, lit one at a time.
+pub(crate) fn light_points(
+    unit: &Surface,
+    shadows: Option<&ShadowEffect>,
+    n: &[Vec3],
+    p: &[Vec3],
+    eye: Vec3,
+    out: &mut [Terms3],
+) {
+    split_lanes(unit, shadows, n, p, eye, out);
+}
+
+/// [`split_lanes`] compiled for AVX2 + FMA: the lighting's lane loops widen, with the same
+/// bits (no fused multiply-adds are formed; see `isa.rs`).
+///
+/// # Safety
+/// The CPU must support AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn split_lanes_avx2(
+    unit: &Surface,
+    shadows: Option<&ShadowEffect>,
+    n: &[Vec3],
+    p: &[Vec3],
+    eye: Vec3,
+    out: &mut [Terms3],
+) {
+    split_lanes(unit, shadows, n, p, eye, out);
+}
+
+/// Textured Gouraud's vertex lighting: the split terms of every vertex (`front`) and, under
+/// two-sided lighting, those lit with the flipped normal and the back unit surface (`back`),
+/// indexed like the vertices (clip-made ones included). The texture stage reads a
+/// triangle's three when it loads it, instead of lighting them there: a vertex was lit once
+/// per triangle that uses it and again each time a tile re-loaded the triangle, about
+/// eight times per vertex on a mesh.
+#[derive(Default)]
+pub(crate) struct VertexTerms {
+    pub front: Vec<Terms3>,
+    pub back: Vec<Terms3>,
+}
+
+impl VertexTerms {
+    /// The terms of one side.
+    #[inline]
+    pub fn side(&self, back: bool) -> &[Terms3] {
+        if back {
+            &self.back
+        } else {
+            &self.front
+        }
+    }
+}
+
+/// Lights [`VertexTerms`] for the textured Gouraud: each object's vertices with its unit
+/// surfaces (`units`, [`Surface::unit`]), as the texture stage lit them per triangle
+/// (same bits: each point's lanes are independent of the others'). Only the transformed
+/// vertices in `used` are lit ([`LANES`] at a time, a group with none used is skipped and
+/// left at zero, which no drawn triangle reads), and every clip-made vertex, with the
+/// surfaces of the object it was blended from. A side whose surface no light reaches is
+/// not lit at all: the texture stage shades it flat (`shaded_as`).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn light_vertex_terms(
+    scene: &Scene,
+    verts: &Vertices,
+    units: &[Sides],
+    eye: Vec3,
+    shadows: Option<&ShadowEffect>,
+    wide: bool,
+    used: &[bool],
+) -> VertexTerms {
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = wide;
+    let two_sided = scene.two_sided();
+    // Each object's first vertex, then the count of transformed vertices.
+    let mut first = Vec::with_capacity(scene.objects().len() + 1);
+    first.push(0usize);
+    for o in scene.objects() {
+        first.push(first.last().copied().unwrap_or(0) + o.mesh().positions().len());
+    }
+    let transformed = first.last().copied().unwrap_or(0);
+    let total = verts.world.len();
+    let light = |side: usize| -> Vec<Terms3> {
+        let flip = if side == 0 { 1.0 } else { -1.0 };
+        let mut out = vec![Terms3::default(); total];
+        let group = |unit: &Surface, p: &[Vec3], n: &[Vec3], o: &mut [Terms3]| {
+            let mut nf = [Vec3::ZERO; LANES];
+            for (f, n) in nf.iter_mut().zip(n) {
+                *f = *n * flip;
+            }
+            let nf = &nf[..n.len()];
+            #[cfg(target_arch = "x86_64")]
+            if wide {
+                // SAFETY: `wide` is true only when the CPU reported AVX2 and FMA
+                // (`Isa::detect`, by the caller).
+                unsafe { split_lanes_avx2(unit, shadows, nf, p, eye, o) };
+                return;
+            }
+            split_lanes(unit, shadows, nf, p, eye, o);
+        };
+        for (oi, sides) in units.iter().enumerate() {
+            let unit = &sides[side];
+            if unit.lights.is_empty() {
+                continue;
+            }
+            let r = first[oi]..first[oi + 1];
+            out[r.clone()]
+                .par_chunks_mut(LANES)
+                .zip(verts.world[r.clone()].par_chunks(LANES))
+                .zip(verts.normal[r.clone()].par_chunks(LANES))
+                .zip(used[r].par_chunks(LANES))
+                .with_min_len(CHUNK / LANES)
+                .for_each(|(((o, p), n), u)| {
+                    if u.contains(&true) {
+                        group(unit, p, n, o);
+                    }
+                });
+        }
+        // Clip-made vertices (few: those of triangles crossing the near or guard planes),
+        // each with its object's surface.
+        for (i, (from, _)) in verts.blends.iter().enumerate() {
+            let v = transformed + i;
+            let oi = first.partition_point(|&f| f <= from[0] as usize) - 1;
+            let unit = &units[oi][side];
+            if !unit.lights.is_empty() {
+                group(
+                    unit,
+                    &verts.world[v..v + 1],
+                    &verts.normal[v..v + 1],
+                    &mut out[v..v + 1],
+                );
+            }
+        }
+        out
+    };
+    VertexTerms {
+        front: light(0),
+        back: if two_sided { light(1) } else { Vec::new() },
+    }
+}
+
+/// Textured flat's face lighting: the split terms of every set-up triangle of `chunk`
+/// (`chunk.face_terms`), each lit at its centroid with its unit normal (flipped, with the
+/// back unit surface, for a back face under two-sided lighting), [`LANES`] faces at a
+/// time. The texture stage lit each face when it loaded it, once per tile that re-loaded it
+/// and one face per lane group; the same points give the same bits here. A piece of a
+/// clipped triangle is lit as its own face (as the texture stage did). `world` holds every
+/// vertex's world position, clip-made ones included.
+pub(crate) fn light_face_terms(
+    chunk: &mut Chunk,
+    world: &[Vec3],
+    units: &[Sides],
+    eye: Vec3,
+    two_sided: bool,
+    shadows: Option<&ShadowEffect>,
+    wide: bool,
+) {
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = wide;
+    let sides = &units[chunk.object as usize];
+    let tris = &chunk.tris;
+    let mut out = vec![Terms3::default(); tris.len()];
+    let side = |t: &SetupTri| two_sided && !t.front;
+    for back in [false, true] {
+        let unit = &sides[back as usize];
+        let todo: Vec<usize> = (0..tris.len())
+            .filter(|&i| side(&tris[i]) == back)
+            .collect();
+        for group in todo.chunks(LANES) {
+            let mut n = [Vec3::ZERO; LANES];
+            let mut p = [Vec3::ZERO; LANES];
+            for (k, &i) in group.iter().enumerate() {
+                let t = &tris[i];
+                let [a, b, c] = t.v.map(|v| world[v as usize]);
+                // Setup swapped two vertices of front faces; undo it for the true normal.
+                let f = if t.front {
+                    (c - a).cross(b - a)
+                } else {
+                    (b - a).cross(c - a)
+                };
+                n[k] = if back { -f } else { f }.normalize_or_zero();
+                p[k] = (a + b + c) / 3.0;
+            }
+            let (n, p) = (&n[..group.len()], &p[..group.len()]);
+            let mut o = [Terms3::default(); LANES];
+            #[cfg(target_arch = "x86_64")]
+            if wide {
+                // SAFETY: `wide` is true only when the CPU reported AVX2 and FMA
+                // (`Isa::detect`, by the caller).
+                unsafe { split_lanes_avx2(unit, shadows, n, p, eye, &mut o) };
+            } else {
+                split_lanes(unit, shadows, n, p, eye, &mut o);
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            split_lanes(unit, shadows, n, p, eye, &mut o);
+            for (k, &i) in group.iter().enumerate() {
+                out[i] = o[k];
+            }
+        }
+    }
+    chunk.face_terms = out;
 }

@@ -36,6 +36,7 @@ use glam::{Vec2, Vec3, Vec4};
 use super::id_runs::{row_runs, Run};
 use super::phong::face_normal;
 use super::planes::{weight_planes, Plane, PlaneCache};
+use super::prelight::{light_points, Terms3, VertexTerms};
 use super::program::finish_batch;
 use super::store::{fill_out, put, Out, Pixel, RowColors, ROW_LANES};
 use super::{background_row, ShadeContext};
@@ -46,7 +47,6 @@ use crate::pipeline::raster::{TileBuffers, NO_TRIANGLE};
 use crate::pipeline::setup::SetupTri;
 use crate::pipeline::tiles::{TileRect, TILE};
 use crate::pipeline::Sides;
-use crate::shadows::ShadowEffect;
 use crate::texture::{Footprint, Maps, Texture};
 
 #[cfg(target_arch = "x86_64")]
@@ -95,14 +95,8 @@ pub(crate) struct TexturedScene<'a> {
     /// Whether a light reaches some surface ([`Surface::lights`]): Phong then lights
     /// pixels one by one, else every mode shades flat ([`shaded_as`]).
     pub lit: bool,
-}
-
-/// Split lighting terms of one point.
-#[derive(Clone, Copy, Default)]
-struct Terms3 {
-    a: Vec3,
-    d: Vec3,
-    s: Vec3,
+    /// Gouraud: every vertex's split terms (empty in the other modes).
+    pub vertex_terms: &'a VertexTerms,
 }
 
 /// The triangle being shaded.
@@ -127,44 +121,6 @@ struct Current {
     /// The object's [`TexturedObject::colors`] and [`TexturedObject::footprint`].
     colors: bool,
     footprint: bool,
-}
-
-/// The split terms of up to three points lit by `unit` (lanes 0..n), each shadow-casting
-/// light's diffuse and specular scaled by its visibility from the point (as untextured flat
-/// and Gouraud light: `prelight::lit`, the normal standing in for the geometric one).
-fn light_points(
-    unit: &Surface,
-    shadows: Option<&ShadowEffect>,
-    n: &[Vec3],
-    p: &[Vec3],
-    eye: Vec3,
-) -> [Terms3; 3] {
-    let mut nl = [[0.0; LANES]; 3];
-    let mut pl = [[0.0; LANES]; 3];
-    for (k, (n, p)) in n.iter().zip(p).enumerate() {
-        for ax in 0..3 {
-            nl[ax][k] = n[ax];
-            pl[ax][k] = p[ax];
-        }
-    }
-    let t: Split = match shadows {
-        None => unit.terms_lanes(&nl, &pl, eye),
-        Some(s) => {
-            let mut vis = vec![None; s.sources()];
-            s.visibility(&nl, &pl, &nl, n.len(), &mut vis);
-            unit.terms_lanes_visible(&nl, &pl, eye, &vis)
-        }
-    };
-    [0, 1, 2].map(|k| split_at(&t, k))
-}
-
-/// Lane `k` of split terms.
-fn split_at(t: &Split, k: usize) -> Terms3 {
-    Terms3 {
-        a: lane(&t.ambient, k),
-        d: lane(&t.diffuse, k),
-        s: lane(&t.specular, k),
-    }
 }
 
 impl Current {
@@ -206,22 +162,17 @@ impl Current {
         };
         match mode {
             ShadingMode::Flat => {
-                // As `prelight::light_faces`: the true face normal at the centroid.
-                let [a, b, c] = cur.pos;
-                let n = if t.front {
-                    (c - a).cross(b - a)
-                } else {
-                    (b - a).cross(c - a)
-                };
-                let n = if back { -n } else { n }.normalize_or_zero();
-                let centroid = (a + b + c) / 3.0;
-                let f = light_points(unit, ctx.shadows.as_ref(), &[n], &[centroid], ctx.eye)[0];
-                cur.terms = [f; 3];
+                // Lit before the tile stage (`prelight::light_face_terms`), except where a
+                // surface no light reaches makes Gouraud or Phong shade flat (`shaded_as`).
+                cur.terms = [match ctx.tris.face_terms(id) {
+                    Some(f) => *f,
+                    None => light_face(ctx, unit, t, back, cur.pos),
+                }; 3];
             }
             ShadingMode::Gouraud => {
-                let flip = if back { -1.0 } else { 1.0 };
-                let n = v.map(|k| verts.normal[k] * flip);
-                cur.terms = light_points(unit, ctx.shadows.as_ref(), &n, &cur.pos, ctx.eye);
+                // Lit before the tile stage (`prelight::light_vertex_terms`).
+                let lit = tex.vertex_terms.side(back);
+                cur.terms = v.map(|k| lit[k]);
             }
             ShadingMode::Phong => {
                 cur.normal = v.map(|k| verts.normal[k]);
@@ -235,6 +186,36 @@ impl Current {
         }
         cur
     }
+}
+
+/// The split terms of face `t` (world vertices `pos`), lit at its centroid with its unit
+/// normal, as `prelight::light_face_terms` lights them.
+#[cold]
+fn light_face(
+    ctx: &ShadeContext<'_>,
+    unit: &Surface,
+    t: &SetupTri,
+    back: bool,
+    pos: [Vec3; 3],
+) -> Terms3 {
+    let [a, b, c] = pos;
+    let n = if t.front {
+        (c - a).cross(b - a)
+    } else {
+        (b - a).cross(c - a)
+    };
+    let n = if back { -n } else { n }.normalize_or_zero();
+    let centroid = (a + b + c) / 3.0;
+    let mut f = [Terms3::default()];
+    light_points(
+        unit,
+        ctx.shadows.as_ref(),
+        &[n],
+        &[centroid],
+        ctx.eye,
+        &mut f,
+    );
+    f[0]
 }
 
 /// The mode a surface is shaded in. A surface no light reaches ([`Surface::lights`] empty:
@@ -723,14 +704,17 @@ impl Batch {
     }
 }
 
-/// How many loaded triangles [`shade_textured`] keeps (direct-mapped by id).
-const LOADED: usize = 16;
+/// How many loaded triangles [`shade_textured`] keeps (direct-mapped by id). With 16, the
+/// tiles of textured Spot at 512 × 512 (23,424 triangles) loaded 30,190 triangles a frame
+/// (Phong's 256-entry cache makes 11,945 on those frames); with 128 (an entry is about 390
+/// bytes), 13,610 (callgrind's call counts).
+const LOADED: usize = 128;
 
 /// The last triangles loaded ([`Current`]), direct-mapped by id, with their weight planes:
-/// rows of a tile cross the same few triangles again and again, and loading one lights it
-/// (flat and Gouraud), which cost more than the texturing of a small triangle's pixels when
-/// only the last one was kept. (Not a `PlaneCache<Current, LOADED>`: tried, the textured
-/// tile stage took 24 % more instructions, Phong on Spot at 512 × 512, callgrind.)
+/// rows of a tile cross the same few triangles again and again, and a load gathers the
+/// planes, UVs, colours and terms of the triangle. (Not a `PlaneCache<Current, LOADED>`:
+/// tried with 16, the textured shade functions took 24 % more instructions, Phong on
+/// textured Spot, planar UVs, bilinear, at 512 × 512, four frames, callgrind.)
 struct Loaded {
     slots: [Option<Current>; LOADED],
     planes: PlaneCache<[Plane; 3]>,
