@@ -542,9 +542,11 @@ impl Batch {
         // count, so they widen) and only `lo..hi` is kept.
         let g = &mut self.group;
         g.set(c, (at.x0 + at.s) as f64 - at.k0 as f64, at.y);
-        self.u[lo..hi].copy_from_slice(&g.u[lo..hi]);
-        self.v[lo..hi].copy_from_slice(&g.v[lo..hi]);
+        // One loop of three stores: two `copy_from_slice` of a variable range were two
+        // `memcpy` calls per chunk (6 % of a textured Phong frame's instructions).
         for k in lo..hi {
+            self.u[k] = g.u[k];
+            self.v[k] = g.v[k];
             self.at[k] = (at.j, at.s + k - at.k0);
         }
         if c.footprint {
