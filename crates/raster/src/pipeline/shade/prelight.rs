@@ -1,7 +1,10 @@
-//! The lighting flat and Gouraud do before the tile stage, on geometry that knows no
-//! material: Gouraud lights every vertex (then extends the colours to the vertices clipping
-//! made, by their blends), flat lights every set-up triangle once (a clipped triangle's
-//! pieces share the colour of the original). Both evaluate [`LANES`] points at a time.
+//! The lighting done before the tile stage. Untextured geometry, whose colour needs no
+//! map: Gouraud lights every vertex (then extends the colours to the vertices clipping made,
+//! by their blends), flat lights every set-up triangle once (a clipped triangle's pieces
+//! share the colour of the original). Textured geometry: the split terms (ambient, diffuse,
+//! specular) the texture stage weighs by the maps, per vertex for Gouraud
+//! ([`light_vertex_terms`]) and per set-up triangle for flat ([`light_face_terms`]). All
+//! evaluate [`LANES`] points at a time.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -422,6 +425,44 @@ unsafe fn split_lanes_avx2(
     split_lanes(unit, shadows, n, p, eye, out);
 }
 
+/// [`split_lanes`], compiled for AVX2 + FMA where `wide` (the CPU reported both:
+/// `Isa::detect`, by the caller).
+#[inline(always)]
+fn split_on(
+    wide: bool,
+    unit: &Surface,
+    shadows: Option<&ShadowEffect>,
+    n: &[Vec3],
+    p: &[Vec3],
+    eye: Vec3,
+    out: &mut [Terms3],
+) {
+    #[cfg(target_arch = "x86_64")]
+    if wide {
+        // SAFETY: `wide` is true only when the CPU reported AVX2 and FMA.
+        unsafe { split_lanes_avx2(unit, shadows, n, p, eye, out) };
+        return;
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = wide;
+    split_lanes(unit, shadows, n, p, eye, out);
+}
+
+/// The unit normal and the centroid of set-up triangle `t` (world vertices `pos`), the
+/// normal flipped for the `back` side: where flat lights a face.
+#[inline]
+pub(crate) fn face_point(t: &SetupTri, pos: [Vec3; 3], back: bool) -> (Vec3, Vec3) {
+    let [a, b, c] = pos;
+    // Setup swapped two vertices of front faces; undo it for the true normal.
+    let n = if t.front {
+        (c - a).cross(b - a)
+    } else {
+        (b - a).cross(c - a)
+    };
+    let n = if back { -n } else { n }.normalize_or_zero();
+    (n, (a + b + c) / 3.0)
+}
+
 /// Textured Gouraud's vertex lighting: the split terms of every vertex (`front`) and, under
 /// two-sided lighting, those lit with the flipped normal and the back unit surface (`back`),
 /// indexed like the vertices (clip-made ones included). The texture stage reads a
@@ -463,8 +504,6 @@ pub(crate) fn light_vertex_terms(
     wide: bool,
     used: &[bool],
 ) -> VertexTerms {
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = wide;
     let two_sided = scene.two_sided();
     // Each object's first vertex, then the count of transformed vertices.
     let mut first = Vec::with_capacity(scene.objects().len() + 1);
@@ -478,19 +517,7 @@ pub(crate) fn light_vertex_terms(
         let flip = if side == 0 { 1.0 } else { -1.0 };
         let mut out = vec![Terms3::default(); total];
         let group = |unit: &Surface, p: &[Vec3], n: &[Vec3], o: &mut [Terms3]| {
-            let mut nf = [Vec3::ZERO; LANES];
-            for (f, n) in nf.iter_mut().zip(n) {
-                *f = *n * flip;
-            }
-            let nf = &nf[..n.len()];
-            #[cfg(target_arch = "x86_64")]
-            if wide {
-                // SAFETY: `wide` is true only when the CPU reported AVX2 and FMA
-                // (`Isa::detect`, by the caller).
-                unsafe { split_lanes_avx2(unit, shadows, nf, p, eye, o) };
-                return;
-            }
-            split_lanes(unit, shadows, nf, p, eye, o);
+            vertex_group(wide, unit, shadows, flip, p, n, eye, o)
         };
         for (oi, sides) in units.iter().enumerate() {
             let unit = &sides[side];
@@ -533,6 +560,29 @@ pub(crate) fn light_vertex_terms(
     }
 }
 
+/// One lane group of [`light_vertex_terms`]: up to [`LANES`] vertices, their normals `n`
+/// scaled by `flip` (−1: the back side). A function, not a closure of the caller: as a
+/// closure calling [`split_on`], test binaries of the dev profile failed to link
+/// ("undefined hidden symbol" for the closure, rust-lld, rustc 1.95).
+#[allow(clippy::too_many_arguments)]
+#[inline(never)]
+fn vertex_group(
+    wide: bool,
+    unit: &Surface,
+    shadows: Option<&ShadowEffect>,
+    flip: f32,
+    p: &[Vec3],
+    n: &[Vec3],
+    eye: Vec3,
+    o: &mut [Terms3],
+) {
+    let mut nf = [Vec3::ZERO; LANES];
+    for (f, n) in nf.iter_mut().zip(n) {
+        *f = *n * flip;
+    }
+    split_on(wide, unit, shadows, &nf[..n.len()], p, eye, o);
+}
+
 /// Textured flat's face lighting: the split terms of every set-up triangle of `chunk`
 /// (`chunk.face_terms`), each lit at its centroid with its unit normal (flipped, with the
 /// back unit surface, for a back face under two-sided lighting), [`LANES`] faces at a
@@ -549,8 +599,6 @@ pub(crate) fn light_face_terms(
     shadows: Option<&ShadowEffect>,
     wide: bool,
 ) {
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = wide;
     let sides = &units[chunk.object as usize];
     let tris = &chunk.tris;
     let mut out = vec![Terms3::default(); tris.len()];
@@ -565,28 +613,11 @@ pub(crate) fn light_face_terms(
             let mut p = [Vec3::ZERO; LANES];
             for (k, &i) in group.iter().enumerate() {
                 let t = &tris[i];
-                let [a, b, c] = t.v.map(|v| world[v as usize]);
-                // Setup swapped two vertices of front faces; undo it for the true normal.
-                let f = if t.front {
-                    (c - a).cross(b - a)
-                } else {
-                    (b - a).cross(c - a)
-                };
-                n[k] = if back { -f } else { f }.normalize_or_zero();
-                p[k] = (a + b + c) / 3.0;
+                (n[k], p[k]) = face_point(t, t.v.map(|v| world[v as usize]), back);
             }
             let (n, p) = (&n[..group.len()], &p[..group.len()]);
             let mut o = [Terms3::default(); LANES];
-            #[cfg(target_arch = "x86_64")]
-            if wide {
-                // SAFETY: `wide` is true only when the CPU reported AVX2 and FMA
-                // (`Isa::detect`, by the caller).
-                unsafe { split_lanes_avx2(unit, shadows, n, p, eye, &mut o) };
-            } else {
-                split_lanes(unit, shadows, n, p, eye, &mut o);
-            }
-            #[cfg(not(target_arch = "x86_64"))]
-            split_lanes(unit, shadows, n, p, eye, &mut o);
+            split_on(wide, unit, shadows, n, p, eye, &mut o);
             for (k, &i) in group.iter().enumerate() {
                 out[i] = o[k];
             }

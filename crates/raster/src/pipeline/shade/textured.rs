@@ -36,7 +36,7 @@ use glam::{Vec2, Vec3, Vec4};
 use super::id_runs::{row_runs, Run};
 use super::phong::face_normal;
 use super::planes::{weight_planes, Plane, PlaneCache};
-use super::prelight::{light_points, Terms3, VertexTerms};
+use super::prelight::{face_point, light_points, Terms3, VertexTerms};
 use super::program::finish_batch;
 use super::store::{fill_out, put, Out, Pixel, RowColors, ROW_LANES};
 use super::{background_row, ShadeContext};
@@ -198,14 +198,7 @@ fn light_face(
     back: bool,
     pos: [Vec3; 3],
 ) -> Terms3 {
-    let [a, b, c] = pos;
-    let n = if t.front {
-        (c - a).cross(b - a)
-    } else {
-        (b - a).cross(c - a)
-    };
-    let n = if back { -n } else { n }.normalize_or_zero();
-    let centroid = (a + b + c) / 3.0;
+    let (n, centroid) = face_point(t, pos, back);
     let mut f = [Terms3::default()];
     light_points(
         unit,
