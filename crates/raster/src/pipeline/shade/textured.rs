@@ -31,6 +31,8 @@
 //! there is no depth output or fog, a tile goes a row at a time instead ([`textured_rows`]),
 //! through the same per-pixel functions, so with the same bits.
 
+use std::mem::MaybeUninit;
+
 use glam::{Vec2, Vec3, Vec4};
 
 use super::id_runs::{row_runs, Run};
@@ -101,7 +103,6 @@ pub(crate) struct TexturedScene<'a> {
 
 /// The triangle being shaded.
 struct Current {
-    id: u32,
     plane: [Plane; 3],
     uv: [Vec2; 3],
     vcolor: [Vec3; 3],
@@ -124,21 +125,23 @@ struct Current {
 }
 
 impl Current {
+    /// Loads triangle `id` (set-up triangle `t`) into `slot`, in place: built elsewhere and
+    /// moved in, each load copied the whole entry (about 390 bytes) with a `memcpy` call.
     fn load<const AFFINE: bool, const PERTURB: bool>(
+        slot: &mut MaybeUninit<Current>,
         ctx: &ShadeContext<'_>,
         tex: &TexturedScene<'_>,
         mode: ShadingMode,
         id: u32,
         t: &SetupTri,
         planes: &mut PlaneCache<[Plane; 3]>,
-    ) -> Self {
+    ) {
         let v = t.v.map(|k| k as usize);
         let back = ctx.two_sided && !t.front;
         let verts = ctx.verts;
         let unit = &tex.units[t.object as usize][back as usize];
         let mode = shaded_as(mode, unit);
-        let mut cur = Current {
-            id,
+        let cur = slot.write(Current {
             plane: planes.get(id, || weight_planes::<AFFINE>(ctx, t)),
             uv: if verts.uv.is_empty() {
                 [Vec2::ZERO; 3]
@@ -159,7 +162,7 @@ impl Current {
             mode,
             colors: tex.objects[t.object as usize].colors,
             footprint: tex.objects[t.object as usize].footprint,
-        };
+        });
         match mode {
             ShadingMode::Flat => {
                 // Lit before the tile stage (`prelight::light_face_terms`), except where a
@@ -184,7 +187,6 @@ impl Current {
                 }
             }
         }
-        cur
     }
 }
 
@@ -711,14 +713,19 @@ const LOADED: usize = 128;
 /// tried with 16, the textured shade functions took 24 % more instructions, Phong on
 /// textured Spot, planar UVs, bilinear, at 512 × 512, four frames, callgrind.)
 struct Loaded {
-    slots: [Option<Current>; LOADED],
+    /// The id of each slot's triangle; [`NO_TRIANGLE`]: the slot is empty.
+    ids: [u32; LOADED],
+    /// Uninitialised until a load: filling 128 entries for each tile cost more than the
+    /// loads the table saves.
+    slots: [MaybeUninit<Current>; LOADED],
     planes: PlaneCache<[Plane; 3]>,
 }
 
 impl Loaded {
     fn new() -> Self {
         Loaded {
-            slots: std::array::from_fn(|_| None),
+            ids: [NO_TRIANGLE; LOADED],
+            slots: [const { MaybeUninit::uninit() }; LOADED],
             planes: PlaneCache::new(),
         }
     }
@@ -732,16 +739,24 @@ impl Loaded {
         mode: ShadingMode,
         id: u32,
     ) -> &Current {
-        let slot = &mut self.slots[id as usize % LOADED];
-        match slot {
-            Some(c) if c.id == id => {}
-            _ => {
-                let t = ctx.tris.get(id);
-                let c = Current::load::<AFFINE, PERTURB>(ctx, tex, mode, id, t, &mut self.planes);
-                *slot = Some(c);
-            }
+        let k = id as usize % LOADED;
+        // `NO_TRIANGLE` marks an empty slot, so it is never taken as loaded.
+        if self.ids[k] != id || id == NO_TRIANGLE {
+            let t = ctx.tris.get(id);
+            Current::load::<AFFINE, PERTURB>(
+                &mut self.slots[k],
+                ctx,
+                tex,
+                mode,
+                id,
+                t,
+                &mut self.planes,
+            );
+            self.ids[k] = id;
         }
-        slot.as_ref().expect("loaded")
+        // SAFETY: `ids[k]` is `id`, not `NO_TRIANGLE`, so slot `k` was written when the id
+        // was, here or by an earlier call.
+        unsafe { self.slots[k].assume_init_ref() }
     }
 }
 
