@@ -395,18 +395,6 @@ fn split_lanes(
     }
 }
 
-/// [`split_lanes`] out of line: the texture stage's flat faces, lit one at a time.
-pub(crate) fn light_points(
-    unit: &Surface,
-    shadows: Option<&ShadowEffect>,
-    n: &[Vec3],
-    p: &[Vec3],
-    eye: Vec3,
-    out: &mut [Terms3],
-) {
-    split_lanes(unit, shadows, n, p, eye, out);
-}
-
 /// [`split_lanes`] compiled for AVX2 + FMA: the lighting's lane loops widen, with the same
 /// bits (no fused multiply-adds are formed; see `isa.rs`).
 ///
@@ -428,7 +416,7 @@ unsafe fn split_lanes_avx2(
 /// [`split_lanes`], compiled for AVX2 + FMA where `wide` (the CPU reported both:
 /// `Isa::detect`, by the caller).
 #[inline(always)]
-fn split_on(
+pub(crate) fn split_on(
     wide: bool,
     unit: &Surface,
     shadows: Option<&ShadowEffect>,

@@ -38,7 +38,7 @@ use glam::{Vec2, Vec3, Vec4};
 use super::id_runs::{row_runs, Run};
 use super::phong::face_normal;
 use super::planes::{weight_planes, Plane, PlaneCache};
-use super::prelight::{face_point, light_points, Terms3, VertexTerms};
+use super::prelight::{face_point, split_on, Terms3, VertexTerms};
 use super::program::finish_batch;
 use super::store::{fill_out, put, Out, Pixel, RowColors, ROW_LANES};
 use super::{background_row, ShadeContext};
@@ -202,7 +202,8 @@ fn light_face(
 ) -> Terms3 {
     let (n, centroid) = face_point(t, pos, back);
     let mut f = [Terms3::default()];
-    light_points(
+    split_on(
+        ctx.wide(),
         unit,
         ctx.shadows.as_ref(),
         &[n],
