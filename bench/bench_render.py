@@ -968,6 +968,31 @@ def markdown(
         "in 12 configurations (the three modes on textured Spot, two-sided and with shadow "
         "maps; the floor bilinear, trilinear and anisotropic, unlit and lit; UV spheres "
         "two-sided, with shadow maps, exact shadows, no light, 4 samples and fog).",
+        "",
+        "Trilinear's level choice in lanes (issue 15, 2026-12-07, sixth session): "
+        "`ImageLanes::trilinear8` (the register path of isotropic trilinear, 8 pixels a "
+        "group) chose each lane's pair of mip levels with a scalar test per lane (NaN, "
+        "range, floor, conversion and compare with lane 0's choice), about 175 of its 455 "
+        "instructions per group on the texture floor (callgrind's per-instruction "
+        "counts). The choice is now a key per lane in AVX registers (−1 magnified or NaN, "
+        "the last level + ½ beyond it, else ⌊λ⌋), compared with lane 0's key in one "
+        "`movemask`, and λ stays in registers for the blend. callgrind per frame (one "
+        "thread, frames=5 minus frames=1): floor trilinear (`frame_cost flat 0 360 floor "
+        "texture=trilinear`) 15.20M → 13.61M (−10.5 %), `gouraud 50 512 lights=sun "
+        "texture=trilinear` 68.11M → 65.96M (−3.2 %); nearest, bilinear and textured Spot "
+        "unchanged (6.05M, 8.11M; Spot Phong, Gouraud, flat 54.11M, 51.23M, 47.69M). User "
+        "time of 1,500 floor frames, six alternating runs while a test run kept the other "
+        "core busy: median 3.63 → 3.50 s (minimum 3.57 → 3.30 s). Same bytes: `frame_cost "
+        "dump=` frames equal before and after in 19 configurations (textured Spot in the "
+        "three modes, two-sided and with shadow maps; the floor nearest, bilinear, "
+        "trilinear unlit, lit and in float32, anisotropic 8; trilinear spheres, with 4 "
+        "samples; untextured spheres with shadow maps, exact shadows, no light, fog). "
+        "Tried and not kept, the same session: the loaded-triangle table as a "
+        "`PlaneCache<Current, 128>` with an in-place `get_with` (a review item, to share "
+        "one mechanism): as a field of a struct the 50 KB table was copied into place per "
+        "tile with `memcpy` even with its constructor inlined (floor bilinear 8.11M → "
+        "9.72M), and as a local of its own the load closure stayed out of line (textured "
+        "Spot Phong 54.12M → 55.13M, Gouraud 51.23M → 51.64M, flat 47.68M → 47.97M).",
     ]
     out += [
         "",
