@@ -710,9 +710,14 @@ const LOADED: usize = 128;
 
 /// The last triangles loaded ([`Current`]), direct-mapped by id, with their weight planes:
 /// rows of a tile cross the same few triangles again and again, and a load gathers the
-/// planes, UVs, colours and terms of the triangle. (Not a `PlaneCache<Current, LOADED>`:
-/// tried with 16, the textured shade functions took 24 % more instructions, Phong on
-/// textured Spot, planar UVs, bilinear, at 512 × 512, four frames, callgrind.)
+/// planes, UVs, colours and terms of the triangle. Not a `PlaneCache<Current, LOADED>`,
+/// though it repeats that mechanism (ids apart, uninitialised slots), because each way
+/// tried cost instructions (callgrind, per frame, one thread): with 16 entries made by
+/// value, 24 % more in the textured shade functions (Phong on textured Spot, planar UVs,
+/// bilinear, 512 × 512); with 128 and an in-place `get_with`, as a field of a struct the
+/// 50 KB table was copied into place per tile (`frame_cost flat 0 360 floor
+/// texture=bilinear` 8.11M → 9.72M), and as a local the load's closure stayed out of
+/// line (textured Spot Phong 54.12M → 55.13M).
 struct Loaded {
     /// The id of each slot's triangle; [`NO_TRIANGLE`]: the slot is empty.
     ids: [u32; LOADED],
