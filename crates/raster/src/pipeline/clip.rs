@@ -38,6 +38,11 @@ impl ClipPlanes {
         }
     }
 
+    /// The guard band's x and y extents in units of w.
+    pub fn guard(&self) -> (f64, f64) {
+        self.guard
+    }
+
     /// [`ClipPlanes::outcode`] of a finite `p`, with the planes' zero coefficients left
     /// out: the vertex stage classifies every vertex (six four-term dot products were about
     /// a fifth of its instructions). Bit-identical for finite `p`: `0·v` is ±0, adding ±0

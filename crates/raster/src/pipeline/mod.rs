@@ -21,6 +21,7 @@ pub(crate) mod setup;
 pub mod shade;
 pub(crate) mod tiles;
 pub(crate) mod vertex;
+mod vertex_lanes;
 
 pub(crate) use passes::{color_pass, coverage_counts, depth_pass, Buffers};
 
@@ -389,6 +390,7 @@ pub(crate) fn prepare(
         },
         &planes,
         (w as f64, h as f64),
+        wide,
     );
     // Shadows: the BVH or the maps, before flat and Gouraud light (they read them).
     let shadows = match lit && scene.lights().iter().any(|l| l.shadows().on()) {

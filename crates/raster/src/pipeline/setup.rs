@@ -110,12 +110,15 @@ fn covers_a_centre(x: [i64; 3], y: [i64; 3], (x0, y0, x1, y1): (i64, i64, i64, i
     (m00 & m10 & m01 & m11) >= 0
 }
 
+/// 1.5·2^52: adding and subtracting it rounds an f64 below 2^51 in magnitude to an integer,
+/// ties to even (the vertex lanes repeat it).
+pub(crate) const MAGIC: f64 = 6_755_399_441_055_744.0;
+
 /// Round to nearest, ties to even, for |x| < 2^51 (larger or non-finite values are rejected
 /// by the caller). Adding and removing 1.5·2^52 leaves no fraction bits and needs no libm call
 /// (`f64::round` is one on baseline x86-64).
 #[inline(always)]
 fn round_even(x: f64) -> f64 {
-    const MAGIC: f64 = 6_755_399_441_055_744.0;
     (x + MAGIC) - MAGIC
 }
 

@@ -5,11 +5,15 @@
 //! mode lights somewhere), world normals for Gouraud and Phong, texture coordinates and
 //! vertex colours only when a material or mesh of the scene has them.
 
-use glam::{DMat4, Vec2, Vec3, Vec4};
+use std::mem::MaybeUninit;
+
+use glam::{DMat4, Mat3, Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
 use super::clip::ClipPlanes;
 use super::setup::{snap, Snapped};
+#[cfg(target_arch = "x86_64")]
+use super::vertex_lanes;
 use crate::options::ShadingMode;
 use crate::scene::Scene;
 
@@ -161,6 +165,122 @@ fn adopt<T: Copy>(dst: &mut Vec<T>, src: Vec<T>) {
     }
 }
 
+/// Clip coordinates of one vertex (f64, rounded to f32), its outcode (of the rounded
+/// coordinates, plus [`INVALID`]) and its snapped screen position (zero unless the
+/// outcode is 0). `vertex_lanes::clip_vertices` is the same on AVX lanes.
+#[inline(always)]
+pub(super) fn clip_vertex(
+    mvp: &DMat4,
+    planes: &ClipPlanes,
+    size: (f64, f64),
+    p: Vec3,
+) -> (Vec4, u8, Snapped) {
+    let c = *mvp * p.as_dvec3().extend(1.0);
+    let c32 = c.as_vec4();
+    let code = if c32.is_finite() {
+        planes.outcode_finite(c32)
+    } else {
+        INVALID
+    };
+    if code != 0 {
+        return (c32, code, Snapped::default());
+    }
+    match snap(c, size.0, size.1) {
+        Some(s) => (c32, 0, s),
+        None => (c32, INVALID, Snapped::default()),
+    }
+}
+
+/// [`clip_vertex`] of every point of `p` into the same places of `c`, `k` and `s` (as
+/// long as `p`), four at a time on AVX2 when `wide`.
+#[allow(clippy::too_many_arguments)]
+fn clip_vertices(
+    wide: bool,
+    mvp: &DMat4,
+    planes: &ClipPlanes,
+    size: (f64, f64),
+    p: &[Vec3],
+    c: &mut [MaybeUninit<Vec4>],
+    k: &mut [MaybeUninit<u8>],
+    s: &mut [MaybeUninit<Snapped>],
+) {
+    #[cfg(target_arch = "x86_64")]
+    let done = match wide {
+        // SAFETY: `wide` only when the CPU has AVX2 (`Isa::detect`).
+        true => unsafe { vertex_lanes::clip_vertices(mvp, planes.guard(), size, p, c, k, s) },
+        false => 0,
+    };
+    #[cfg(not(target_arch = "x86_64"))]
+    let done = {
+        let _ = wide;
+        0
+    };
+    for (i, &v) in p.iter().enumerate().skip(done) {
+        let (c32, code, snapped) = clip_vertex(mvp, planes, size, v);
+        c[i].write(c32);
+        k[i].write(code);
+        s[i].write(snapped);
+    }
+}
+
+/// World positions of every point of `p` into `o` (as long as `p`), eight at a time on AVX2
+/// when `wide`.
+fn world_points(wide: bool, model: &Mat4, p: &[Vec3], o: &mut [MaybeUninit<Vec3>]) {
+    #[cfg(target_arch = "x86_64")]
+    let done = match wide {
+        // SAFETY: `wide` only when the CPU has AVX2 (`Isa::detect`).
+        true => unsafe { vertex_lanes::world_points(model, p, o) },
+        false => 0,
+    };
+    #[cfg(not(target_arch = "x86_64"))]
+    let done = {
+        let _ = wide;
+        0
+    };
+    for (i, v) in p.iter().enumerate().skip(done) {
+        o[i].write(model.transform_point3(*v));
+    }
+}
+
+/// Unit world normals of every normal of `n` into `o` (as long as `n`; zero where a normal
+/// cannot be normalised), eight at a time on AVX2 when `wide`.
+fn world_normals(wide: bool, nm: &Mat3, n: &[Vec3], o: &mut [MaybeUninit<Vec3>]) {
+    #[cfg(target_arch = "x86_64")]
+    let done = match wide {
+        // SAFETY: `wide` only when the CPU has AVX2 (`Isa::detect`).
+        true => unsafe { vertex_lanes::world_normals(nm, n, o) },
+        false => 0,
+    };
+    #[cfg(not(target_arch = "x86_64"))]
+    let done = {
+        let _ = wide;
+        0
+    };
+    for (i, v) in n.iter().enumerate().skip(done) {
+        o[i].write((*nm * *v).normalize_or_zero());
+    }
+}
+
+/// Appends `src.len()` elements to `dst`, made in parallel chunks of [`CHUNK`] by `fill`
+/// (a source chunk, the destination chunk to write) straight into `dst`'s spare room.
+///
+/// # Safety
+/// `fill` must write every element of the destination chunk it is given.
+unsafe fn extend_in_chunks<S: Sync, T: Send>(
+    dst: &mut Vec<T>,
+    src: &[S],
+    fill: impl Fn(&[S], &mut [MaybeUninit<T>]) + Sync,
+) {
+    let (start, n) = (dst.len(), src.len());
+    dst.reserve(n);
+    dst.spare_capacity_mut()[..n]
+        .par_chunks_mut(CHUNK)
+        .zip(src.par_chunks(CHUNK))
+        .for_each(|(d, s)| fill(s, d));
+    // SAFETY: `fill` wrote the first `n` spare elements (the caller's contract).
+    unsafe { dst.set_len(start + n) };
+}
+
 /// Transforms every object's vertices. `view_proj` is world → clip in f64; each object's
 /// full matrix is composed in f64 and rounded once to f32. Each vertex is classified
 /// against the clip planes and snapped once here, not once per triangle that uses it.
@@ -170,6 +290,7 @@ pub(crate) fn transform(
     attrs: Attributes,
     planes: &ClipPlanes,
     size: (f64, f64),
+    wide: bool,
 ) -> Vertices {
     let mut out = Vertices::default();
     let total: usize = scene
@@ -196,44 +317,41 @@ pub(crate) fn transform(
         // apart at distance 100 with near = 0.001) survive into the snapped z and 1/w. The f32
         // copy only serves the (rare) clipping path.
         let mvp = view_proj * model.as_dmat4();
-        let (clip, (codes, screen)): (Vec<Vec4>, (Vec<u8>, Vec<Snapped>)) = pos
-            .par_iter()
-            .with_min_len(CHUNK)
-            .map(|p| {
-                let c = mvp * p.as_dvec3().extend(1.0);
-                let c32 = c.as_vec4();
-                let code = if c32.is_finite() {
-                    planes.outcode_finite(c32)
-                } else {
-                    INVALID
-                };
-                if code != 0 {
-                    return (c32, (code, Snapped::default()));
-                }
-                match snap(c, size.0, size.1) {
-                    Some(s) => (c32, (0, s)),
-                    None => (c32, (INVALID, Snapped::default())),
-                }
-            })
-            .unzip();
+        let n = pos.len();
+        let (mut clip, mut codes, mut screen) = (
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+        );
+        clip.spare_capacity_mut()[..n]
+            .par_chunks_mut(CHUNK)
+            .zip(codes.spare_capacity_mut()[..n].par_chunks_mut(CHUNK))
+            .zip(screen.spare_capacity_mut()[..n].par_chunks_mut(CHUNK))
+            .zip(pos.par_chunks(CHUNK))
+            .for_each(|(((c, k), s), p)| clip_vertices(wide, &mvp, planes, size, p, c, k, s));
+        // SAFETY: `clip_vertices` wrote every element of each chunk, so the first `n`.
+        unsafe {
+            clip.set_len(n);
+            codes.set_len(n);
+            screen.set_len(n);
+        }
         adopt(&mut out.clip, clip);
         adopt(&mut out.outcode, codes);
         adopt(&mut out.screen, screen);
-        out.world.par_extend(
-            pos.par_iter()
-                .with_min_len(CHUNK)
-                .map(|p| model.transform_point3(*p)),
-        );
+        // SAFETY: `world_points` writes every element of its chunk.
+        unsafe {
+            extend_in_chunks(&mut out.world, pos, |p, o| world_points(wide, &model, p, o));
+        }
         if attrs.normal {
             let nm = obj.normal_matrix();
-            out.normal.par_extend(
-                mesh.vertex_normals()
-                    .par_iter()
-                    .with_min_len(CHUNK)
-                    .map(|n| (nm * *n).normalize_or_zero()),
-            );
+            let normals = mesh.vertex_normals();
+            // SAFETY: `world_normals` writes every element of its chunk.
+            unsafe {
+                extend_in_chunks(&mut out.normal, normals, |v, o| {
+                    world_normals(wide, &nm, v, o)
+                });
+            }
         }
-        let n = pos.len();
         if attrs.uv {
             match mesh.uvs() {
                 Some(uv) => out.uv.extend_from_slice(uv),
