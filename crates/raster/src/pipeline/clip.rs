@@ -10,6 +10,10 @@ use glam::{DVec4, Vec4};
 /// How far beyond the image border (in pixels) vertices are kept unclipped.
 pub(crate) const GUARD_PX: f64 = 16384.0;
 
+/// Outcode bit of a vertex whose snapped coordinates are unusable (non-finite): the vertex
+/// stage sets it beside the planes' bits.
+pub(crate) const INVALID: u8 = 0x80;
+
 /// Outcode bit of a vertex in front of the near plane (nearer the eye than it, or behind it).
 pub(crate) const NEAR: u8 = 1;
 

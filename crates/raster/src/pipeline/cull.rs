@@ -15,8 +15,7 @@
 
 use glam::Mat3;
 
-use super::clip::NEAR;
-use super::vertex::INVALID;
+use super::clip::{INVALID, NEAR};
 use crate::options::RenderOptions;
 use crate::scene::Object;
 

@@ -40,10 +40,10 @@ use crate::reflect::SecondaryEffect;
 use crate::scene::Scene;
 use crate::shadows::ShadowEffect;
 use bin::{Binned, Bins, Chunk};
-use clip::ClipPlanes;
+use clip::{ClipPlanes, INVALID};
 use setup::{Setup, Snapped};
 use shade::prelight;
-use vertex::{Attributes, Vertices, INVALID};
+use vertex::{Attributes, Vertices};
 
 /// Marks a vertex index that refers to a chunk's clip-generated vertices (fixed up on merge).
 const EXTRA_BIT: u32 = 1 << 31;

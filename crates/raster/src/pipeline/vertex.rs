@@ -10,15 +10,12 @@ use std::mem::MaybeUninit;
 use glam::{DMat4, Mat3, Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
-use super::clip::ClipPlanes;
+use super::clip::{ClipPlanes, INVALID};
 use super::setup::{snap, Snapped};
 #[cfg(target_arch = "x86_64")]
 use super::vertex_lanes;
 use crate::options::ShadingMode;
 use crate::scene::Scene;
-
-/// Outcode bit of a vertex whose snapped coordinates are unusable (non-finite).
-pub(crate) const INVALID: u8 = 0x80;
 
 /// Post-transform vertices of every object, concatenated in submission order.
 #[derive(Debug, Default)]

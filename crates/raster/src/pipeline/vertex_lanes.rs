@@ -17,8 +17,8 @@ use std::mem::MaybeUninit;
 
 use glam::{DMat4, Mat3, Mat4, Vec3, Vec4};
 
+use super::clip::INVALID;
 use super::setup::{Snapped, MAGIC, ONE};
-use super::vertex::INVALID;
 
 /// `vertex::clip_vertex` on four vertices at a time: clip coordinates (f64, rounded to
 /// f32 for `clip`), the outcode of the rounded ones and the snapped screen position.

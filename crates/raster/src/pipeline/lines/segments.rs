@@ -201,7 +201,7 @@ impl Segments {
                     };
                     (at(verts.screen[v0]), at(verts.screen[v1]))
                 } else {
-                    let invalid = crate::pipeline::vertex::INVALID;
+                    let invalid = crate::pipeline::clip::INVALID;
                     if (c0 | c1) & invalid != 0 || c0 & c1 != 0 {
                         return None;
                     }
