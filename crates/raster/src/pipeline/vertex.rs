@@ -147,8 +147,8 @@ impl Attributes {
     }
 }
 
-/// Fewest vertices per parallel work item of the transform (a 5,000-vertex model splits over
-/// several workers).
+/// Vertices per parallel work item of the transform: each array is cut into chunks of this
+/// many (a 5,000-vertex model splits over several workers).
 const CHUNK: usize = 1024;
 
 /// Appends `src` to `dst`, or takes it whole when `dst` has no room yet (one object):
@@ -188,6 +188,26 @@ pub(super) fn clip_vertex(
     }
 }
 
+/// How many leading vertices a `vertex_lanes` function did: the call (unsafe: it needs
+/// AVX2) when `wide`, else none. The caller does the rest one at a time.
+macro_rules! lane_prefix {
+    ($wide:expr, $call:expr) => {{
+        #[cfg(target_arch = "x86_64")]
+        let done = match $wide {
+            // SAFETY: `wide` only when the CPU has AVX2 (`Isa::detect`); each caller's
+            // outputs are as long as its inputs.
+            true => unsafe { $call },
+            false => 0,
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let done = {
+            let _ = $wide;
+            0
+        };
+        done
+    }};
+}
+
 /// [`clip_vertex`] of every point of `p` into the same places of `c`, `k` and `s` (as
 /// long as `p`), four at a time on AVX2 when `wide`.
 #[allow(clippy::too_many_arguments)]
@@ -201,17 +221,10 @@ fn clip_vertices(
     k: &mut [MaybeUninit<u8>],
     s: &mut [MaybeUninit<Snapped>],
 ) {
-    #[cfg(target_arch = "x86_64")]
-    let done = match wide {
-        // SAFETY: `wide` only when the CPU has AVX2 (`Isa::detect`).
-        true => unsafe { vertex_lanes::clip_vertices(mvp, planes.guard(), size, p, c, k, s) },
-        false => 0,
-    };
-    #[cfg(not(target_arch = "x86_64"))]
-    let done = {
-        let _ = wide;
-        0
-    };
+    let done = lane_prefix!(
+        wide,
+        vertex_lanes::clip_vertices(mvp, planes.guard(), size, p, c, k, s)
+    );
     for (i, &v) in p.iter().enumerate().skip(done) {
         let (c32, code, snapped) = clip_vertex(mvp, planes, size, v);
         c[i].write(c32);
@@ -223,17 +236,7 @@ fn clip_vertices(
 /// World positions of every point of `p` into `o` (as long as `p`), eight at a time on AVX2
 /// when `wide`.
 fn world_points(wide: bool, model: &Mat4, p: &[Vec3], o: &mut [MaybeUninit<Vec3>]) {
-    #[cfg(target_arch = "x86_64")]
-    let done = match wide {
-        // SAFETY: `wide` only when the CPU has AVX2 (`Isa::detect`).
-        true => unsafe { vertex_lanes::world_points(model, p, o) },
-        false => 0,
-    };
-    #[cfg(not(target_arch = "x86_64"))]
-    let done = {
-        let _ = wide;
-        0
-    };
+    let done = lane_prefix!(wide, vertex_lanes::world_points(model, p, o));
     for (i, v) in p.iter().enumerate().skip(done) {
         o[i].write(model.transform_point3(*v));
     }
@@ -242,17 +245,7 @@ fn world_points(wide: bool, model: &Mat4, p: &[Vec3], o: &mut [MaybeUninit<Vec3>
 /// Unit world normals of every normal of `n` into `o` (as long as `n`; zero where a normal
 /// cannot be normalised), eight at a time on AVX2 when `wide`.
 fn world_normals(wide: bool, nm: &Mat3, n: &[Vec3], o: &mut [MaybeUninit<Vec3>]) {
-    #[cfg(target_arch = "x86_64")]
-    let done = match wide {
-        // SAFETY: `wide` only when the CPU has AVX2 (`Isa::detect`).
-        true => unsafe { vertex_lanes::world_normals(nm, n, o) },
-        false => 0,
-    };
-    #[cfg(not(target_arch = "x86_64"))]
-    let done = {
-        let _ = wide;
-        0
-    };
+    let done = lane_prefix!(wide, vertex_lanes::world_normals(nm, n, o));
     for (i, v) in n.iter().enumerate().skip(done) {
         o[i].write((*nm * *v).normalize_or_zero());
     }

@@ -37,13 +37,7 @@ pub(super) unsafe fn clip_vertices(
 ) -> usize {
     let n = pos.len() / 4 * 4;
     let (clip, code, screen) = (&mut clip[..n], &mut code[..n], &mut screen[..n]);
-    let col = |c: glam::DVec4| c.to_array().map(|v| _mm256_set1_pd(v));
-    let m = [
-        col(mvp.x_axis),
-        col(mvp.y_axis),
-        col(mvp.z_axis),
-        col(mvp.w_axis),
-    ];
+    let m = mvp.to_cols_array_2d().map(|c| c.map(|v| _mm256_set1_pd(v)));
     let zero = _mm256_setzero_pd();
     let lt0 = |v: __m256d| _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(v, zero)) as u32;
     let abs_mask = _mm256_set1_pd(-0.0);
@@ -171,6 +165,23 @@ fn store8(v: [__m256; 3], out: &mut [MaybeUninit<Vec3>]) {
     }
 }
 
+/// A matrix's columns (`to_cols_array_2d`) as lanes of each element.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn splat_cols<const R: usize, const C: usize>(cols: [[f32; R]; C]) -> [[__m256; R]; C] {
+    cols.map(|c| c.map(|v| _mm256_set1_ps(v)))
+}
+
+/// Row `r` of the first three columns of `m` times `(x, y, z)`: `(m0·x + m1·y) + m2·z`,
+/// glam's sums for `Mat3 * Vec3` and for `Mat4::transform_point3` before its w column
+/// (glam adds `m1·y + s` there, `s + m1·y` in `Mat3`; IEEE addition commutes exactly).
+#[target_feature(enable = "avx2")]
+#[inline]
+fn mul_row<const R: usize>(m: &[[__m256; R]], r: usize, [x, y, z]: [__m256; 3]) -> __m256 {
+    let s = _mm256_add_ps(_mm256_mul_ps(m[0][r], x), _mm256_mul_ps(m[1][r], y));
+    _mm256_add_ps(s, _mm256_mul_ps(m[2][r], z))
+}
+
 /// `Mat4::transform_point3` on eight points at a time (glam's order of operations).
 ///
 /// # Safety
@@ -182,21 +193,10 @@ pub(super) unsafe fn world_points(
     out: &mut [MaybeUninit<Vec3>],
 ) -> usize {
     let n = pos.len() / 8 * 8;
-    let col = |c: Vec4| c.to_array().map(|v| _mm256_set1_ps(v));
-    let m = [
-        col(model.x_axis),
-        col(model.y_axis),
-        col(model.z_axis),
-        col(model.w_axis),
-    ];
+    let m = splat_cols(model.to_cols_array_2d());
     for i in (0..n).step_by(8) {
-        let [x, y, z] = load8(&pos[i..]);
-        let row = |r: usize| {
-            let mut s = _mm256_mul_ps(m[0][r], x);
-            s = _mm256_add_ps(_mm256_mul_ps(m[1][r], y), s);
-            s = _mm256_add_ps(_mm256_mul_ps(m[2][r], z), s);
-            _mm256_add_ps(m[3][r], s)
-        };
+        let p = load8(&pos[i..]);
+        let row = |r: usize| _mm256_add_ps(mul_row(&m, r, p), m[3][r]);
         store8([row(0), row(1), row(2)], &mut out[i..]);
     }
     n
@@ -215,18 +215,12 @@ pub(super) unsafe fn world_normals(
     out: &mut [MaybeUninit<Vec3>],
 ) -> usize {
     let n = normals.len() / 8 * 8;
-    let col = |c: Vec3| c.to_array().map(|v| _mm256_set1_ps(v));
-    let m = [col(nm.x_axis), col(nm.y_axis), col(nm.z_axis)];
+    let m = splat_cols(nm.to_cols_array_2d());
     let (one, inf) = (_mm256_set1_ps(1.0), _mm256_set1_ps(f32::INFINITY));
     let zero = _mm256_setzero_ps();
     for i in (0..n).step_by(8) {
-        let [x, y, z] = load8(&normals[i..]);
-        let row = |r: usize| {
-            let mut s = _mm256_mul_ps(m[0][r], x);
-            s = _mm256_add_ps(s, _mm256_mul_ps(m[1][r], y));
-            _mm256_add_ps(s, _mm256_mul_ps(m[2][r], z))
-        };
-        let v = [row(0), row(1), row(2)];
+        let p = load8(&normals[i..]);
+        let v = [0, 1, 2].map(|r| mul_row(&m, r, p));
         let dot = _mm256_add_ps(
             _mm256_add_ps(_mm256_mul_ps(v[0], v[0]), _mm256_mul_ps(v[1], v[1])),
             _mm256_mul_ps(v[2], v[2]),
